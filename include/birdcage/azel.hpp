@@ -1,0 +1,19 @@
+// Pointing direction and the angle arithmetic every layer shares.
+#pragma once
+
+namespace birdcage {
+
+struct AzEl {
+    double az = 0;
+    double el = 0;
+};
+
+enum class Axis { azimuth = 0, elevation = 1 };  // the firmware's motor ids
+
+// Maps any finite azimuth into [0, 360).
+double normalize_azimuth(double az);
+
+// Signed shortest rotation from `from` to `to`, in (-180, 180].
+double azimuth_difference(double from, double to);
+
+}  // namespace birdcage

@@ -1,0 +1,90 @@
+// The antenna: initialisation, position, one-axis-at-a-time moves, stop, leap-frog.
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "birdcage/azel.hpp"
+#include "birdcage/errors.hpp"
+#include "birdcage/log.hpp"
+#include "birdcage/session.hpp"
+#include "birdcage/transport.hpp"
+#include "birdcage/variants.hpp"
+
+namespace birdcage {
+
+struct ControllerOptions {
+    VariantId variant;
+    bool leapfrog = true;
+    std::optional<double> el_min, el_max;          // user overrides, never beyond the variant's mechanical/firmware limits
+    std::chrono::milliseconds boot_timeout{15 * 60 * 1000};
+    bool skip_init = false;                         // user says the dish is ready (already in the motor menu)
+    LogSink log;
+    // Time source for motion bookkeeping (leg timeouts, poll pacing). Tests inject a fake clock;
+    // I/O deadlines always use the real steady clock.
+    std::function<Clock::time_point()> clock;
+};
+
+class Controller {   // single-threaded; the lead's RotatorService calls it from one worker thread
+public:
+    Controller(Transport& transport, ControllerOptions options);
+
+    Status initialize();
+    Result<AzEl> query_position();    // asks the dish now; updates last_position(); az in [0, 360)
+    Status set_target(AzEl target);   // validates, clamps, leap-frogs, queues legs. No I/O.
+    Status service();                 // one pump step (~every 50 ms)
+    void cancel_pending();            // drops legs not yet sent; the leg in flight finishes
+    bool idle() const;
+    std::optional<AzEl> last_position() const { return last_position_; }
+    std::optional<AzEl> current_target() const { return current_target_; }
+    const FirmwareProfile& profile() const { return profile_; }
+    std::string describe() const;
+
+    double el_min() const { return el_min_; }
+    double el_max() const { return el_max_; }
+    bool initialised() const { return initialised_; }
+
+private:
+    struct Leg {
+        bool combined = false;         // `g az el` (both axes) instead of `a <axis> <deg>`
+        Axis axis = Axis::azimuth;
+        AzEl target;                   // the commanded value(s); for a single axis only its field counts
+        Clock::time_point sent_at{};
+        std::chrono::milliseconds budget{0};   // estimated time x 2 + margin
+        std::optional<double> last_seen;       // the axis' position at the previous poll
+        Clock::time_point last_change{};
+    };
+
+    Clock::time_point now() const;
+    Status run_steps(std::span<const ConsoleStep> steps, std::string_view purpose);
+    Status wait_for_boot();
+    Status leave_submenus();
+    Status check_homing();
+    Status send_leg(Leg& leg);
+    Status service_axis_leg();
+    Status service_combined_leg();
+    void finish_leg(std::string_view how);
+    double leg_distance(const Leg& leg) const;
+    Result<AzEl> ask_position(std::chrono::milliseconds timeout);
+
+    const FirmwareProfile& profile_;
+    ControllerOptions options_;
+    ConsoleSession session_;
+    double el_min_, el_max_;
+    bool initialised_ = false;
+    bool unhomed_ = false;
+    bool position_estimated_ = false;   // last_position_ comes from commands, not a readback
+    std::optional<AzEl> last_position_;
+    std::optional<Clock::time_point> last_position_at_;
+    std::optional<AzEl> current_target_;
+    std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight)
+    std::deque<Leg> pending_;
+    std::optional<Leg> in_flight_;
+    Clock::time_point last_poll_{};
+    unsigned move_count_ = 0;
+};
+
+}  // namespace birdcage

@@ -1,0 +1,87 @@
+// Console session: every byte to the dish passes through transact(), which runs the hazard guard,
+// handles stale input, writes the command and frames the output until the prompt.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "birdcage/errors.hpp"
+#include "birdcage/framer.hpp"
+#include "birdcage/log.hpp"
+#include "birdcage/transport.hpp"
+#include "birdcage/variants.hpp"
+
+namespace birdcage {
+
+struct Reply {
+    std::vector<std::string> lines;   // reply lines, without echo, prompt and unsolicited lines
+    std::string prompt;               // the prompt that ended the reply; empty if none was seen
+};
+
+// For variants whose prompt is unknown: the reply is complete once this returns true for the
+// lines so far (and the line has then been idle for the profile's quiet gap).
+using ReplyComplete = std::function<bool(std::span<const std::string>)>;
+
+class ConsoleSession {
+public:
+    ConsoleSession(Transport& transport, const FirmwareProfile& profile, LogSink log);
+
+    Result<Reply> transact(std::string_view command, std::chrono::milliseconds timeout);
+    Result<Reply> transact(std::string_view command, std::chrono::milliseconds timeout,
+                           const ReplyComplete& complete);
+
+    // Sends a bare line ending and waits for a prompt; learns which menu we are in.
+    // Errc::timeout when no prompt arrived (always the case on variants without known prompts).
+    Status resync(std::chrono::milliseconds timeout);
+
+    // Listens without sending for `duration`, or until `stop` returns true for a line or a prompt.
+    // Unsolicited lines are handled as in transact(). Reply::lines holds every line received,
+    // boot and fault lines included. With a `stop` that never matched: Errc::timeout.
+    Result<Reply> listen(std::chrono::milliseconds duration,
+                         const std::function<bool(const std::string&)>& stop = {});
+
+    // Which menu the console is in: "root", "mot", ...; empty when unknown.
+    const std::string& menu() const { return menu_; }
+    const std::string& last_prompt() const { return last_prompt_; }
+    bool reboot_seen() const { return reboot_seen_; }
+    void clear_reboot_seen() { reboot_seen_ = false; }
+
+    void set_allow_nvs_write(bool allow) { allow_nvs_write_ = allow; }
+    // The controller reports the homing state it learnt from position replies; the guard uses it.
+    void set_axes_unhomed(bool unhomed) { axes_unhomed_ = unhomed; }
+    // Forget what we knew about the menu (e.g. after a timeout left the console in an unknown state).
+    void forget_menu();
+
+    const FirmwareProfile& profile() const { return profile_; }
+
+private:
+    struct Collected {
+        std::vector<std::string> lines;
+        std::vector<std::string> faults;
+        std::vector<std::string> everything;   // lines, boot lines and fault lines, in order
+        std::string prompt;
+    };
+    enum class ReadOutcome { data, timeout, failed };
+
+    ReadOutcome read_some(Collected& into, Deadline deadline, Status& failure);
+    void handle_event(const FrameEvent& event, Collected& into);
+    Status drain_stale(Collected& stale);
+    void note_prompt(const std::string& prompt);
+    void note_menu_after(std::string_view command);
+
+    Transport& transport_;
+    const FirmwareProfile& profile_;
+    LogSink log_;
+    ConsoleFramer framer_;
+    std::string menu_;
+    std::string last_prompt_;
+    bool reboot_seen_ = false;
+    bool allow_nvs_write_ = false;
+    bool axes_unhomed_ = false;
+};
+
+}  // namespace birdcage

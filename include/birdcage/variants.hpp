@@ -1,0 +1,110 @@
+// One table row per firmware variant (src/core/variants.cpp). Variants differ only as data and
+// named quirks; nothing outside variants.cpp may branch on VariantId.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "birdcage/azel.hpp"
+
+namespace birdcage {
+
+enum class VariantId { travler_hal000, travler_hal205, travler_pro, carryout2003, carryout_g2 };
+
+// Each quirk is a fact about the firmware that changes what the core does, and each is read in
+// exactly one function (named next to it).
+enum Quirk : std::uint32_t {
+    quirk_none = 0,
+    // `q` at the root prompt terminates the shell until a power cycle (G2 02.02.48, firmware.md 6.5).
+    // Read by: hazard_check().
+    quirk_q_at_root_kills_shell = 1u << 0,
+    // Any byte received while a `g` move runs aborts the move (firmware.md 2, 3.5).
+    // Read by: Controller::service_combined_leg().
+    quirk_g_aborts_on_input = 1u << 1,
+    // No command reports the resting position; only live output while `g` runs (Carryout 2003, 8.3).
+    // Read by: Controller::query_position().
+    quirk_no_position_query = 1u << 2,
+    // Motor/NVS/OS commands live on the ODU console behind the IDU's `odu` tunnel, and where `q`
+    // at the ODU root leads is unknown (Trav'ler Pro, 5.1). Read by: ConsoleSession::note_menu_after().
+    quirk_odu_tunnel = 1u << 3,
+    // Axes are uncalibrated after power-up until `h <id>` (G2 with NVS 20 TRUE, 6.4).
+    // Read by: Controller::check_homing().
+    quirk_requires_homing = 1u << 4,
+};
+
+enum class PositionFormat {
+    travler_az_el_sk,   // `AZ = <f> EL = <f> SK = <f>` (any whitespace / line layout, optional sign)
+    g2_angle_index,     // `Angle[0] = <f>` / `Angle[1] = <f>`
+    carryout_live,      // none at rest; `... <azcdeg>   el = <elcdeg>` while `g` runs
+};
+
+enum class MoveAckFormat {
+    none,       // nothing documented; replies are not read
+    g2_angle,   // `Angle = <f>`
+};
+
+enum class MoveStyle {
+    per_axis_a,   // `a <id> <deg>`, one motor at a time
+    combined_g,   // `g <az> <el>` (aborts on any input)
+};
+
+enum class MotionModel {
+    trapezoid,          // speed + acceleration per axis
+    travler_time_fit,   // Gabe's empirical fit, firmware.md 3.4
+};
+
+// A console command plus how long to keep listening before the next one (pacing some firmware needs).
+struct ConsoleStep {
+    std::string_view command;
+    std::chrono::milliseconds settle{0};
+};
+
+struct FirmwareProfile {
+    VariantId id;
+    std::string_view short_name;     // "hal000", "hal205", "pro", "carryout2003", "g2"
+    std::string_view display_name;
+    int model_index;                 // Hamlib model = family * 100 + model_index
+    int baud;
+    std::string_view line_ending;
+
+    // Prompts. Empty means "not documented": the session then ends a transaction on the expected
+    // reply plus a quiet gap instead of on the prompt.
+    std::string_view root_prompt;
+    std::string_view motor_prompt;
+    std::chrono::milliseconds quiet_gap;
+
+    std::span<const ConsoleStep> motor_menu_entry;  // from the root menu into the motor menu
+    std::span<const ConsoleStep> search_kill;       // stops the TV search; starts and ends at root
+    std::span<const std::string_view> boot_complete_markers;  // substrings: boot has finished
+    std::span<const std::string_view> reboot_markers;         // substrings: the dish is (re)booting
+
+    std::string_view position_query;  // empty when the variant has none
+    PositionFormat position_format;
+    MoveAckFormat move_ack;
+    MoveStyle move_style;
+    std::string_view combined_move_menu;  // submenu `g` lives in (Carryout 2003 `target`)
+
+    double el_min, el_max;      // firmware/mechanical limits, degrees
+    double az_min, az_max;      // travel including cable wrap, in the dish's own coordinates
+    double arrival_tolerance;   // |target - position| that counts as arrived, degrees
+
+    MotionModel motion_model;
+    double az_speed_dps, el_speed_dps, accel_dps2;  // trapezoid parameters
+
+    std::uint32_t quirks;
+
+    bool has(Quirk quirk) const { return (quirks & quirk) != 0; }
+    bool prompt_known() const { return !motor_prompt.empty(); }
+};
+
+const FirmwareProfile& profile(VariantId id);
+std::optional<VariantId> variant_from_name(std::string_view short_name);
+std::span<const FirmwareProfile> all_profiles();
+
+// Estimated duration of a single-axis move of `degrees` from the variant's motion model.
+std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees);
+
+}  // namespace birdcage

@@ -1,0 +1,534 @@
+#include "birdcage/controller.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+
+#include "birdcage/leapfrog.hpp"
+#include "birdcage/protocol.hpp"
+
+namespace birdcage {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr auto menu_step_timeout = 3000ms;    // one menu command and its reply
+constexpr auto query_timeout = 2000ms;        // `a`: ~60 bytes even at 57600 baud is ~11 ms
+constexpr auto resync_timeout = 1500ms;
+constexpr auto boot_progress_interval = 30000ms;
+constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (tracking.md 1.2)
+constexpr auto still_window = 2000ms;         // an axis unchanged this long has stopped
+constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
+constexpr auto unknown_prompt_send_timeout = 1000ms;
+constexpr double stillness_degrees = 0.02;    // position changes smaller than this are noise
+constexpr double same_target_degrees = 0.005; // targets arrive with two decimals
+
+std::string degrees_text(double value) { return format_degrees(value); }
+
+double axis_value(AzEl position, Axis axis) { return axis == Axis::azimuth ? position.az : position.el; }
+
+double axis_error(Axis axis, double from, double to) {
+    return axis == Axis::azimuth ? std::fabs(azimuth_difference(from, to)) : std::fabs(to - from);
+}
+
+}  // namespace
+
+Controller::Controller(Transport& transport, ControllerOptions options)
+    : profile_(birdcage::profile(options.variant)),
+      options_(std::move(options)),
+      session_(transport, profile_, options_.log),
+      el_min_(profile_.el_min),
+      el_max_(profile_.el_max) {
+    auto override_limit = [this](const std::optional<double>& user, double& limit, const char* name) {
+        if (!user) {
+            return;
+        }
+        if (!std::isfinite(*user)) {
+            emit(options_.log, LogLevel::warning, std::string("ignoring non-finite ") + name);
+            return;
+        }
+        limit = std::clamp(*user, profile_.el_min, profile_.el_max);
+        if (limit != *user) {
+            emit(options_.log, LogLevel::warning,
+                 std::string(name) + " " + degrees_text(*user) + " is beyond the " +
+                     std::string(profile_.short_name) + " limits; using " + degrees_text(limit));
+        }
+    };
+    override_limit(options_.el_min, el_min_, "el_min");
+    override_limit(options_.el_max, el_max_, "el_max");
+    if (el_min_ > el_max_) {
+        emit(options_.log, LogLevel::warning, "el_min > el_max; using the variant's limits");
+        el_min_ = profile_.el_min;
+        el_max_ = profile_.el_max;
+    }
+}
+
+Clock::time_point Controller::now() const { return options_.clock ? options_.clock() : Clock::now(); }
+
+Status Controller::run_steps(std::span<const ConsoleStep> steps, std::string_view purpose) {
+    for (const auto& step : steps) {
+        const auto reply = session_.transact(step.command, menu_step_timeout);
+        if (!reply) {
+            return Status{reply.status.code, std::string(purpose) + ": " + reply.status.message};
+        }
+        if (step.settle.count() > 0) {
+            if (const auto heard = session_.listen(step.settle); !heard) {
+                return heard.status;
+            }
+        }
+    }
+    return Status::ok();
+}
+
+Status Controller::wait_for_boot() {
+    // A booted console answers a bare line ending with its prompt.
+    const Status synced = session_.resync(resync_timeout);
+    if (synced) {
+        emit(options_.log, LogLevel::verbose, "console answered with prompt " + session_.last_prompt());
+        return Status::ok();
+    }
+    if (synced.code != Errc::timeout) {
+        return synced;
+    }
+    // Where prompts are undocumented, a position reply is the next best proof of a live console.
+    if (!profile_.prompt_known() && !profile_.position_query.empty()) {
+        if (Status entered = run_steps(profile_.motor_menu_entry, "probing the motor menu"); !entered) {
+            return entered;
+        }
+        if (const auto position = ask_position(query_timeout); position) {
+            emit(options_.log, LogLevel::verbose, "dish answered a position query; treating it as booted");
+            return Status::ok();
+        }
+    }
+    if (profile_.boot_complete_markers.empty()) {
+        emit(options_.log, LogLevel::verbose, "no boot-complete signal is known for this dish; assuming it has booted");
+        return Status::ok();
+    }
+
+    auto is_boot_done = [this](const std::string& text) {
+        if (looks_like_prompt(text)) {
+            return true;
+        }
+        return std::any_of(profile_.boot_complete_markers.begin(), profile_.boot_complete_markers.end(),
+                           [&](std::string_view marker) { return text.find(marker) != std::string::npos; });
+    };
+    emit(options_.log, LogLevel::warning, "waiting for the dish to finish booting (up to " +
+                                              std::to_string(options_.boot_timeout.count() / 1000) + " s)");
+    std::chrono::milliseconds waited{0};
+    while (waited < options_.boot_timeout) {
+        const auto chunk = std::min<std::chrono::milliseconds>(boot_progress_interval, options_.boot_timeout - waited);
+        const auto heard = session_.listen(chunk, is_boot_done);
+        if (heard) {
+            emit(options_.log, LogLevel::verbose, "boot finished");
+            return Status::ok();
+        }
+        if (heard.status.code != Errc::timeout) {
+            return heard.status;
+        }
+        waited += chunk;
+        emit(options_.log, LogLevel::verbose, "still waiting for the dish to boot (" +
+                                                  std::to_string(waited.count() / 1000) + " s)");
+    }
+    return Status{Errc::timeout, "no boot-complete signal within " + std::to_string(options_.boot_timeout.count() / 1000) +
+                                     " s; if the dish is already running, use skip_init"};
+}
+
+Status Controller::leave_submenus() {
+    if (!profile_.prompt_known()) {
+        // The clients' idiom (firmware.md 2): `q` leaves a submenu, a bare line clears the input.
+        static constexpr std::array<ConsoleStep, 2> back_to_root{{{"q", 0ms}, {"", 0ms}}};
+        return run_steps(back_to_root, "leaving submenus");
+    }
+    // Known prompts: `q` only from a submenu we have seen the prompt of (the guard refuses the rest).
+    for (int attempt = 0; attempt < 4; ++attempt) {
+        if (session_.menu().empty()) {
+            if (Status synced = session_.resync(resync_timeout); !synced) {
+                return synced;
+            }
+        }
+        if (session_.menu() == "root") {
+            return Status::ok();
+        }
+        if (const auto left = session_.transact("q", menu_step_timeout); !left) {
+            return left.status;
+        }
+    }
+    return Status{Errc::protocol, "could not reach the root menu (last prompt " + session_.last_prompt() + ")"};
+}
+
+Status Controller::check_homing() {
+    if (!profile_.has(quirk_requires_homing) || !unhomed_) {
+        return Status::ok();
+    }
+    emit(options_.log, LogLevel::error,
+         "the dish's axes are not homed (it reports INT_MAX); moves are refused until it is homed (h 0, h 1)");
+    return Status::ok();
+}
+
+Status Controller::initialize() {
+    initialised_ = false;
+    pending_.clear();
+    in_flight_.reset();
+    if (options_.skip_init) {
+        emit(options_.log, LogLevel::verbose, "skip_init: assuming the dish is booted and in its motor menu");
+        if (profile_.prompt_known()) {
+            if (Status synced = session_.resync(resync_timeout); !synced) {
+                return synced;
+            }
+        }
+    } else {
+        if (Status booted = wait_for_boot(); !booted) {
+            return booted;
+        }
+        if (Status left = leave_submenus(); !left) {
+            return left;
+        }
+        if (Status killed = run_steps(profile_.search_kill, "stopping the TV search"); !killed) {
+            return killed;
+        }
+        if (Status entered = run_steps(profile_.motor_menu_entry, "entering the motor menu"); !entered) {
+            return entered;
+        }
+    }
+    if (profile_.prompt_known() && session_.menu() != menu_for_prompt(profile_, profile_.motor_prompt)) {
+        return Status{Errc::protocol, "expected the motor prompt " + std::string(profile_.motor_prompt) +
+                                          ", console shows " + session_.last_prompt()};
+    }
+    session_.clear_reboot_seen();
+    if (!profile_.position_query.empty()) {
+        const auto position = ask_position(query_timeout);
+        if (!position && position.status.code != Errc::not_homed) {
+            if (position.status.code == Errc::disconnected || position.status.code == Errc::io) {
+                return position.status;
+            }
+            emit(options_.log, LogLevel::warning, "initial position query failed: " + position.status.message);
+        }
+    }
+    if (Status homing = check_homing(); !homing) {
+        return homing;
+    }
+    initialised_ = true;
+    emit(options_.log, LogLevel::verbose, "initialised: " + describe());
+    return Status::ok();
+}
+
+Result<AzEl> Controller::ask_position(std::chrono::milliseconds timeout) {
+    const auto complete = [this](std::span<const std::string> lines) {
+        return parse_position(profile_, lines).status.code != Errc::protocol;
+    };
+    const auto reply = session_.transact(profile_.position_query, timeout, complete);
+    if (!reply && reply.status.code != Errc::protocol) {
+        return {{}, reply.status};
+    }
+    auto position = parse_position(profile_, reply.value.lines);
+    if (position.status.code == Errc::not_homed) {
+        unhomed_ = true;
+        session_.set_axes_unhomed(true);
+        return position;
+    }
+    if (!position) {
+        return position;
+    }
+    unhomed_ = false;
+    session_.set_axes_unhomed(false);
+    position.value.az = normalize_azimuth(position.value.az);
+    last_position_ = position.value;
+    last_position_at_ = now();
+    position_estimated_ = false;
+    if (!reply) {
+        position.status = reply.status;  // a valid position, but the dish also reported a fault
+    }
+    return position;
+}
+
+Result<AzEl> Controller::query_position() {
+    if (profile_.has(quirk_no_position_query)) {
+        if (last_position_) {
+            return {*last_position_, Status::ok()};
+        }
+        return {{}, Status{Errc::unsupported, "this dish cannot report its position at rest and none has been commanded yet"}};
+    }
+    return ask_position(query_timeout);
+}
+
+Status Controller::set_target(AzEl target) {
+    if (!std::isfinite(target.az) || !std::isfinite(target.el)) {
+        return Status{Errc::invalid_argument, "target must be finite"};
+    }
+    if (unhomed_) {
+        return Status{Errc::not_homed, "the axes are not homed; moves are refused"};
+    }
+    const AzEl wanted{normalize_azimuth(target.az), std::clamp(target.el, el_min_, el_max_)};
+    if (wanted.el != target.el) {
+        emit(options_.log, LogLevel::verbose, "elevation " + degrees_text(target.el) + " clamped to " +
+                                                  degrees_text(wanted.el));
+    }
+    if (current_target_ && std::fabs(azimuth_difference(current_target_->az, wanted.az)) < same_target_degrees &&
+        std::fabs(current_target_->el - wanted.el) < same_target_degrees) {
+        return Status::ok();
+    }
+    current_target_ = wanted;
+
+    AzEl command = wanted;
+    if (options_.leapfrog && last_position_) {
+        command = apply_leapfrog(wanted, *last_position_);
+        command.el = std::clamp(command.el, el_min_, el_max_);
+    }
+
+    pending_.clear();
+    if (profile_.move_style == MoveStyle::combined_g) {
+        Leg leg;
+        leg.combined = true;
+        leg.target = command;
+        pending_.push_back(leg);
+        ++move_count_;
+        return Status::ok();
+    }
+    auto needed = [](const std::optional<double>& commanded, Axis axis, double value) {
+        return !commanded || axis_error(axis, *commanded, value) >= same_target_degrees;
+    };
+    Leg az_leg;
+    az_leg.axis = Axis::azimuth;
+    az_leg.target = command;
+    Leg el_leg;
+    el_leg.axis = Axis::elevation;
+    el_leg.target = command;
+    // Alternate which axis goes first so neither starves the other (seeds 003/004).
+    const bool az_first = move_count_ % 2 == 0;
+    ++move_count_;
+    for (const Leg& leg : az_first ? std::array<Leg, 2>{az_leg, el_leg} : std::array<Leg, 2>{el_leg, az_leg}) {
+        const auto& commanded = leg.axis == Axis::azimuth ? commanded_az_ : commanded_el_;
+        if (needed(commanded, leg.axis, axis_value(command, leg.axis))) {
+            pending_.push_back(leg);
+        }
+    }
+    return Status::ok();
+}
+
+double Controller::leg_distance(const Leg& leg) const {
+    if (leg.combined) {
+        if (!last_position_) {
+            return 180.0;
+        }
+        return std::max(std::fabs(azimuth_difference(last_position_->az, leg.target.az)),
+                        std::fabs(leg.target.el - last_position_->el));
+    }
+    if (!last_position_) {
+        return leg.axis == Axis::azimuth ? 180.0 : el_max_ - el_min_;
+    }
+    return axis_error(leg.axis, axis_value(*last_position_, leg.axis), axis_value(leg.target, leg.axis));
+}
+
+Status Controller::send_leg(Leg& leg) {
+    const double distance = leg_distance(leg);
+    const auto estimate = leg.combined ? std::max(estimated_move_time(profile_, Axis::azimuth, distance),
+                                                  estimated_move_time(profile_, Axis::elevation, distance))
+                                       : estimated_move_time(profile_, leg.axis, distance);
+    leg.budget = estimate * 2 + leg_margin;
+    const std::string command =
+        leg.combined ? build_combined_move(leg.target) : build_axis_move(leg.axis, axis_value(leg.target, leg.axis));
+    // With prompts, wait for the prompt (the G2 may hold it until the move ends); without, the
+    // quiet gap ends the reply and the move is followed by polling.
+    const auto timeout = profile_.prompt_known() ? leg.budget + 2000ms : unknown_prompt_send_timeout;
+    ReplyComplete complete;
+    if (profile_.move_ack == MoveAckFormat::g2_angle) {
+        complete = [](std::span<const std::string> lines) { return static_cast<bool>(parse_g2_move_ack(lines)); };
+    }
+    const auto reply = session_.transact(command, timeout, complete);
+    if (!reply && reply.status.code != Errc::timeout) {
+        if (reply.status.code == Errc::not_homed) {
+            unhomed_ = true;
+        }
+        return reply.status;
+    }
+    if (!reply) {
+        emit(options_.log, LogLevel::warning, "no prompt after " + command + "; assuming the move runs");
+    } else if (profile_.move_ack == MoveAckFormat::g2_angle) {
+        const auto ack = parse_g2_move_ack(reply.value.lines);
+        if (ack.status.code == Errc::not_homed) {
+            unhomed_ = true;
+            session_.set_axes_unhomed(true);
+            return ack.status;
+        }
+        if (!ack) {
+            emit(options_.log, LogLevel::warning, "move not acknowledged: " + ack.status.message);
+        } else if (std::fabs(ack.value - axis_value(leg.target, leg.axis)) > 0.01) {
+            emit(options_.log, LogLevel::verbose, "dish acknowledged " + degrees_text(ack.value) + " for " + command);
+        }
+    }
+    if (leg.combined) {
+        commanded_az_ = leg.target.az;
+        commanded_el_ = leg.target.el;
+        // Live output that arrived with the reply is the first position sample.
+        if (const auto live = parse_carryout_live(reply.value.lines); live) {
+            last_position_ = AzEl{normalize_azimuth(live.value.az), live.value.el};
+            last_position_at_ = now();
+            position_estimated_ = false;
+        }
+    } else {
+        (leg.axis == Axis::azimuth ? commanded_az_ : commanded_el_) = axis_value(leg.target, leg.axis);
+    }
+    leg.sent_at = now();
+    leg.last_change = leg.sent_at;
+    leg.last_seen.reset();
+    last_poll_ = leg.sent_at;
+    emit(options_.log, LogLevel::verbose,
+         "sent " + command + " (estimated " + std::to_string(estimate.count()) + " ms)");
+    in_flight_ = leg;
+    return Status::ok();
+}
+
+void Controller::finish_leg(std::string_view how) {
+    if (!in_flight_) {
+        return;
+    }
+    emit(options_.log, LogLevel::verbose, "leg " + std::string(how));
+    in_flight_.reset();
+}
+
+Status Controller::service_axis_leg() {
+    Leg& leg = *in_flight_;
+    const auto t = now();
+    if (t - last_poll_ < poll_interval) {
+        return Status::ok();
+    }
+    last_poll_ = t;
+    const bool over_budget = t - leg.sent_at > leg.budget;
+    const auto position = ask_position(query_timeout);
+    if (!position && position.status.code != Errc::protocol) {
+        if (position.status.code == Errc::timeout && !over_budget) {
+            return Status::ok();  // some consoles answer only once the motor stops
+        }
+        finish_leg("abandoned: " + position.status.message);
+        return position.status;
+    }
+    if (!position) {
+        bool fault = position.value.az != 0.0 || position.value.el != 0.0;
+        if (!fault && !over_budget) {
+            return Status::ok();  // an unusable reply; poll again
+        }
+        finish_leg("abandoned: " + position.status.message);
+        return position.status;
+    }
+    const double seen = axis_value(position.value, leg.axis);
+    const double goal = axis_value(leg.target, leg.axis);
+    if (axis_error(leg.axis, seen, goal) <= profile_.arrival_tolerance) {
+        finish_leg("arrived");
+        return Status::ok();
+    }
+    if (!leg.last_seen || axis_error(leg.axis, *leg.last_seen, seen) > stillness_degrees) {
+        leg.last_seen = seen;
+        leg.last_change = t;
+    } else if (t - leg.last_change >= still_window && t - leg.sent_at >= still_window) {
+        emit(options_.log, LogLevel::warning, "axis " + std::to_string(static_cast<int>(leg.axis)) + " stopped at " +
+                                                  degrees_text(seen) + ", short of " + degrees_text(goal));
+        finish_leg("stopped");
+        return Status::ok();
+    }
+    if (over_budget) {
+        finish_leg("timed out");
+        return Status{Errc::timeout, "axis " + std::to_string(static_cast<int>(leg.axis)) + " did not reach " +
+                                         degrees_text(goal) + " in " + std::to_string(leg.budget.count()) + " ms"};
+    }
+    return Status::ok();
+}
+
+Status Controller::service_combined_leg() {
+    Leg& leg = *in_flight_;
+    const auto t = now();
+    if (t - last_poll_ < poll_interval) {
+        return Status::ok();
+    }
+    last_poll_ = t;
+    // Sending anything during `g` would abort it on firmware with this quirk: listen instead.
+    const bool may_send = !profile_.has(quirk_g_aborts_on_input) && !profile_.position_query.empty();
+    Result<AzEl> sample;
+    if (may_send) {
+        sample = ask_position(query_timeout);
+    } else {
+        const auto heard = session_.listen(poll_interval);
+        if (!heard) {
+            finish_leg("abandoned: " + heard.status.message);
+            return heard.status;
+        }
+        sample = parse_carryout_live(heard.value.lines);
+        if (sample) {
+            sample.value.az = normalize_azimuth(sample.value.az);
+            last_position_ = sample.value;
+            last_position_at_ = t;
+            position_estimated_ = false;
+        }
+    }
+    if (sample && axis_error(Axis::azimuth, sample.value.az, leg.target.az) <= profile_.arrival_tolerance &&
+        axis_error(Axis::elevation, sample.value.el, leg.target.el) <= profile_.arrival_tolerance) {
+        finish_leg("arrived");
+        return Status::ok();
+    }
+    if (t - leg.sent_at > leg.budget) {
+        // No readback at rest: report the commanded position, and say so in describe().
+        last_position_ = leg.target;
+        last_position_at_ = t;
+        position_estimated_ = true;
+        finish_leg("assumed complete (estimated move time elapsed)");
+    }
+    return Status::ok();
+}
+
+Status Controller::service() {
+    if (initialised_ && session_.reboot_seen()) {
+        initialised_ = false;
+        pending_.clear();
+        in_flight_.reset();
+        return Status{Errc::not_initialised, "the dish printed boot output: it rebooted; initialise again"};
+    }
+    if (!initialised_ && !options_.skip_init) {
+        return idle() ? Status::ok() : Status{Errc::not_initialised, "initialize() has not succeeded"};
+    }
+    if (in_flight_) {
+        const Status status = in_flight_->combined ? service_combined_leg() : service_axis_leg();
+        if (in_flight_ || !status) {
+            return status;
+        }
+    }
+    if (!pending_.empty()) {
+        Leg leg = pending_.front();
+        pending_.pop_front();
+        return send_leg(leg);
+    }
+    return Status::ok();
+}
+
+void Controller::cancel_pending() {
+    pending_.clear();
+    current_target_.reset();
+}
+
+bool Controller::idle() const { return !in_flight_ && pending_.empty(); }
+
+std::string Controller::describe() const {
+    std::string text = std::string(profile_.display_name) + " [" + std::string(profile_.short_name) + ", " +
+                       std::to_string(profile_.baud) + " baud";
+    if (!session_.last_prompt().empty()) {
+        text += ", prompt " + session_.last_prompt();
+    }
+    text += "]";
+    text += initialised_ ? "; initialised" : "; not initialised";
+    if (unhomed_) {
+        text += "; axes NOT homed";
+    }
+    if (last_position_) {
+        text += "; position az " + degrees_text(last_position_->az) + " el " + degrees_text(last_position_->el);
+        text += position_estimated_ ? " (last commanded; this dish cannot report its position at rest)" : " (read back)";
+    } else {
+        text += "; position unknown";
+    }
+    if (current_target_) {
+        text += "; target az " + degrees_text(current_target_->az) + " el " + degrees_text(current_target_->el);
+    }
+    text += "; el limits " + degrees_text(el_min_) + ".." + degrees_text(el_max_);
+    text += options_.leapfrog ? "; leapfrog on" : "; leapfrog off";
+    return text;
+}
+
+}  // namespace birdcage

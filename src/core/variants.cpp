@@ -1,0 +1,233 @@
+// The variant table. Facts and their provenance: ../shared/notes/firmware.md (section numbers below).
+#include "birdcage/variants.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace birdcage {
+namespace {
+
+using namespace std::chrono_literals;
+
+// ---- Trav'ler HAL 0.0.00 (firmware.md 3) ----
+constexpr std::array<ConsoleStep, 1> hal000_motor_entry{{{"mot", 0ms}}};
+// travler_init.py: q, CR, os, kill Search, q, CR.
+constexpr std::array<ConsoleStep, 6> hal000_search_kill{{{"q", 0ms}, {"", 0ms}, {"os", 0ms},
+                                                         {"kill Search", 0ms}, {"q", 0ms}, {"", 0ms}}};
+constexpr std::array<std::string_view, 1> hal000_boot_complete{"NoGPS"};
+
+// ---- Trav'ler HAL 2.05.003 (firmware.md 4) ----
+constexpr std::array<ConsoleStep, 1> hal205_motor_entry{{{"motor", 0ms}}};
+// birdcage's HAL205 sequence (4.3), with its 0.2 s pauses after `ngsearch` and `s`.
+constexpr std::array<ConsoleStep, 6> hal205_search_kill{{{"q", 0ms}, {"", 0ms}, {"ngsearch", 200ms},
+                                                         {"s", 200ms}, {"q", 0ms}, {"", 0ms}}};
+constexpr std::array<std::string_view, 2> hal205_boot_complete{"NoGPS", "No LNB Voltage"};
+
+// ---- Trav'ler Pro (firmware.md 5) ----
+// Client v2.0 start-up: q, 1 s, CR, 1 s, odu, 1 s, CR, q, CR, then (README) os / kill Search / q.
+constexpr std::array<ConsoleStep, 10> pro_search_kill{{{"q", 1000ms}, {"", 1000ms}, {"odu", 1000ms},
+                                                       {"", 0ms}, {"q", 0ms}, {"", 0ms}, {"os", 0ms},
+                                                       {"kill Search", 0ms}, {"q", 0ms}, {"", 0ms}}};
+constexpr std::array<ConsoleStep, 1> pro_motor_entry{{{"mot", 0ms}}};
+
+// ---- Carryout 2003, HAL 1.00.065 (firmware.md 8) ----
+constexpr std::array<ConsoleStep, 1> carryout_motor_entry{{{"target", 0ms}}};
+
+// ---- Carryout G2 02.02.48 (firmware.md 6) ----
+constexpr std::array<ConsoleStep, 1> g2_motor_entry{{{"mot", 0ms}}};
+constexpr std::array<std::string_view, 1> g2_boot_complete{"Boot Complete"};
+constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -",
+                                                    "Boot Complete", "Loc Startup:"};
+
+constexpr std::array<FirmwareProfile, 5> profiles{{
+    {
+        .id = VariantId::travler_hal000,
+        .short_name = "hal000",
+        .display_name = "Winegard Trav'ler (HAL 0.0.00)",
+        .model_index = 1,
+        .baud = 57600,
+        .line_ending = "\r",
+        .root_prompt = "",
+        .motor_prompt = "",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = hal000_motor_entry,
+        .search_kill = hal000_search_kill,
+        .boot_complete_markers = hal000_boot_complete,
+        .reboot_markers = hal000_boot_complete,
+        .position_query = "a",
+        .position_format = PositionFormat::travler_az_el_sk,
+        .move_ack = MoveAckFormat::none,
+        .move_style = MoveStyle::per_axis_a,
+        .combined_move_menu = "",
+        .el_min = 15.0, .el_max = 90.0,
+        .az_min = 0.0, .az_max = 455.0,
+        .arrival_tolerance = 0.2,
+        .motion_model = MotionModel::travler_time_fit,
+        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
+        .quirks = quirk_g_aborts_on_input,
+    },
+    {
+        .id = VariantId::travler_hal205,
+        .short_name = "hal205",
+        .display_name = "Winegard Trav'ler (HAL 2.05)",
+        .model_index = 2,
+        .baud = 57600,
+        .line_ending = "\r",
+        .root_prompt = "",
+        .motor_prompt = "",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = hal205_motor_entry,
+        .search_kill = hal205_search_kill,
+        .boot_complete_markers = hal205_boot_complete,
+        .reboot_markers = hal205_boot_complete,
+        .position_query = "a",
+        .position_format = PositionFormat::travler_az_el_sk,
+        .move_ack = MoveAckFormat::none,
+        .move_style = MoveStyle::per_axis_a,
+        .combined_move_menu = "",
+        .el_min = 15.0, .el_max = 90.0,
+        .az_min = 0.0, .az_max = 455.0,
+        .arrival_tolerance = 0.2,
+        .motion_model = MotionModel::travler_time_fit,
+        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
+        .quirks = quirk_g_aborts_on_input,
+    },
+    {
+        .id = VariantId::travler_pro,
+        .short_name = "pro",
+        .display_name = "Winegard Trav'ler Pro",
+        .model_index = 3,
+        .baud = 57600,  // unconfirmed; irrelevant on the USB CDC-ACM link (5.1)
+        .line_ending = "\r",
+        .root_prompt = "",
+        .motor_prompt = "",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = pro_motor_entry,
+        .search_kill = pro_search_kill,
+        .boot_complete_markers = {},
+        .reboot_markers = {},
+        .position_query = "a",
+        .position_format = PositionFormat::travler_az_el_sk,
+        .move_ack = MoveAckFormat::none,
+        .move_style = MoveStyle::per_axis_a,
+        .combined_move_menu = "",
+        .el_min = 12.0, .el_max = 75.0,  // motors stall above ~75 and may lock up (5.4)
+        .az_min = 0.0, .az_max = 455.0,
+        .arrival_tolerance = 0.2,
+        .motion_model = MotionModel::travler_time_fit,
+        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
+        .quirks = quirk_g_aborts_on_input | quirk_odu_tunnel,
+    },
+    {
+        .id = VariantId::carryout2003,
+        .short_name = "carryout2003",
+        .display_name = "Winegard Carryout (2003, HAL 1.00.065)",
+        .model_index = 4,
+        .baud = 57600,
+        .line_ending = "\r",
+        .root_prompt = "",
+        .motor_prompt = "",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = carryout_motor_entry,
+        .search_kill = {},  // cannot be stopped without losing calibration (8.2)
+        .boot_complete_markers = {},
+        .reboot_markers = {},
+        .position_query = "",
+        .position_format = PositionFormat::carryout_live,
+        .move_ack = MoveAckFormat::none,
+        .move_style = MoveStyle::combined_g,
+        .combined_move_menu = "target",
+        .el_min = 22.0, .el_max = 73.0,  // NVS 102 default (8.5)
+        .az_min = 0.0, .az_max = 360.0,
+        .arrival_tolerance = 0.5,
+        // No speed is documented; scans manage ~3 one-degree moves per second (8.5). Conservative guess.
+        .motion_model = MotionModel::trapezoid,
+        .az_speed_dps = 10.0, .el_speed_dps = 10.0, .accel_dps2 = 20.0,
+        .quirks = quirk_no_position_query | quirk_g_aborts_on_input,
+    },
+    {
+        .id = VariantId::carryout_g2,
+        .short_name = "g2",
+        .display_name = "Winegard Carryout G2 (02.02.48)",
+        .model_index = 5,
+        .baud = 115200,
+        .line_ending = "\r",
+        .root_prompt = "TRK>",
+        .motor_prompt = "MOT>",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = g2_motor_entry,
+        .search_kill = {},  // NVS 20 "Disable Tracker Proc?" TRUE keeps the search off (6.2)
+        .boot_complete_markers = g2_boot_complete,
+        .reboot_markers = g2_reboot,
+        .position_query = "a",
+        .position_format = PositionFormat::g2_angle_index,
+        .move_ack = MoveAckFormat::g2_angle,
+        .move_style = MoveStyle::per_axis_a,
+        .combined_move_menu = "",
+        .el_min = 18.0, .el_max = 65.0,  // NVS 101/102
+        .az_min = -423.33, .az_max = 23.33,  // cable wrap after homing (6.4)
+        .arrival_tolerance = 0.1,
+        .motion_model = MotionModel::trapezoid,
+        .az_speed_dps = 65.0, .el_speed_dps = 45.0, .accel_dps2 = 400.0,  // NVS 80/85/81/86
+        .quirks = quirk_q_at_root_kills_shell | quirk_requires_homing | quirk_g_aborts_on_input,
+    },
+}};
+
+double seconds_trapezoid(double distance, double speed, double accel) {
+    if (distance < speed * speed / accel) {
+        return 2.0 * std::sqrt(distance / accel);
+    }
+    return distance / speed + speed / accel;
+}
+
+// firmware.md 3.4: time ~ |3.23 ln(0.84 d) - 0.48| s. The fit dips to ~0.3 s around 1.2-1.5 deg,
+// an artefact, so it is floored at 1 s from 1 deg up.
+double seconds_travler_fit(double distance) {
+    if (distance < 0.5) {
+        return 0.3;
+    }
+    if (distance < 1.0) {
+        return 0.5;
+    }
+    return std::max(1.0, std::fabs(3.23 * std::log(0.84 * distance) - 0.48));
+}
+
+}  // namespace
+
+const FirmwareProfile& profile(VariantId id) {
+    for (const auto& row : profiles) {
+        if (row.id == id) {
+            return row;
+        }
+    }
+    return profiles.front();  // unreachable: every enumerator has a row (checked by a test)
+}
+
+std::optional<VariantId> variant_from_name(std::string_view short_name) {
+    for (const auto& row : profiles) {
+        if (row.short_name == short_name) {
+            return row.id;
+        }
+    }
+    return std::nullopt;
+}
+
+std::span<const FirmwareProfile> all_profiles() { return profiles; }
+
+std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees) {
+    const double distance = std::fabs(degrees);
+    double seconds = 0.0;
+    switch (profile.motion_model) {
+    case MotionModel::trapezoid:
+        seconds = seconds_trapezoid(distance, axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps,
+                                    profile.accel_dps2);
+        break;
+    case MotionModel::travler_time_fit:
+        seconds = seconds_travler_fit(distance);
+        break;
+    }
+    return std::chrono::milliseconds(static_cast<long long>(std::ceil(seconds * 1000.0)));
+}
+
+}  // namespace birdcage

@@ -1,0 +1,43 @@
+// The console engine without any I/O or thread: bytes in, bytes out, simulated time advanced
+// explicitly. Emulator wraps it with a pty and a thread; tests can drive it directly.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "birdcage_sim/emulator.hpp"
+
+namespace birdcage::sim {
+
+struct Engine;
+
+class Console {
+public:
+    explicit Console(const Options& options);
+    ~Console();
+    Console(const Console&) = delete;
+    Console& operator=(const Console&) = delete;
+
+    void feed(std::string_view bytes);  // bytes from the client
+    void advance(double dt);            // simulated seconds
+    std::string take_output();          // bytes the dish sent since the last call
+
+    Pose position() const;
+    double mechanical_az() const;
+    bool moving() const;
+    bool search_running() const;
+    bool shell_alive() const;
+    bool booting() const;
+    const std::vector<Sample>& history() const;
+    unsigned hazards() const;
+    const std::vector<std::string>& commands() const;
+    double time() const;
+    void power_cycle();
+
+private:
+    std::unique_ptr<Engine> engine_;
+};
+
+}  // namespace birdcage::sim

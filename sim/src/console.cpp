@@ -1,0 +1,28 @@
+#include "birdcage_sim/console.hpp"
+
+#include <utility>
+
+#include "engine.hpp"
+
+namespace birdcage::sim {
+
+Console::Console(const Options& options) : engine_(std::make_unique<Engine>(options)) {}
+Console::~Console() = default;
+
+void Console::feed(std::string_view bytes) { engine_->feed(bytes); }
+void Console::advance(double dt) { engine_->advance(dt); }
+std::string Console::take_output() { return std::exchange(engine_->output, {}); }
+
+Pose Console::position() const { return {engine_->displayed_az(), engine_->motors.axis(axis_el).position()}; }
+double Console::mechanical_az() const { return engine_->motors.axis(axis_az).position(); }
+bool Console::moving() const { return engine_->motors.moving(); }
+bool Console::search_running() const { return engine_->search; }
+bool Console::shell_alive() const { return engine_->shell_alive; }
+bool Console::booting() const { return engine_->booting(); }
+const std::vector<Sample>& Console::history() const { return engine_->history; }
+unsigned Console::hazards() const { return engine_->hazards; }
+const std::vector<std::string>& Console::commands() const { return engine_->commands; }
+double Console::time() const { return engine_->now; }
+void Console::power_cycle() { engine_->start_boot(); }
+
+}  // namespace birdcage::sim

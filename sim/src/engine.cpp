@@ -1,0 +1,392 @@
+#include "engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace birdcage::sim {
+namespace {
+
+constexpr double max_tick = 0.02;           // simulated seconds per event step
+constexpr double boot_line_gap = 0.05;      // INVENTED pacing of boot lines
+constexpr double search_dwell = 0.5;        // INVENTED pause between search moves
+constexpr double live_line_period = 0.25;   // §14 CO.1: repetition rate unknown; 4 Hz
+
+double initial_mechanical_az(const VariantProfile& profile, double start_az)
+{
+    if (start_az >= profile.az.min && start_az <= profile.az.max) return start_az;
+    return nearest_wrap_branch(start_az, 0.0, profile.az.min, profile.az.max);
+}
+
+std::vector<std::string_view> split_words(std::string_view line)
+{
+    std::vector<std::string_view> words;
+    std::size_t pos = 0;
+    while (pos < line.size()) {
+        while (pos < line.size() && (line[pos] == ' ' || line[pos] == '\t')) ++pos;
+        const std::size_t start = pos;
+        while (pos < line.size() && line[pos] != ' ' && line[pos] != '\t') ++pos;
+        if (pos > start) words.push_back(line.substr(start, pos - start));
+    }
+    return words;
+}
+
+}  // namespace
+
+Engine::Engine(const Options& opts)
+    : options(opts),
+      profile(profile_for(opts.variant)),
+      motors(profile.az, profile.el, profile.skew, initial_mechanical_az(profile, opts.start_az),
+             std::clamp(opts.start_el, profile.el.min, profile.el.max)),
+      sky(opts.seed, opts.rssi_floor),
+      rng(opts.seed ^ 0x5eedu),
+      nvs(profile.nvs_table())
+{
+    menus = {profile.root};
+    if (profile.nvs_disable_tracker_index >= 0) {
+        // The G2's search runs exactly when NVS 20 is FALSE (§6.2 item 14).
+        if (NvsEntry* entry = nvs.find(profile.nvs_disable_tracker_index)) {
+            const double disabled = opts.search_running ? 0.0 : 1.0;
+            entry->current = entry->saved = disabled;
+        }
+    }
+    apply_nvs_limits();
+    if (!opts.already_booted) {
+        start_boot();
+    } else {
+        if (profile.needs_homing) homed = {opts.g2_homed, opts.g2_homed};
+        if (opts.search_running) start_search();
+    }
+    record_sample();
+}
+
+std::string Engine::eol() const
+{
+    return options.line_ending == LineEnding::crlf ? "\r\n" : "\n";
+}
+
+void Engine::print(std::string_view text) { output.append(text); }
+
+void Engine::print_line(std::string_view text)
+{
+    output.append(text);
+    output.append(eol());
+}
+
+void Engine::print_prompt()
+{
+    const bool named = profile.fixed_prompts || options.prompt_style == PromptStyle::named;
+    if (named) output.append(menus.back()->prompt_name);
+    output.push_back('>');
+}
+
+void Engine::unknown_command()
+{
+    if (!options.unknown_command_reply.empty()) print_line(options.unknown_command_reply);
+}
+
+double Engine::displayed_az() const { return normalize_360(motors.axis(axis_az).position()); }
+
+double Engine::reported_az() const
+{
+    return options.az_report == AzReport::displayed ? displayed_az() : motors.axis(axis_az).position();
+}
+
+void Engine::apply_nvs_limits()
+{
+    el_min_active_ = profile.el_min;
+    el_max_active_ = profile.el_max;
+    if (const NvsEntry* entry = nvs.find(profile.nvs_min_el_index)) el_min_active_ = entry->current;
+    if (const NvsEntry* entry = nvs.find(profile.nvs_max_el_index)) el_max_active_ = entry->current;
+}
+
+// --- input ---------------------------------------------------------------------------------
+
+void Engine::record_received(char byte)
+{
+    if (byte == '\r' || byte == '\n') {
+        commands.push_back(std::exchange(received_line_, {}));
+    } else {
+        received_line_.push_back(byte);
+    }
+}
+
+void Engine::feed(std::string_view bytes)
+{
+    for (const char byte : bytes) {
+        // CR LF (X2-style clients, §9.2) is one terminator: the LF neither ends a second,
+        // empty line nor counts as the keystroke that aborts a `g`.
+        const bool terminator_tail = byte == '\n' && previous_raw_ == '\r';
+        previous_raw_ = byte;
+        if (terminator_tail) continue;
+        record_received(byte);
+        if (booting_ || !shell_alive) continue;  // nobody is reading the UART
+        if (busy.kind == Busy::Kind::goto_move && options.g_aborts_on_input) {
+            motors.stop_all();
+            busy.kind = Busy::Kind::until_idle;
+        }
+        pending_.push_back(byte);
+    }
+    process_pending();
+}
+
+// The shell is single-threaded: typed bytes wait while a command is still running (§6.1).
+void Engine::process_pending()
+{
+    while (busy.kind == Busy::Kind::none && shell_alive && !booting_ && !pending_.empty()) {
+        const char byte = pending_.front();
+        pending_.erase(0, 1);
+        if (byte == '\r' || byte == '\n') {
+            print(eol());
+            execute(std::exchange(line_, {}));
+        } else {
+            // No line editing (§2): backspace and DEL are ordinary characters.
+            line_.push_back(byte);
+            if (options.echo) output.push_back(byte);
+        }
+    }
+}
+
+void Engine::execute(const std::string& line)
+{
+    const Args args = split_words(line);
+    if (args.empty()) {  // bare CR reprints the prompt (§6.1)
+        print_prompt();
+        return;
+    }
+    const Menu& menu = *menus.back();
+    const std::string_view word = args.front();
+    if (word == "q") {
+        quit();
+        return;
+    }
+    if (word == "?" || word == "help") {
+        help();
+        print_prompt();
+        return;
+    }
+    const Command* found = nullptr;
+    for (const Command& command : menu.commands) {
+        if (command.word == word && (command.available == nullptr || command.available(options))) {
+            found = &command;
+            break;
+        }
+    }
+    if (found != nullptr && found->submenu != nullptr) {
+        menus.push_back(found->submenu);
+    } else if (found != nullptr) {
+        found->run(*this, args);
+    } else if (menu.fallback != nullptr) {
+        menu.fallback(*this, args);
+    } else {
+        unknown_command();
+    }
+    if (busy.kind == Busy::Kind::none && shell_alive && !booting_) print_prompt();
+}
+
+void Engine::quit()
+{
+    if (!menus.back()->shell_root) {
+        menus.pop_back();
+        print_prompt();
+        return;
+    }
+    if (menus.size() > 1 && options.pro_q_at_odu_root_returns_to_idu) {
+        menus.pop_back();
+        print_prompt();
+        return;
+    }
+    if (menus.size() == 1 && profile.root_q_kills_shell) {
+        count_hazard();
+        if (options.g2_root_q_kills_shell) {
+            // birdcage's console probe looks for this text after a root `q` (§14 G2.2); not a capture.
+            kill_shell("Terminating shell");
+            return;
+        }
+    }
+    print_prompt();
+}
+
+void Engine::help()
+{
+    for (const Command& command : menus.back()->commands) {
+        if (command.available != nullptr && !command.available(options)) continue;
+        std::string text = "Enter <";
+        text.append(command.word).append("> - ").append(command.help);
+        print_line(text);
+    }
+    print_line("Enter <q> - Quit this menu");  // INVENTED description
+    print_line("help [<command>]");
+}
+
+void Engine::kill_shell(std::string_view last_words)
+{
+    if (!last_words.empty()) print_line(last_words);
+    shell_alive = false;
+    busy = {};
+    pending_.clear();
+    line_.clear();
+}
+
+// --- activities ------------------------------------------------------------------------------
+
+void Engine::wait_until_idle(std::function<void(Engine&)> finish)
+{
+    busy = {Busy::Kind::until_idle, 0.0, 0.0, std::move(finish)};
+}
+
+void Engine::wait_for(double seconds, std::function<void(Engine&)> finish)
+{
+    busy = {Busy::Kind::until_time, now + seconds, 0.0, std::move(finish)};
+}
+
+void Engine::start_goto(std::function<void(Engine&)> finish)
+{
+    busy = {Busy::Kind::goto_move, 0.0, now, std::move(finish)};
+}
+
+void Engine::finish_busy()
+{
+    auto finish = std::move(busy.finish);
+    busy = {};
+    if (finish) finish(*this);
+    if (busy.kind == Busy::Kind::none && shell_alive && !booting_) print_prompt();
+}
+
+void Engine::run_busy()
+{
+    switch (busy.kind) {
+    case Busy::Kind::none: return;
+    case Busy::Kind::until_time:
+        if (now >= busy.until - 1e-9) finish_busy();
+        return;
+    case Busy::Kind::goto_move:
+    case Busy::Kind::until_idle:
+        if (busy.kind == Busy::Kind::goto_move && profile.live_goto_output && now >= busy.next_live_line) {
+            busy.next_live_line += live_line_period;
+            if (busy.finish) busy.finish(*this);  // the live line printer doubles as the final line
+        }
+        if (!motors.moving()) finish_busy();
+        return;
+    }
+}
+
+// --- boot, search ------------------------------------------------------------------------------
+
+void Engine::start_boot()
+{
+    motors.stop_all();
+    for (std::size_t index : {axis_az, axis_el, axis_skew}) motors.axis(index).set_position(motors.axis(index).position());
+    booting_ = true;
+    shell_alive = true;
+    busy = {};
+    pending_.clear();
+    line_.clear();
+    search = false;
+    menus = {profile.root};
+    nvs.load_saved();
+    apply_nvs_limits();
+    nvs_cursor = -1;
+    lnb_mode = "STB";
+    if (profile.needs_homing) homed = {false, false};
+    boot_steps_ = profile.boot_script(*this);
+    boot_index_ = 0;
+    boot_resume_at_ = now;
+}
+
+void Engine::reboot() { start_boot(); }
+
+void Engine::run_boot()
+{
+    while (booting_ && now >= boot_resume_at_ - 1e-9 && !motors.moving()) {
+        if (boot_index_ == boot_steps_.size()) {
+            finish_boot();
+            return;
+        }
+        const BootStep& step = boot_steps_[boot_index_++];
+        switch (step.kind) {
+        case BootStep::Kind::line:
+            print_line(step.text);
+            boot_resume_at_ = now + boot_line_gap;
+            break;
+        case BootStep::Kind::move: motors.enqueue(step.axis, step.target); break;
+        case BootStep::Kind::home: homed[step.axis] = true; break;
+        case BootStep::Kind::pause: boot_resume_at_ = now + step.seconds; break;
+        }
+    }
+}
+
+void Engine::finish_boot()
+{
+    booting_ = false;
+    bool searching = true;
+    if (profile.search_stop == SearchStop::nvs_disable_tracker) {
+        const NvsEntry* entry = nvs.find(profile.nvs_disable_tracker_index);
+        searching = entry != nullptr && entry->current == 0.0 && homed[axis_az] && homed[axis_el];
+    }
+    if (profile.boot_prints_prompt && !searching) print_prompt();
+    if (searching) start_search();
+}
+
+void Engine::start_search()
+{
+    search = true;
+    search_resume_at = now;
+    search_ends_at = now + options.carryout_search_seconds;
+}
+
+void Engine::stop_search()
+{
+    search = false;
+    motors.stop_all();
+}
+
+void Engine::run_search()
+{
+    if (!search || booting_) return;
+    if (profile.search_stop == SearchStop::runs_out && now >= search_ends_at) {
+        stop_search();
+        return;
+    }
+    if (motors.moving() || busy.kind != Busy::Kind::none) {
+        search_resume_at = now + search_dwell;
+        return;
+    }
+    if (now < search_resume_at) return;
+    const double margin = 5.0;
+    std::uniform_real_distribution<double> az(profile.az.min + margin, profile.az.max - margin);
+    std::uniform_real_distribution<double> el(el_limit_min(), el_limit_max());
+    motors.enqueue(axis_az, az(rng));
+    motors.enqueue(axis_el, el(rng));
+}
+
+// --- time ----------------------------------------------------------------------------------------
+
+void Engine::record_sample()
+{
+    if (last_sample_time_ >= 0.0 && now - last_sample_time_ < max_tick - 1e-9) return;
+    last_sample_time_ = now;
+    history.push_back({now, displayed_az(), motors.axis(axis_el).position()});
+}
+
+void Engine::tick()
+{
+    run_boot();
+    run_search();
+    run_busy();
+    process_pending();
+    record_sample();
+}
+
+void Engine::advance(double dt)
+{
+    while (dt > 0.0) {
+        const double step = std::min(dt, max_tick);
+        dt -= step;
+        motors.advance(step);
+        now += step;
+        tick();
+    }
+}
+
+}  // namespace birdcage::sim

@@ -1,0 +1,174 @@
+// Internal state of the console engine and the data that describes a firmware variant.
+// Variants differ only through their VariantProfile row (variants.cpp) and menu tables.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <random>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "birdcage_sim/emulator.hpp"
+#include "birdcage_sim/motor.hpp"
+#include "birdcage_sim/sky.hpp"
+#include "nvs.hpp"
+
+namespace birdcage::sim {
+
+struct Engine;
+using Args = std::vector<std::string_view>;  // args[0] is the command word
+using Handler = void (*)(Engine&, const Args&);
+
+struct Menu;
+struct Command {
+    std::string_view word;
+    Handler run;            // nullptr when the command only enters `submenu`
+    const Menu* submenu;
+    std::string_view help;  // INVENTED descriptions (only the `Enter <cmd> - …` shape is known, §6.3)
+    bool (*available)(const Options&) = nullptr;  // nullptr = always
+};
+
+struct Menu {
+    std::string_view prompt_name;  // prompt is prompt_name + ">" (or ">" in bare style)
+    std::span<const Command> commands;
+    Handler fallback = nullptr;    // unknown words; nullptr = unknown-command reply
+    bool shell_root = false;       // `q` here does not leave a submenu (see Engine::quit)
+};
+
+enum class PositionFormat {
+    travler,  // `AZ = <f> EL = <f> SK = <f>` (§3.3, §4.3, §5.3)
+    g2,       // `Angle[0] = <f>` / `Angle[1] = <f>` (§6.3)
+    none,     // 2003 Carryout: no position query at rest (§8.3)
+};
+
+enum class SearchStop {
+    ngsearch_stop,        // HAL 2.05: `ngsearch` → `s` → `q` (§4.3)
+    os_kill,              // HAL 0.0.00, Pro: `os` → `kill Search` (§3.3, §5.3)
+    nvs_disable_tracker,  // G2: NVS 20 TRUE + `s` + reboot (§6.2 item 14, Appendix A)
+    runs_out,             // 2003 Carryout: cannot be stopped, ends by itself (§8.2)
+};
+
+struct BootStep {
+    enum class Kind { line, move, home, pause };
+    Kind kind;
+    std::string text;         // line
+    std::size_t axis = 0;     // move, home
+    double target = 0.0;      // move (mechanical degrees)
+    double seconds = 0.0;     // pause
+};
+
+struct VariantProfile {
+    Variant variant;
+    const char* name;
+    int baud;                 // informational: a pty has no baud rate
+    const Menu* root;         // console root after boot (Pro: the IDU console)
+    PositionFormat position_format;
+    bool move_ack_angle;      // G2: `Angle = <deg>` after `a <id> <deg>` (§6.3, §7.1)
+    bool relative_moves;      // G2: `a <id> +d` / `-d` (§6.3)
+    bool needs_homing;        // G2: axes read INT_MAX until homed; `h <id>` (§6.4)
+    bool live_goto_output;    // 2003 Carryout: centidegree lines while `g` runs (§8.4)
+    bool root_q_kills_shell;  // G2 (§6.5), subject to Options::g2_root_q_kills_shell
+    bool fixed_prompts;       // G2 prompts are known (§6.3); others follow Options::prompt_style
+    SearchStop search_stop;
+    bool boot_prints_prompt;  // G2 prints TRK> when the tracker stays off (§6.2 item 14)
+    AxisParams az, el, skew;  // mechanical travel + motion parameters
+    double el_min, el_max;    // firmware limits unless NVS overrides them
+    double el_stall_above;    // Pro: motor stalls above ~75 deg (§5.4); +inf elsewhere
+    double stow_el;
+    double home_az, home_el;  // where homing leaves the axes (G2: 0 and NVS 103 = 65)
+    int nvs_min_el_index, nvs_max_el_index, nvs_disable_tracker_index;  // -1 = none
+    std::size_t nvs_page_rows;  // `d` pages through the table (Pro, §5.3); 0 = all at once
+    std::vector<NvsEntry> (*nvs_table)();
+    std::vector<BootStep> (*boot_script)(const Engine&);
+};
+
+const VariantProfile& profile_for(Variant variant);
+
+struct Busy {
+    enum class Kind { none, until_idle, until_time, goto_move };
+    Kind kind = Kind::none;
+    double until = 0.0;
+    double next_live_line = 0.0;
+    std::function<void(Engine&)> finish;  // prints the rest of the reply and the prompt
+};
+
+struct Engine {
+    Engine(const Options& options);
+
+    // --- I/O ----------------------------------------------------------------------------
+    void feed(std::string_view bytes);
+    void advance(double dt);
+    void print(std::string_view text);       // raw bytes to the client
+    void print_line(std::string_view text);  // text + line ending
+    void print_prompt();
+    std::string eol() const;
+
+    // --- shared behaviour used by handlers ----------------------------------------------
+    void unknown_command();
+    void count_hazard() { ++hazards; }
+    void kill_shell(std::string_view last_words);  // console dead until power cycle
+    void reboot();
+    void start_boot();
+    void start_search();
+    void stop_search();
+    void wait_until_idle(std::function<void(Engine&)> finish);
+    void wait_for(double seconds, std::function<void(Engine&)> finish);
+    void start_goto(std::function<void(Engine&)> finish);
+    double displayed_az() const;
+    double reported_az() const;  // per Options::az_report
+    double el_limit_min() const { return el_min_active_; }
+    double el_limit_max() const { return el_max_active_; }
+    bool booting() const { return booting_; }
+
+    const Options options;
+    const VariantProfile& profile;
+    double now = 0.0;
+    MotorModel motors;
+    SkyModel sky;
+    std::mt19937 rng;
+    std::vector<const Menu*> menus;  // menus.front() is the console root
+    std::string output;
+    std::vector<std::string> commands;
+    std::vector<Sample> history;
+    unsigned hazards = 0;
+    bool shell_alive = true;
+    bool search = false;
+    double search_ends_at = 0.0;
+    double search_resume_at = 0.0;
+    std::array<bool, 2> homed{true, true};
+    Busy busy;
+    NvsTable nvs;
+    int nvs_cursor = -1;
+    std::string lnb_mode = "STB";  // §6.2 item 8
+
+private:
+    void record_received(char byte);
+    void process_pending();
+    void execute(const std::string& line);
+    void quit();
+    void help();
+    void tick();  // one small simulated step's events
+    void run_boot();
+    void run_search();
+    void run_busy();
+    void record_sample();
+    void finish_boot();
+    void apply_nvs_limits();
+    void finish_busy();
+
+    std::string line_;
+    std::string pending_;
+    std::string received_line_;
+    char previous_raw_ = 0;
+    bool booting_ = false;
+    std::vector<BootStep> boot_steps_;
+    std::size_t boot_index_ = 0;
+    double boot_resume_at_ = 0.0;
+    double last_sample_time_ = -1.0;
+    double el_min_active_ = 0.0;
+    double el_max_active_ = 90.0;
+};
+
+}  // namespace birdcage::sim

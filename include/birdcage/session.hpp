@@ -48,7 +48,13 @@ public:
     const std::string& menu() const { return menu_; }
     const std::string& last_prompt() const { return last_prompt_; }
     bool reboot_seen() const { return reboot_seen_; }
-    void clear_reboot_seen() { reboot_seen_ = false; }
+    // Clears reboot_seen() and last_boot_line().
+    void clear_reboot_seen() {
+        reboot_seen_ = false;
+        last_boot_line_.clear();
+    }
+    // The most recent boot line seen anywhere (transact, listen or stale input).
+    const std::string& last_boot_line() const { return last_boot_line_; }
 
     void set_allow_nvs_write(bool allow) { allow_nvs_write_ = allow; }
     // The controller reports the homing state it learnt from position replies; the guard uses it.
@@ -80,6 +86,7 @@ private:
     std::string menu_;
     std::string last_prompt_;
     bool reboot_seen_ = false;
+    std::string last_boot_line_;
     bool allow_nvs_write_ = false;
     bool axes_unhomed_ = false;
 };

@@ -82,6 +82,7 @@ Status Controller::run_steps(std::span<const ConsoleStep> steps, std::string_vie
 }
 
 Status Controller::wait_for_boot() {
+    session_.clear_reboot_seen();
     // A booted console answers a bare line ending with its prompt.
     const Status synced = session_.resync(resync_timeout);
     if (synced) {
@@ -113,6 +114,11 @@ Status Controller::wait_for_boot() {
         return std::any_of(profile_.boot_complete_markers.begin(), profile_.boot_complete_markers.end(),
                            [&](std::string_view marker) { return text.find(marker) != std::string::npos; });
     };
+    // The signal may already have passed by while we probed.
+    if (!session_.last_boot_line().empty() && is_boot_done(session_.last_boot_line())) {
+        emit(options_.log, LogLevel::verbose, "boot finished (" + session_.last_boot_line() + ")");
+        return Status::ok();
+    }
     emit(options_.log, LogLevel::warning, "waiting for the dish to finish booting (up to " +
                                               std::to_string(options_.boot_timeout.count() / 1000) + " s)");
     std::chrono::milliseconds waited{0};
@@ -285,8 +291,11 @@ Status Controller::set_target(AzEl target) {
         ++move_count_;
         return Status::ok();
     }
-    auto needed = [](const std::optional<double>& commanded, Axis axis, double value) {
-        return !commanded || axis_error(axis, *commanded, value) >= same_target_degrees;
+    auto needed = [this](const std::optional<double>& commanded, Axis axis, double value) {
+        if (commanded) {
+            return axis_error(axis, *commanded, value) >= same_target_degrees;
+        }
+        return !last_position_ || axis_error(axis, axis_value(*last_position_, axis), value) > profile_.arrival_tolerance;
     };
     Leg az_leg;
     az_leg.axis = Axis::azimuth;

@@ -66,6 +66,9 @@ std::optional<double> number_at(std::string_view text, std::size_t pos, std::siz
             ++i;
         }
     }
+    if (i < text.size() && (is_alnum(text[i]) || text[i] == '.')) {
+        return std::nullopt;  // "1e5", "1.2.3", "12abc": not a console number
+    }
     double value = 0;
     const auto [ptr, ec] = std::from_chars(text.data() + digits_start, text.data() + i, value,
                                            std::chars_format::fixed);

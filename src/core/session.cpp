@@ -62,6 +62,7 @@ void ConsoleSession::handle_event(const FrameEvent& event, Collected& into) {
         break;
     case FrameEvent::Kind::boot_line:
         reboot_seen_ = true;
+        last_boot_line_ = event.text;
         menu_.clear();  // wherever we were, a booting dish ends up at its root (or mid-boot)
         into.everything.push_back(event.text);
         emit(log_, LogLevel::verbose, "dish boot output: " + event.text);
@@ -131,7 +132,11 @@ Result<Reply> ConsoleSession::transact(std::string_view command, std::chrono::mi
     if (Status drained = drain_stale(collected); !drained) {
         return {{}, drained};
     }
-    collected.lines.clear();  // stale lines are not part of this reply; stale faults still count
+    // Stale lines and prompts are not part of this reply (a stale prompt must not end it early);
+    // stale faults still count.
+    collected.lines.clear();
+    collected.everything.clear();
+    collected.prompt.clear();
 
     const Deadline deadline = Clock::now() + timeout;
     const std::string wire = std::string(command) + std::string(profile_.line_ending);

@@ -1,0 +1,438 @@
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "birdcage/controller.hpp"
+#include "fake_transport.hpp"
+
+using namespace birdcage;
+using namespace birdcage::test;
+using namespace std::chrono_literals;
+using Commands = std::vector<std::string>;
+
+namespace {
+
+struct FakeClock {
+    Clock::time_point now = Clock::time_point{} + 1h;
+    std::function<Clock::time_point()> source() {
+        return [this] { return now; };
+    }
+};
+
+ControllerOptions options_for(VariantId variant, FakeClock& clock, bool leapfrog = false) {
+    ControllerOptions options{};
+    options.variant = variant;
+    options.leapfrog = leapfrog;
+    options.clock = clock.source();
+    return options;
+}
+
+// Commands written since `from` (index into FakeTransport::commands()).
+Commands since(const FakeTransport& wire, std::size_t from) {
+    return Commands(wire.commands().begin() + static_cast<std::ptrdiff_t>(from), wire.commands().end());
+}
+
+// Pumps service() with the fake clock advancing `step` per call until idle (bounded).
+int run_until_idle(Controller& controller, FakeClock& clock, std::chrono::milliseconds step = 100ms) {
+    for (int calls = 1; calls <= 1000; ++calls) {
+        clock.now += step;
+        const Status status = controller.service();
+        INFO(status.message);
+        REQUIRE((status || status.code == Errc::timeout));
+        if (controller.idle()) {
+            return calls;
+        }
+    }
+    FAIL("controller never became idle");
+    return -1;
+}
+
+bool contains(const Commands& commands, const std::string& command) {
+    return std::find(commands.begin(), commands.end(), command) != commands.end();
+}
+
+}  // namespace
+
+TEST_CASE("controller G2: initialise a booted dish at TRK> without ever sending q at the root") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    CHECK(wire.commands() == Commands{"", "mot", "a"});
+    CHECK(controller.initialised());
+    REQUIRE(controller.last_position());
+    CHECK(controller.last_position()->az == Approx(180));
+    CHECK(controller.last_position()->el == Approx(45));
+    CHECK_FALSE(dish.shell_killed);
+    CHECK(controller.describe().find("Carryout G2") != std::string::npos);
+}
+
+TEST_CASE("controller G2: initialise from a submenu leaves it with q, then enters MOT>") {
+    FakeG2 dish;
+    dish.menu = "DVB";
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    CHECK(wire.commands() == Commands{"", "q", "mot", "a"});
+    CHECK_FALSE(dish.shell_killed);
+}
+
+TEST_CASE("controller G2: already in MOT> still passes through the root safely") {
+    FakeG2 dish;
+    dish.menu = "MOT";
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    CHECK(wire.commands() == Commands{"", "q", "mot", "a"});
+}
+
+TEST_CASE("controller G2: waits for the boot to complete") {
+    FakeG2 dish;
+    bool booted = false;
+    FakeTransport wire([&](const std::string& c) { return booted ? dish.respond(c) : Commands{}; });
+    wire.push_delayed("Bootloader v1.01\r\nMotor init: System=12Inch\r\nAntenna Facing Front\r\nBoot Complete\r\n"
+                      "Loc Startup: IDU NOT Present\r\nTRK>",
+                      2);
+    FakeClock clock;
+    auto options = options_for(VariantId::carryout_g2, clock);
+    std::vector<std::string> log;
+    options.log = [&](LogLevel, const std::string& m) {
+        log.push_back(m);
+        if (m.find("Boot Complete") != std::string::npos) {
+            booted = true;
+        }
+    };
+    Controller controller(wire, options);
+    REQUIRE(controller.initialize());
+    CHECK(wire.commands() == Commands{"", "mot", "a"});
+    CHECK(std::any_of(log.begin(), log.end(), [](const std::string& m) { return m.find("waiting for the dish") != std::string::npos; }));
+}
+
+TEST_CASE("controller: boot wait is bounded by boot_timeout") {
+    FakeTransport wire;  // a dish that never says anything
+    FakeClock clock;
+    auto options = options_for(VariantId::carryout_g2, clock);
+    options.boot_timeout = 90s;
+    Controller controller(wire, options);
+    const Status status = controller.initialize();
+    CHECK(status.code == Errc::timeout);
+    CHECK(status.message.find("skip_init") != std::string::npos);
+    CHECK_FALSE(controller.initialised());
+}
+
+TEST_CASE("controller G2: moves one axis at a time, alternating the first axis") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+
+    std::size_t mark = wire.commands().size();
+    REQUIRE(controller.set_target({190, 50}));
+    CHECK(wire.commands().size() == mark);  // set_target does no I/O
+    CHECK_FALSE(controller.idle());
+    run_until_idle(controller, clock);
+    CHECK(since(wire, mark) == Commands{"a 0 190.00", "a", "a 1 50.00", "a"});
+    CHECK(controller.last_position()->az == Approx(190));
+
+    mark = wire.commands().size();
+    REQUIRE(controller.set_target({200, 55}));
+    run_until_idle(controller, clock);
+    CHECK(since(wire, mark) == Commands{"a 1 55.00", "a", "a 0 200.00", "a"});
+
+    SECTION("a repeated identical target is a no-op") {
+        mark = wire.commands().size();
+        REQUIRE(controller.set_target({200, 55}));
+        CHECK(controller.idle());
+        controller.service();
+        CHECK(since(wire, mark).empty());
+    }
+    SECTION("only the axis that changes is commanded") {
+        mark = wire.commands().size();
+        REQUIRE(controller.set_target({200, 60}));
+        run_until_idle(controller, clock);
+        CHECK(since(wire, mark) == Commands{"a 1 60.00", "a"});
+    }
+}
+
+TEST_CASE("controller G2: leapfrog leads both axes against the last known position") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock, true));
+    REQUIRE(controller.initialize());
+    const std::size_t mark = wire.commands().size();
+    REQUIRE(controller.set_target({190, 46.5}));
+    run_until_idle(controller, clock);
+    CHECK(since(wire, mark) == Commands{"a 0 191.00", "a", "a 1 47.00", "a"});
+    CHECK(controller.current_target()->az == Approx(190));  // the target, not the led command
+}
+
+TEST_CASE("controller: target validation and clamping") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    CHECK(controller.set_target({std::nan(""), 45}).code == Errc::invalid_argument);
+    CHECK(controller.set_target({180, 1.0 / 0.0}).code == Errc::invalid_argument);
+    REQUIRE(controller.set_target({370, 80}));
+    CHECK(controller.current_target()->az == Approx(10));
+    CHECK(controller.current_target()->el == Approx(65));
+    REQUIRE(controller.set_target({-10, 5}));
+    CHECK(controller.current_target()->az == Approx(350));
+    CHECK(controller.current_target()->el == Approx(18));
+}
+
+TEST_CASE("controller: user elevation limits never exceed the variant's") {
+    FakeTransport wire;
+    FakeClock clock;
+    auto options = options_for(VariantId::carryout_g2, clock);
+    options.el_min = 20;
+    options.el_max = 80;
+    Controller narrowed(wire, options);
+    CHECK(narrowed.el_min() == 20);
+    CHECK(narrowed.el_max() == 65);
+    options.el_min = 10;
+    options.el_max = 30;
+    Controller widened(wire, options);
+    CHECK(widened.el_min() == 18);
+    CHECK(widened.el_max() == 30);
+}
+
+TEST_CASE("controller G2: polls until the axis arrives") {
+    FakeG2 dish;
+    dish.step_per_query = 2.0;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    const std::size_t mark = wire.commands().size();
+    REQUIRE(controller.set_target({190, 45}));
+    run_until_idle(controller, clock);
+    const Commands sent = since(wire, mark);
+    CHECK(sent.front() == "a 0 190.00");
+    CHECK(std::count(sent.begin(), sent.end(), "a") == 5);  // 182, 184, ..., 190
+    CHECK(controller.last_position()->az == Approx(190));
+}
+
+TEST_CASE("controller G2: an axis that stops short is declared done after the still window") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) {
+        auto out = dish.respond(c);
+        if (c.rfind("a 0 ", 0) == 0) {
+            dish.target_az -= 5;  // e.g. a mechanical stop
+        }
+        return out;
+    });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({200, 45}));
+    const int calls = run_until_idle(controller, clock);
+    CHECK(calls >= 20);  // 2 s still window at 100 ms per call
+    CHECK(controller.last_position()->az == Approx(195));
+}
+
+TEST_CASE("controller G2: a leg that keeps creeping is abandoned after 2 x estimate + margin") {
+    FakeG2 dish;
+    dish.step_per_query = 0.05;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({190, 45}));
+    Status last;
+    for (int i = 0; i < 200 && !controller.idle(); ++i) {
+        clock.now += 100ms;
+        const Status status = controller.service();
+        if (!status) {
+            last = status;
+        }
+    }
+    CHECK(last.code == Errc::timeout);
+    CHECK(controller.idle());
+}
+
+TEST_CASE("controller: cancel_pending drops legs not yet sent; the leg in flight finishes") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    const std::size_t mark = wire.commands().size();
+    REQUIRE(controller.set_target({190, 50}));
+    clock.now += 100ms;
+    REQUIRE(controller.service());  // sends AZ
+    controller.cancel_pending();
+    CHECK_FALSE(controller.current_target());
+    run_until_idle(controller, clock);
+    CHECK_FALSE(contains(since(wire, mark), "a 1 50.00"));
+    CHECK(contains(since(wire, mark), "a 0 190.00"));
+}
+
+TEST_CASE("controller G2: unhomed axes refuse moves and say so") {
+    FakeG2 dish;
+    dish.homed = false;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    CHECK(controller.query_position().status.code == Errc::not_homed);
+    CHECK(controller.set_target({180, 45}).code == Errc::not_homed);
+    CHECK(controller.describe().find("NOT homed") != std::string::npos);
+    for (const auto& command : wire.commands()) {
+        CHECK(command.rfind("a 0", 0) != 0);
+    }
+}
+
+TEST_CASE("controller G2: a reboot seen during operation requires re-initialisation") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({190, 50}));
+    clock.now += 100ms;
+    REQUIRE(controller.service());
+    wire.push_input("Bootloader v1.01\r\nBoot Complete\r\nTRK>");
+    dish.menu = "TRK";
+    Status status;
+    for (int i = 0; i < 5 && status; ++i) {
+        clock.now += 100ms;
+        status = controller.service();
+    }
+    CHECK(status.code == Errc::not_initialised);
+    CHECK(controller.idle());
+    CHECK_FALSE(controller.initialised());
+    const Status again = controller.initialize();
+    INFO(again.message);
+    REQUIRE(again);
+    CHECK_FALSE(dish.shell_killed);
+}
+
+TEST_CASE("controller G2: skip_init trusts the user but still reads the prompt") {
+    FakeG2 dish;
+    dish.menu = "MOT";
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    auto options = options_for(VariantId::carryout_g2, clock);
+    options.skip_init = true;
+    Controller controller(wire, options);
+    REQUIRE(controller.initialize());
+    CHECK(wire.commands() == Commands{"", "a"});
+}
+
+TEST_CASE("controller HAL 2.05: initialise stops the search the ngsearch way and enters motor") {
+    FakeTravler dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::travler_hal205, clock));
+    REQUIRE(controller.initialize());
+    CHECK(wire.commands() == Commands{"", "motor", "a", "q", "", "q", "", "ngsearch", "s", "q", "", "motor", "a"});
+    CHECK(controller.last_position()->az == Approx(90));
+    CHECK(controller.last_position()->el == Approx(30));
+}
+
+TEST_CASE("controller HAL 2.05: waits for NoGPS / No LNB Voltage when the console is silent") {
+    FakeTravler dish;
+    int queries = 0;
+    FakeTransport wire([&](const std::string& c) {
+        if (c == "a" && ++queries == 1) {
+            return Commands{};  // still calibrating: no answer
+        }
+        return dish.respond(c);
+    });
+    // 3: the signal arrives while the core probes with `motor`/`a`; 6: while it listens for it.
+    const int arrives_after = GENERATE(3, 6);
+    wire.push_delayed("Calibrating...\r\nNo LNB Voltage\r\n", arrives_after);
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::travler_hal205, clock));
+    const Status status = controller.initialize();
+    INFO(status.message);
+    REQUIRE(status);
+    CHECK(contains(wire.commands(), "ngsearch"));
+    CHECK(controller.last_position());
+}
+
+TEST_CASE("controller HAL 0.0.00: os / kill Search, mot") {
+    FakeTravler dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::travler_hal000, clock));
+    REQUIRE(controller.initialize());
+    CHECK(since(wire, 3) == Commands{"q", "", "q", "", "os", "kill Search", "q", "", "mot", "a"});
+}
+
+TEST_CASE("controller HAL 2.05: moves without a prompt, polling AZ/EL replies") {
+    FakeTravler dish;
+    dish.step_per_query = 3.0;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::travler_hal205, clock, true));
+    REQUIRE(controller.initialize());
+    const std::size_t mark = wire.commands().size();
+    REQUIRE(controller.set_target({100, 35}));
+    run_until_idle(controller, clock);
+    const Commands sent = since(wire, mark);
+    CHECK(sent.front() == "a 0 101.00");  // led by 1 deg
+    CHECK(contains(sent, "a 1 36.00"));
+    CHECK(controller.last_position()->az == Approx(101));
+    CHECK(controller.last_position()->el == Approx(36));
+}
+
+TEST_CASE("controller Carryout 2003: target + g, listens during the move, reports honestly") {
+    std::vector<std::string> moves;
+    FakeTransport wire([&](const std::string& c) {
+        if (c.rfind("g ", 0) == 0) {
+            moves.push_back(c);
+            return Commands{c + "\r\n", "az = 17000   el = 4000\r\n"};
+        }
+        return Commands{};
+    });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout2003, clock));
+    REQUIRE(controller.initialize());
+    CHECK(wire.commands() == Commands{"", "q", "", "target"});
+    CHECK(controller.query_position().status.code == Errc::unsupported);
+
+    REQUIRE(controller.set_target({180, 45}));
+    clock.now += 100ms;
+    REQUIRE(controller.service());
+    CHECK(moves == Commands{"g 180.00 45.00"});
+    const std::size_t after_g = wire.commands().size();
+    wire.push_input("az = 18000   el = 4500\r\n");
+    run_until_idle(controller, clock);
+    CHECK(wire.commands().size() == after_g);  // nothing sent while `g` runs
+    const auto position = controller.query_position();
+    REQUIRE(position);
+    CHECK(position.value.az == Approx(180));
+    CHECK(position.value.el == Approx(45));
+}
+
+TEST_CASE("controller Carryout 2003: without live output the commanded position is reported as such") {
+    FakeTransport wire;
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout2003, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({100, 30}));
+    run_until_idle(controller, clock, 1000ms);
+    REQUIRE(controller.query_position());
+    CHECK(controller.query_position().value.az == Approx(100));
+    CHECK(controller.describe().find("last commanded") != std::string::npos);
+}
+
+TEST_CASE("controller: service before initialise with work queued reports not_initialised") {
+    FakeTransport wire;
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    CHECK(controller.service());
+    REQUIRE(controller.set_target({100, 30}));
+    CHECK(controller.service().code == Errc::not_initialised);
+    CHECK(wire.commands().empty());
+}

@@ -362,11 +362,16 @@ void Engine::run_search()
 
 // --- time ----------------------------------------------------------------------------------------
 
+// Every tick while the dish moves; at rest one sample a second keeps long idle runs small.
 void Engine::record_sample()
 {
-    if (last_sample_time_ >= 0.0 && now - last_sample_time_ < max_tick - 1e-9) return;
-    last_sample_time_ = now;
-    history.push_back({now, displayed_az(), motors.axis(axis_el).position()});
+    const Sample sample{now, displayed_az(), motors.axis(axis_el).position()};
+    if (!history.empty()) {
+        const Sample& last = history.back();
+        const bool still = last.az == sample.az && last.el == sample.el;
+        if (now - last.t < (still ? 1.0 : max_tick) - 1e-9) return;
+    }
+    history.push_back(sample);
 }
 
 void Engine::tick()

@@ -166,7 +166,6 @@ private:
     std::vector<BootStep> boot_steps_;
     std::size_t boot_index_ = 0;
     double boot_resume_at_ = 0.0;
-    double last_sample_time_ = -1.0;
     double el_min_active_ = 0.0;
     double el_max_active_ = 90.0;
 };

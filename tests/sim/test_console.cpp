@@ -194,6 +194,33 @@ TEST_CASE("G2: NVS formats from Davidson's transcript; writes count as hazards",
     CHECK(dump.find("143) Tracking Number") != std::string::npos);
 }
 
+TEST_CASE("G2: Davidson's verbatim d 20 / e 20 1 with the tracker enabled", "[console][g2][nvs]")
+{
+    Options options = options_for(Variant::carryout_g2);
+    options.search_running = true;  // NVS 20 FALSE
+    Console console(options);
+    send(console, "nvs\r");
+    CHECK(send(console, "d 20\r").find(" 20) Disable Tracker Proc?            FALSE       FALSE       FALSE\r\n") !=
+          std::string::npos);
+    CHECK(send(console, "e 20 1\r") == "e 20 1\r\n 20) Disable Tracker Proc?           FALSE .       TRUE\r\nNVS>");
+}
+
+TEST_CASE("history samples the true position over simulated time", "[console]")
+{
+    Console console(options_for(Variant::carryout_g2));
+    send(console, "mot\ra 0 270\r");
+    settle(console);
+    console.advance(10.0);
+    const auto& history = console.history();
+    REQUIRE(history.size() > 20);
+    for (std::size_t i = 1; i < history.size(); ++i) {
+        CHECK(history[i].t > history[i - 1].t);
+        CHECK(history[i].t - history[i - 1].t <= 1.0 + 1e-6);
+    }
+    CHECK(history.back().az == Approx(270.0));
+    CHECK(history.back().t == Approx(console.time()).margin(1.0));
+}
+
 TEST_CASE("G2: os id per Appendix B", "[console][g2]")
 {
     Console console(options_for(Variant::carryout_g2));

@@ -44,7 +44,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
     {
         .id = VariantId::travler_hal000,
         .short_name = "hal000",
-        .display_name = "Winegard Trav'ler (HAL 0.0.00)",
+        .display_name = "Trav'ler HAL 0.0.00",
         .model_index = 1,
         .baud = 57600,
         .line_ending = "\r",
@@ -70,7 +70,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
     {
         .id = VariantId::travler_hal205,
         .short_name = "hal205",
-        .display_name = "Winegard Trav'ler (HAL 2.05)",
+        .display_name = "Trav'ler HAL 2.05",
         .model_index = 2,
         .baud = 57600,
         .line_ending = "\r",
@@ -96,7 +96,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
     {
         .id = VariantId::travler_pro,
         .short_name = "pro",
-        .display_name = "Winegard Trav'ler Pro",
+        .display_name = "Trav'ler Pro",
         .model_index = 3,
         .baud = 57600,  // unconfirmed; irrelevant on the USB CDC-ACM link (5.1)
         .line_ending = "\r",
@@ -122,7 +122,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
     {
         .id = VariantId::carryout2003,
         .short_name = "carryout2003",
-        .display_name = "Winegard Carryout (2003, HAL 1.00.065)",
+        .display_name = "Carryout HAL 1.00.065",
         .model_index = 4,
         .baud = 57600,
         .line_ending = "\r",
@@ -149,7 +149,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
     {
         .id = VariantId::carryout_g2,
         .short_name = "g2",
-        .display_name = "Winegard Carryout G2 (02.02.48)",
+        .display_name = "Carryout G2",
         .model_index = 5,
         .baud = 115200,
         .line_ending = "\r",

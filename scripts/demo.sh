@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# The main job on the emulator, no hardware needed: for each dish variant, start the dish emulator
+# on a pseudo-terminal, start the distribution's stock rotctld with the Winegard backend preloaded,
+# and drive it with the stock rotctl client, printing what the dish does.
+#
+#   ./scripts/demo.sh [variant ...]        variants: hal205 g2 (default: both)
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${BIRDCAGE_BUILD_DIR:-$root/build}
+"$root/scripts/build.sh" >/dev/null
+
+lib="$build/src/hamlib/libhamlib-winegard.so"
+sim="$build/sim/birdcage-sim"
+time_scale=${BIRDCAGE_DEMO_TIME_SCALE:-4}
+variants=("$@")
+((${#variants[@]})) || variants=(hal205 g2)
+
+declare -A model=([hal000]=90101 [hal205]=90102 [pro]=90103 [carryout2003]=90104 [g2]=90105)
+work=$(mktemp -d /tmp/birdcage-demo.XXXXXX)
+pids=()
+cleanup() {
+    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+    wait 2>/dev/null || true
+    rm -rf "$work"
+}
+trap cleanup EXIT
+
+free_port() {
+    local p
+    for p in $(seq 45330 45400); do
+        if ! (exec 3<>/dev/tcp/127.0.0.1/"$p") 2>/dev/null; then echo "$p"; return; fi
+    done
+    echo "no free port" >&2; return 1
+}
+
+wait_for() { # wait_for SECONDS COMMAND...
+    local deadline=$((SECONDS + $1)); shift
+    until "$@" 2>/dev/null; do
+        ((SECONDS < deadline)) || return 1
+        sleep 0.1
+    done
+}
+
+echo "== Models the backend adds to the stock rotctl ($(rotctl --version | head -1)):"
+LD_PRELOAD="$lib" rotctl -l | awk 'NR==1 || /Winegard/'
+
+for v in "${variants[@]}"; do
+    m=${model[$v]:?unknown variant $v}
+    dev="$work/$v.tty"
+    port=$(free_port)
+    echo
+    echo "== $v: emulated dish on $dev (time x$time_scale), rotctld -m $m on 127.0.0.1:$port"
+    "$sim" --variant "$v" --link "$dev" --time-scale "$time_scale" --az 100 --el 30 >"$work/$v.sim.log" 2>&1 &
+    pids+=($!)
+    wait_for 10 test -e "$dev"
+    LD_PRELOAD="$lib" rotctld -m "$m" -r "$dev" -T 127.0.0.1 -t "$port" >"$work/$v.rotctld.log" 2>&1 &
+    pids+=($!)
+    if ! wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$port"; then
+        echo "rotctld did not start; its log:"; cat "$work/$v.rotctld.log"; exit 1
+    fi
+    rc() { rotctl -m 2 -r "127.0.0.1:$port" "$@"; }
+    echo "info:     $(rc _ | tr '\n' ' ')"
+    echo "position: $(rc p | tr '\n' ' ')"
+    echo "command:  P 180 45"
+    rc P 180 45
+    last=""
+    for _ in $(seq 1 60); do
+        pos=$(rc p | tr '\n' ' ')
+        [[ "$pos" == "$last" ]] && break   # two equal readings: the dish has arrived
+        printf '  dish at  az %s el %s\n' $pos
+        last=$pos
+        sleep 0.25
+    done
+    echo "command:  P 230 25, then S while it moves"
+    rc P 230 25
+    sleep 0.3
+    rc S
+    sleep 1
+    echo "stopped:  $(rc p | tr '\n' ' ')  (the leg in flight finishes; the other leg is dropped)"
+done
+echo
+echo "demo finished"

@@ -1,0 +1,32 @@
+/* Hides the Hamlib API differences between 4.5.4 (Debian bookworm) and 4.6 / 4.7 / master.
+ * Never touch rot->state directly: master removed it. See ../shared notes hamlib.md §3. */
+#ifndef BIRDCAGE_HAMLIB_COMPAT_H
+#define BIRDCAGE_HAMLIB_COMPAT_H
+
+#include <hamlib/rotator.h>
+#if defined(__has_include)
+#  if __has_include(<hamlib/port.h>)      /* 4.7+: HAMLIB_ROTPORT(); master needs it explicitly */
+#    include <hamlib/port.h>
+#  endif
+#  if __has_include(<hamlib/rot_state.h>) /* 4.7+: struct rot_state + HAMLIB_ROTSTATE() */
+#    include <hamlib/rot_state.h>
+#  endif
+#endif
+
+#ifndef token_t /* 4.5.x: token_t is a typedef; 4.6+ #define it to hamlib_token_t */
+typedef token_t hamlib_token_t;
+#endif
+
+#if defined(HAMLIB_ROTSTATE) /* 4.6+: through the exported rot_data_pointer() */
+#  define WG_ROTSTATE(r) HAMLIB_ROTSTATE(r)
+#else
+#  define WG_ROTSTATE(r) (&(r)->state)
+#endif
+
+#if defined(HAMLIB_ROTPORT)
+#  define WG_ROTPORT(r) HAMLIB_ROTPORT(r)
+#else
+#  define WG_ROTPORT(r) (&(r)->state.rotport)
+#endif
+
+#endif

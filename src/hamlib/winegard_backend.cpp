@@ -1,0 +1,454 @@
+// Hamlib glue for the Winegard backend: rot_caps per firmware variant, conf parameters, and the
+// callbacks that forward to birdcage::RotatorService. This is the only file that knows Hamlib
+// (besides hamlib_compat.h); everything it calls is the plain C++ core.
+#include "hamlib_compat.h"
+#include "winegard.h"
+
+#include "birdcage/errors.hpp"
+#include "birdcage/log.hpp"
+#include "birdcage/rotator_service.hpp"
+#include "birdcage/transport.hpp"
+#include "birdcage/variants.hpp"
+
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <string>
+
+#ifndef BIRDCAGE_MODEL_FAMILY
+#define BIRDCAGE_MODEL_FAMILY 901
+#endif
+
+namespace {
+
+using birdcage::Errc;
+using birdcage::Status;
+
+constexpr const char* kBackendVersion = "20261122.0";
+
+// Variants registered as Hamlib models. Each one is a row of the core's variant table; the
+// caps below are derived from that row so limits and baud rates live in one place.
+constexpr std::array kRegisteredVariants = {
+    birdcage::VariantId::travler_hal205,
+    birdcage::VariantId::carryout_g2,
+};
+
+// Accepted by Hamlib's own range check (which answers RPRT -1 outside it, and Gpredict disengages
+// after five errors). They cover Gpredict's 0..360 and -180..180 azimuth modes and its default
+// 0..90 elevation; the backend then clamps to what the variant can really do.
+constexpr float kCapsMinAz = -180.0f;
+constexpr float kCapsMaxAz = 540.0f;
+constexpr float kCapsMinEl = 0.0f;
+constexpr float kCapsMaxEl = 90.0f;
+
+enum ConfToken : long {
+    tok_leapfrog = 1,
+    tok_boot_timeout,
+    tok_skip_init,
+    tok_el_min,
+    tok_el_max,
+};
+
+struct WinegardPriv {
+    birdcage::ControllerOptions options;
+    std::unique_ptr<birdcage::RotatorService> service;
+    std::string info;
+};
+
+WinegardPriv* priv_of(ROT* rot) {
+    return static_cast<WinegardPriv*>(WG_ROTSTATE(rot)->priv);
+}
+
+int to_hamlib_error(const Status& status) {
+    switch (status.code) {
+    case Errc::ok: return RIG_OK;
+    case Errc::timeout: return -RIG_ETIMEOUT;
+    case Errc::protocol: return -RIG_EPROTO;
+    // Hamlib 4.7+ rotctld drops the client on -RIG_EIO: reserved for a port that is gone.
+    case Errc::io: return -RIG_EIO;
+    case Errc::disconnected: return -RIG_EIO;
+    case Errc::invalid_argument: return -RIG_EINVAL;
+    case Errc::unsupported: return -RIG_ENAVAIL;
+    case Errc::hazard: return -RIG_ERJCTED;
+    case Errc::not_homed: return -RIG_ERJCTED;
+    case Errc::busy: return -RIG_ERJCTED;
+    case Errc::not_initialised: return -RIG_ENAVAIL;
+    }
+    return -RIG_EINTERNAL;
+}
+
+int report(const char* where, const Status& status) {
+    if (!status) {
+        rot_debug(RIG_DEBUG_ERR, "winegard: %s: %s: %s\n", where, birdcage::to_string(status.code),
+                  status.message.c_str());
+    }
+    return to_hamlib_error(status);
+}
+
+rig_debug_level_e to_hamlib_level(birdcage::LogLevel level) {
+    switch (level) {
+    case birdcage::LogLevel::error: return RIG_DEBUG_ERR;
+    case birdcage::LogLevel::warning: return RIG_DEBUG_WARN;
+    case birdcage::LogLevel::verbose: return RIG_DEBUG_VERBOSE;
+    case birdcage::LogLevel::trace: return RIG_DEBUG_TRACE;
+    }
+    return RIG_DEBUG_TRACE;
+}
+
+const birdcage::FirmwareProfile* profile_for_model(rot_model_t model) {
+    for (birdcage::VariantId id : kRegisteredVariants) {
+        const birdcage::FirmwareProfile& p = birdcage::profile(id);
+        if (ROT_MAKE_MODEL(BIRDCAGE_MODEL_FAMILY, p.model_index) == model) {
+            return &p;
+        }
+    }
+    return nullptr;
+}
+
+bool parse_bool(const char* text, bool* out) {
+    if (std::strcmp(text, "1") == 0 || std::strcmp(text, "on") == 0 || std::strcmp(text, "true") == 0) {
+        *out = true;
+        return true;
+    }
+    if (std::strcmp(text, "0") == 0 || std::strcmp(text, "off") == 0 || std::strcmp(text, "false") == 0) {
+        *out = false;
+        return true;
+    }
+    return false;
+}
+
+bool parse_number(const char* text, double* out) {
+    char* end = nullptr;
+    errno = 0;
+    const double value = std::strtod(text, &end);
+    if (end == text || *end != '\0' || errno != 0 || !std::isfinite(value)) {
+        return false;
+    }
+    *out = value;
+    return true;
+}
+
+extern "C" int winegard_rot_init(ROT* rot) {
+    const birdcage::FirmwareProfile* profile = profile_for_model(rot->caps->rot_model);
+    if (profile == nullptr) {
+        return -RIG_EINVAL;
+    }
+    auto* priv = new (std::nothrow) WinegardPriv{};
+    if (priv == nullptr) {
+        return -RIG_ENOMEM;
+    }
+    priv->options.variant = profile->id;
+    priv->options.log = [](birdcage::LogLevel level, const std::string& message) {
+        rot_debug(to_hamlib_level(level), "winegard: %s\n", message.c_str());
+    };
+    WG_ROTSTATE(rot)->priv = priv;
+    return RIG_OK;
+}
+
+extern "C" int winegard_rot_cleanup(ROT* rot) {
+    delete priv_of(rot);
+    WG_ROTSTATE(rot)->priv = nullptr;
+    return RIG_OK;
+}
+
+extern "C" int winegard_rot_open(ROT* rot) {
+    WinegardPriv* priv = priv_of(rot);
+    hamlib_port_t* port = WG_ROTPORT(rot);
+    rot_debug(RIG_DEBUG_VERBOSE, "winegard: opening %s on %s, fd %d\n", rot->caps->model_name,
+              port->pathname, port->fd);
+    if (port->fd < 0) {
+        return -RIG_EIO;
+    }
+    // Hamlib owns the fd (it closes it in rot_close); it is non-blocking, which FdTransport polls.
+    auto transport = std::make_unique<birdcage::FdTransport>(port->fd, false);
+    priv->service = std::make_unique<birdcage::RotatorService>(std::move(transport), priv->options);
+    if (Status st = priv->service->start(); !st) {
+        priv->service.reset();
+        return report(__func__, st);
+    }
+    return RIG_OK;
+}
+
+extern "C" int winegard_rot_close(ROT* rot) {
+    WinegardPriv* priv = priv_of(rot);
+    if (priv->service) {
+        priv->service->shutdown();
+        priv->service.reset();
+    }
+    return RIG_OK;
+}
+
+extern "C" int winegard_set_conf(ROT* rot, hamlib_token_t token, const char* val) {
+    birdcage::ControllerOptions& o = priv_of(rot)->options;
+    bool flag = false;
+    double number = 0;
+    switch (token) {
+    case tok_leapfrog:
+        if (!parse_bool(val, &flag)) { return -RIG_EINVAL; }
+        o.leapfrog = flag;
+        return RIG_OK;
+    case tok_skip_init:
+        if (!parse_bool(val, &flag)) { return -RIG_EINVAL; }
+        o.skip_init = flag;
+        return RIG_OK;
+    case tok_boot_timeout:
+        if (!parse_number(val, &number) || number < 0 || number > 3600) { return -RIG_EINVAL; }
+        o.boot_timeout = std::chrono::milliseconds(static_cast<long long>(number * 1000.0));
+        return RIG_OK;
+    case tok_el_min:
+        if (!parse_number(val, &number)) { return -RIG_EINVAL; }
+        o.el_min = number;
+        return RIG_OK;
+    case tok_el_max:
+        if (!parse_number(val, &number)) { return -RIG_EINVAL; }
+        o.el_max = number;
+        return RIG_OK;
+    default:
+        rot_debug(RIG_DEBUG_ERR, "winegard: unknown conf token %ld\n", static_cast<long>(token));
+        return -RIG_EINVAL;
+    }
+}
+
+extern "C" int winegard_get_conf2(ROT* rot, hamlib_token_t token, char* val, int val_len) {
+    const birdcage::ControllerOptions& o = priv_of(rot)->options;
+    const birdcage::FirmwareProfile& p = birdcage::profile(o.variant);
+    const auto size = static_cast<std::size_t>(val_len);
+    switch (token) {
+    case tok_leapfrog: std::snprintf(val, size, "%d", o.leapfrog ? 1 : 0); return RIG_OK;
+    case tok_skip_init: std::snprintf(val, size, "%d", o.skip_init ? 1 : 0); return RIG_OK;
+    case tok_boot_timeout:
+        std::snprintf(val, size, "%lld", static_cast<long long>(o.boot_timeout.count() / 1000));
+        return RIG_OK;
+    case tok_el_min: std::snprintf(val, size, "%.2f", o.el_min.value_or(p.el_min)); return RIG_OK;
+    case tok_el_max: std::snprintf(val, size, "%.2f", o.el_max.value_or(p.el_max)); return RIG_OK;
+    default: return -RIG_EINVAL;
+    }
+}
+
+extern "C" int winegard_get_conf(ROT* rot, hamlib_token_t token, char* val) {
+    return winegard_get_conf2(rot, token, val, 128); // Hamlib's own buffer size for get_conf
+}
+
+birdcage::RotatorService* open_service(ROT* rot) {
+    return priv_of(rot)->service.get();
+}
+
+extern "C" int winegard_set_position(ROT* rot, azimuth_t az, elevation_t el) {
+    birdcage::RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    rot_debug(RIG_DEBUG_VERBOSE, "winegard: set_position %.2f %.2f\n", static_cast<double>(az),
+              static_cast<double>(el));
+    return report(__func__, service->set_target({static_cast<double>(az), static_cast<double>(el)}));
+}
+
+extern "C" int winegard_get_position(ROT* rot, azimuth_t* az, elevation_t* el) {
+    birdcage::RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    birdcage::Result<birdcage::AzEl> pos = service->position();
+    if (!pos) {
+        return report(__func__, pos.status);
+    }
+    *az = static_cast<azimuth_t>(pos.value.az);
+    *el = static_cast<elevation_t>(pos.value.el);
+    return RIG_OK;
+}
+
+extern "C" int winegard_stop(ROT* rot) {
+    birdcage::RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    return report(__func__, service->stop());
+}
+
+extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
+    birdcage::RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    *status = service->idle() ? ROT_STATUS_NONE : ROT_STATUS_MOVING;
+    return RIG_OK;
+}
+
+extern "C" const char* winegard_get_info(ROT* rot) {
+    WinegardPriv* priv = priv_of(rot);
+    priv->info = priv->service ? "Winegard " + priv->service->describe()
+                               : "Winegard " + std::string(birdcage::profile(priv->options.variant).display_name) +
+                                     " (not open)";
+    return priv->info.c_str();
+}
+
+// Conf parameters per variant: the defaults shown by `rotctl -L` are the variant's own limits.
+struct VariantConf {
+    std::string el_min_default;
+    std::string el_max_default;
+    std::array<confparams, 6> params{};
+};
+
+void fill_conf(VariantConf& conf, const birdcage::FirmwareProfile& p) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", p.el_min);
+    conf.el_min_default = buf;
+    std::snprintf(buf, sizeof buf, "%.2f", p.el_max);
+    conf.el_max_default = buf;
+
+    auto numeric = [](long token, const char* name, const char* label, const char* tip, const char* dflt,
+                      float min, float max, float step) {
+        confparams c{};
+        c.token = token;
+        c.name = name;
+        c.label = label;
+        c.tooltip = tip;
+        c.dflt = dflt;
+        c.type = RIG_CONF_NUMERIC;
+        c.u.n.min = min;
+        c.u.n.max = max;
+        c.u.n.step = step;
+        return c;
+    };
+    auto check = [](long token, const char* name, const char* label, const char* tip, const char* dflt) {
+        confparams c{};
+        c.token = token;
+        c.name = name;
+        c.label = label;
+        c.tooltip = tip;
+        c.dflt = dflt;
+        c.type = RIG_CONF_CHECKBUTTON;
+        return c;
+    };
+    conf.params = {
+        check(tok_leapfrog, "leapfrog", "Leapfrog",
+              "Lead a lagging axis by 0.5/1 degree in its direction of travel (seed behaviour, elevation bug fixed)",
+              "1"),
+        numeric(tok_boot_timeout, "boot_timeout", "Boot timeout",
+                "Seconds to wait at open for a booting dish to finish homing", "900", 0, 3600, 1),
+        check(tok_skip_init, "skip_init", "Skip init",
+              "Assume the dish is booted, its TV search stopped and the motor menu open", "0"),
+        numeric(tok_el_min, "el_min", "Min elevation",
+                "Lowest elevation the backend will command (never below the variant's limit)",
+                conf.el_min_default.c_str(), 0, 90, 0.01f),
+        numeric(tok_el_max, "el_max", "Max elevation",
+                "Highest elevation the backend will command (never above the variant's limit)",
+                conf.el_max_default.c_str(), 0, 90, 0.01f),
+        confparams{}, // RIG_CONF_END
+    };
+}
+
+struct RegisteredModel {
+    rot_caps caps{};
+    VariantConf conf;
+    std::string model_name;
+    std::string macro_name;
+};
+
+void fill_caps(RegisteredModel& m, const birdcage::FirmwareProfile& p) {
+    fill_conf(m.conf, p);
+    m.macro_name = "ROT_MODEL_WINEGARD_" + std::string(p.short_name);
+    m.model_name = std::string(p.display_name);
+    for (char& ch : m.macro_name) {
+        ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    }
+
+    rot_caps& c = m.caps;
+    c.rot_model = ROT_MAKE_MODEL(BIRDCAGE_MODEL_FAMILY, p.model_index);
+    c.model_name = m.model_name.c_str();
+    c.mfg_name = "Winegard";
+    c.version = kBackendVersion;
+    c.copyright = "LGPL";
+    c.status = RIG_STATUS_ALPHA;
+    c.rot_type = ROT_TYPE_AZEL;
+    c.port_type = RIG_PORT_SERIAL;
+    c.serial_rate_min = 9600;
+    c.serial_rate_max = p.baud;
+    c.serial_data_bits = 8;
+    c.serial_stop_bits = 1;
+    c.serial_parity = RIG_PARITY_NONE;
+    c.serial_handshake = RIG_HANDSHAKE_NONE;
+    c.write_delay = 0;
+    c.post_write_delay = 0;
+    c.timeout = 1000;
+    c.retry = 0;
+    c.has_status = static_cast<rot_status_t>(ROT_STATUS_MOVING);
+    c.min_az = kCapsMinAz;
+    c.max_az = kCapsMaxAz;
+    c.min_el = kCapsMinEl;
+    c.max_el = kCapsMaxEl;
+    c.cfgparams = m.conf.params.data();
+    c.rot_init = winegard_rot_init;
+    c.rot_cleanup = winegard_rot_cleanup;
+    c.rot_open = winegard_rot_open;
+    c.rot_close = winegard_rot_close;
+    c.set_conf = winegard_set_conf;
+    c.get_conf = winegard_get_conf;
+    c.set_position = winegard_set_position;
+    c.get_position = winegard_get_position;
+    c.stop = winegard_stop;
+    c.get_info = winegard_get_info;
+    c.get_status = winegard_get_status;
+    c.macro_name = m.macro_name.c_str();
+    c.get_conf2 = winegard_get_conf2;
+}
+
+} // namespace
+
+extern "C" int initrots4_winegard(void* /*be_handle*/) {
+    // Function-local static: built on first call, whatever the order of static initialisation
+    // (the preload constructor may run before this library's other initialisers). Hamlib keeps
+    // the caps pointers, so the storage lives until exit.
+    // The caps point into their own strings, so they are filled in place, never copied or moved.
+    static std::array<RegisteredModel, kRegisteredVariants.size()> models;
+    static const bool filled = [] {
+        for (std::size_t i = 0; i < kRegisteredVariants.size(); ++i) {
+            fill_caps(models[i], birdcage::profile(kRegisteredVariants[i]));
+        }
+        return true;
+    }();
+    (void)filled;
+    int first_error = RIG_OK;
+    for (RegisteredModel& m : models) {
+        const int rc = rot_register(&m.caps);
+        if (rc != RIG_OK && first_error == RIG_OK) {
+            first_error = rc;
+        }
+    }
+    return first_error;
+}
+
+#ifndef BIRDCAGE_IN_HAMLIB
+namespace {
+
+// Hamlib's debug level starts at TRACE before the program sets it, so rot_register() would print
+// on every program start that inherits LD_PRELOAD. Register silently, then restore the level.
+rig_debug_level_e current_debug_level() {
+    int level = RIG_DEBUG_NONE;
+    for (int l = RIG_DEBUG_BUG; l <= RIG_DEBUG_CACHE; ++l) {
+        if (rig_need_debug(static_cast<rig_debug_level_e>(l))) {
+            level = l;
+        }
+    }
+    return static_cast<rig_debug_level_e>(level);
+}
+
+__attribute__((constructor)) void winegard_preload_register() {
+    const rig_debug_level_e saved = current_debug_level();
+    rig_set_debug(RIG_DEBUG_NONE);
+    const int rc = initrots4_winegard(nullptr);
+    rig_set_debug(saved);
+    if (rc != RIG_OK) {
+        std::fprintf(stderr, "hamlib-winegard: model registration failed (%s); is model family %d taken?\n",
+                     rigerror(rc), BIRDCAGE_MODEL_FAMILY);
+    }
+}
+
+} // namespace
+#endif

@@ -1,0 +1,303 @@
+#include "harness.hpp"
+
+#include <arpa/inet.h>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <spawn.h>
+#include <sstream>
+#include <stdexcept>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace e2e {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+std::string backend_library() { return BIRDCAGE_BACKEND_LIBRARY; }
+
+namespace {
+
+std::vector<std::string> merged_environment(const std::map<std::string, std::string>& extra) {
+    std::vector<std::string> env;
+    for (char** e = environ; *e != nullptr; ++e) {
+        std::string entry(*e);
+        const std::string key = entry.substr(0, entry.find('='));
+        if (extra.count(key) == 0) {
+            env.push_back(entry);
+        }
+    }
+    for (const auto& [k, v] : extra) {
+        env.push_back(k + "=" + v);
+    }
+    return env;
+}
+
+std::vector<char*> c_strings(std::vector<std::string>& strings) {
+    std::vector<char*> out;
+    for (std::string& s : strings) {
+        out.push_back(s.data());
+    }
+    out.push_back(nullptr);
+    return out;
+}
+
+pid_t spawn(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
+            int stdout_fd, int stderr_fd) {
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, stdout_fd, STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, stderr_fd, STDERR_FILENO);
+    std::vector<std::string> args = argv;
+    std::vector<std::string> envs = merged_environment(env);
+    std::vector<char*> c_args = c_strings(args);
+    std::vector<char*> c_env = c_strings(envs);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, c_args[0], &actions, nullptr, c_args.data(), c_env.data());
+    posix_spawn_file_actions_destroy(&actions);
+    if (rc != 0) {
+        throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(rc));
+    }
+    return pid;
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::string temp_path(const char* stem) {
+    char pattern[128];
+    std::snprintf(pattern, sizeof pattern, "/tmp/birdcage-%s-XXXXXX", stem);
+    const int fd = mkstemp(pattern);
+    if (fd < 0) {
+        throw std::runtime_error("mkstemp failed");
+    }
+    close(fd);
+    return pattern;
+}
+
+} // namespace
+
+CommandResult run(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
+                  std::chrono::milliseconds timeout) {
+    const std::string out_path = temp_path("out");
+    const std::string err_path = temp_path("err");
+    const int out_fd = open(out_path.c_str(), O_WRONLY | O_TRUNC);
+    const int err_fd = open(err_path.c_str(), O_WRONLY | O_TRUNC);
+    const pid_t pid = spawn(argv, env, out_fd, err_fd);
+    close(out_fd);
+    close(err_fd);
+
+    CommandResult result;
+    int status = 0;
+    const auto deadline = Clock::now() + timeout;
+    while (true) {
+        const pid_t r = waitpid(pid, &status, WNOHANG);
+        if (r == pid) {
+            result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+            break;
+        }
+        if (Clock::now() > deadline) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            result.exit_code = -1;
+            break;
+        }
+        std::this_thread::sleep_for(2ms);
+    }
+    result.out = slurp(out_path);
+    result.err = slurp(err_path);
+    unlink(out_path.c_str());
+    unlink(err_path.c_str());
+    return result;
+}
+
+Child::Child(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
+             const std::string& log_path) {
+    const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_ = spawn(argv, env, log_fd, log_fd);
+    close(log_fd);
+}
+
+bool Child::running() {
+    if (reaped_) {
+        return false;
+    }
+    int status = 0;
+    if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        reaped_ = true;
+        return false;
+    }
+    return true;
+}
+
+Child::~Child() {
+    if (!running()) {
+        return;
+    }
+    kill(pid_, SIGTERM);
+    if (!wait_until([this] { return !running(); }, 3s)) {
+        kill(pid_, SIGKILL);
+        int status = 0;
+        waitpid(pid_, &status, 0);
+    }
+}
+
+bool wait_until(const std::function<bool()>& predicate, std::chrono::milliseconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    while (!predicate()) {
+        if (Clock::now() > deadline) {
+            return false;
+        }
+        std::this_thread::sleep_for(5ms);
+    }
+    return true;
+}
+
+int free_tcp_port() {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    addr.sin_port = 0;
+    if (bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+        close(fd);
+        throw std::runtime_error("cannot bind a loopback port");
+    }
+    socklen_t len = sizeof addr;
+    getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+    close(fd);
+    return ntohs(addr.sin_port);
+}
+
+namespace {
+int connect_loopback(int port) {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    addr.sin_port = htons(static_cast<uint16_t>(port));
+    if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+        close(fd);
+        return -1;
+    }
+    const int one = 1;
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    return fd;
+}
+} // namespace
+
+RotctldConnection::RotctldConnection(int port) : fd_(connect_loopback(port)) {
+    if (fd_ < 0) {
+        throw std::runtime_error("cannot connect to rotctld on port " + std::to_string(port));
+    }
+}
+
+RotctldConnection::~RotctldConnection() {
+    if (fd_ >= 0) {
+        close(fd_);
+    }
+}
+
+std::string RotctldConnection::ask(const std::string& command, int lines, std::chrono::milliseconds timeout) {
+    const std::string wire = command + "\n";
+    if (send(fd_, wire.data(), wire.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(wire.size())) {
+        return {};
+    }
+    const auto deadline = Clock::now() + timeout;
+    auto complete_lines = [this] {
+        int n = 0;
+        for (char c : pending_) {
+            n += c == '\n';
+        }
+        return n;
+    };
+    while (complete_lines() < lines) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+        if (left.count() <= 0) {
+            break;
+        }
+        pollfd p{fd_, POLLIN, 0};
+        if (poll(&p, 1, static_cast<int>(left.count())) <= 0) {
+            break;
+        }
+        char buf[512];
+        const ssize_t n = recv(fd_, buf, sizeof buf, 0);
+        if (n <= 0) {
+            break;
+        }
+        pending_.append(buf, static_cast<std::size_t>(n));
+    }
+    // Hand back exactly the requested lines; anything after them stays for the next call.
+    std::size_t end = 0;
+    for (int i = 0; i < lines; ++i) {
+        const std::size_t nl = pending_.find('\n', end);
+        if (nl == std::string::npos) {
+            end = pending_.size();
+            break;
+        }
+        end = nl + 1;
+    }
+    std::string reply = pending_.substr(0, end);
+    pending_.erase(0, end);
+    return reply;
+}
+
+Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args)
+    : dish_(std::make_unique<birdcage::sim::Emulator>(std::move(dish))), port_(free_tcp_port()),
+      log_path_(temp_path("rotctld")) {
+    std::vector<std::string> argv = {"/usr/bin/rotctld", "-m", std::to_string(model),
+                                     "-r", dish_->device_path(), "-T", "127.0.0.1",
+                                     "-t", std::to_string(port_), "-vvvv"};
+    argv.insert(argv.end(), extra_rotctld_args.begin(), extra_rotctld_args.end());
+    rotctld_ = std::make_unique<Child>(argv, std::map<std::string, std::string>{{"LD_PRELOAD", backend_library()}},
+                                       log_path_);
+    // rotctld opens the rotator (and so initialises the dish) before it listens.
+    const bool up = wait_until(
+        [this] {
+            if (!rotctld_->running()) {
+                return true;
+            }
+            const int fd = connect_loopback(port_);
+            if (fd >= 0) {
+                close(fd);
+                return true;
+            }
+            return false;
+        },
+        60s);
+    if (!up || !rotctld_->running()) {
+        throw std::runtime_error("rotctld did not come up; its log:\n" + rotctld_log_text());
+    }
+}
+
+Rig::~Rig() {
+    rotctld_.reset();
+    unlink(log_path_.c_str());
+}
+
+std::string Rig::rotctld_log_text() const { return slurp(log_path_); }
+
+CommandResult Rig::rotctl(const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {"/usr/bin/rotctl", "-m", "2", "-r", "127.0.0.1:" + std::to_string(port_)};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return run(argv);
+}
+
+} // namespace e2e

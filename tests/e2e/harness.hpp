@@ -1,0 +1,86 @@
+// End-to-end harness: the dish emulator (in this process), the distribution's unmodified
+// /usr/bin/rotctld with our backend preloaded, and clients (stock rotctl -m 2, or raw TCP).
+#pragma once
+
+#include <birdcage_sim/emulator.hpp>
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <sys/types.h>
+#include <vector>
+
+namespace e2e {
+
+// Path of the backend library under test (set by CMake).
+std::string backend_library();
+
+struct CommandResult {
+    int exit_code = -1;
+    std::string out;
+    std::string err;
+};
+
+// Runs a program to completion with extra environment variables, capturing stdout and stderr.
+CommandResult run(const std::vector<std::string>& argv,
+                  const std::map<std::string, std::string>& env = {},
+                  std::chrono::milliseconds timeout = std::chrono::seconds(60));
+
+// A child process that is terminated (SIGTERM, then SIGKILL) when this object goes away.
+class Child {
+public:
+    Child(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
+          const std::string& log_path);
+    ~Child();
+    Child(const Child&) = delete;
+    Child& operator=(const Child&) = delete;
+    bool running();
+    pid_t pid() const { return pid_; }
+
+private:
+    pid_t pid_ = -1;
+    bool reaped_ = false;
+};
+
+// Waits until predicate() holds, checking every few milliseconds; false at the deadline.
+bool wait_until(const std::function<bool()>& predicate, std::chrono::milliseconds timeout);
+
+int free_tcp_port();
+
+// A line-oriented rotctld client over one TCP connection (like Gpredict's).
+class RotctldConnection {
+public:
+    explicit RotctldConnection(int port);
+    ~RotctldConnection();
+    RotctldConnection(const RotctldConnection&) = delete;
+    RotctldConnection& operator=(const RotctldConnection&) = delete;
+    // Sends one command line and reads until `lines` reply lines have arrived (or the timeout).
+    std::string ask(const std::string& command, int lines, std::chrono::milliseconds timeout = std::chrono::seconds(10));
+
+private:
+    int fd_ = -1;
+    std::string pending_;
+};
+
+// Emulator + preloaded stock rotctld for one Winegard model.
+class Rig {
+public:
+    Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args = {});
+    ~Rig();
+    birdcage::sim::Emulator& dish() { return *dish_; }
+    int port() const { return port_; }
+    const std::string& rotctld_log() const { return log_path_; }
+    std::string rotctld_log_text() const;
+    // Stock NET rotctl client: rotctl -m 2 -r 127.0.0.1:<port> <args...>
+    CommandResult rotctl(const std::vector<std::string>& args);
+
+private:
+    std::unique_ptr<birdcage::sim::Emulator> dish_;
+    int port_ = 0;
+    std::string log_path_;
+    std::unique_ptr<Child> rotctld_;
+};
+
+} // namespace e2e

@@ -122,7 +122,7 @@ TEST_CASE("G2: echo and line-ending switches", "[console][g2]")
     CHECK(send(console, "a\r") == "\nAngle[0] = 180.00\nAngle[1] = 45.00\nMOT>");
 }
 
-TEST_CASE("line discipline: CR, LF, CRLF end a line; backspace is an ordinary character", "[console]")
+TEST_CASE("line discipline: CR, LF, CRLF end a line - backspace is an ordinary character", "[console]")
 {
     Console console(options_for(Variant::carryout_g2));
     CHECK(send(console, "mot\r\n") == "mot\r\nMOT>");
@@ -170,7 +170,7 @@ TEST_CASE("G2: `rssi 10` takes 0.2 s and yields six integers with its echo", "[c
     CHECK(std::stoi(match[1]) == Approx(401).margin(6));
 }
 
-TEST_CASE("G2: NVS formats from Davidson's transcript; writes count as hazards", "[console][g2][nvs]")
+TEST_CASE("G2: NVS formats from Davidson's transcript - writes count as hazards", "[console][g2][nvs]")
 {
     Console console(options_for(Variant::carryout_g2));
     send(console, "nvs\r");
@@ -266,7 +266,7 @@ TEST_CASE("G2: hazards at root: q kills the shell until power cycle", "[console]
     CHECK(send(console, "\r") == "\r\nTRK>");
 }
 
-TEST_CASE("G2: q at root harmless by switch; ADC scan deadlocks; other hazards counted", "[console][g2][hazard]")
+TEST_CASE("G2: q at root harmless by switch - ADC scan deadlocks - other hazards counted", "[console][g2][hazard]")
 {
     Options options = options_for(Variant::carryout_g2);
     options.g2_root_q_kills_shell = false;
@@ -290,7 +290,7 @@ TEST_CASE("G2: q at root harmless by switch; ADC scan deadlocks; other hazards c
     CHECK_FALSE(console.shell_alive());
 }
 
-TEST_CASE("G2: boot log order; NVS 20 decides whether the search runs", "[console][g2][boot]")
+TEST_CASE("G2: boot log order - NVS 20 decides whether the search runs", "[console][g2][boot]")
 {
     Options options = options_for(Variant::carryout_g2);
     options.already_booted = false;
@@ -385,7 +385,7 @@ TEST_CASE("HAL 2.05: motor submenu, AZ/EL/SK reply, ngsearch stop", "[console][h
     CHECK(console.hazards() == 0);
 }
 
-TEST_CASE("HAL 2.05: `mot` accepted by switch; bare prompt style", "[console][hal205]")
+TEST_CASE("HAL 2.05: `mot` accepted by switch - bare prompt style", "[console][hal205]")
 {
     Options options = options_for(Variant::travler_hal205);
     options.hal205_accepts_mot = true;
@@ -447,7 +447,7 @@ TEST_CASE("HAL 0.0.00: mot submenu and os kill Search", "[console][hal000]")
     CHECK(console.position().az == Approx(10.5));
 }
 
-TEST_CASE("HAL 0.0.00: g aborts on any byte; NVS write and stow are hazards", "[console][hal000]")
+TEST_CASE("HAL 0.0.00: g aborts on any byte - NVS write and stow are hazards", "[console][hal000]")
 {
     Console console(options_for(Variant::travler_hal000));
     send(console, "mot\r");
@@ -513,7 +513,7 @@ TEST_CASE("Carryout 2003: target/g prints live centidegrees the rotor client can
     CHECK(console.position().el == Approx(50.0));
 }
 
-TEST_CASE("Carryout 2003: g aborted by the next byte; EL 22..73; search runs out", "[console][carryout2003]")
+TEST_CASE("Carryout 2003: g aborted by the next byte - EL 22..73 - search runs out", "[console][carryout2003]")
 {
     Options options = options_for(Variant::carryout2003);
     options.search_running = true;

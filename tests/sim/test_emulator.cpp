@@ -88,7 +88,7 @@ Options fast(Variant variant)
 
 }  // namespace
 
-TEST_CASE("pty: G2 answers prompts and `a`; a move changes the true position", "[emulator][g2]")
+TEST_CASE("pty: G2 answers prompts and `a` - a move changes the true position", "[emulator][g2]")
 {
     Emulator dish(fast(Variant::carryout_g2));
     REQUIRE(dish.device_path().starts_with("/dev/pts/"));

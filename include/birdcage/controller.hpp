@@ -76,6 +76,7 @@ private:
     double el_min_, el_max_;
     bool initialised_ = false;
     bool unhomed_ = false;
+    bool fault_reported_ = false;       // the last position reply carried a fault line (stall)
     bool position_estimated_ = false;   // last_position_ comes from commands, not a readback
     std::optional<AzEl> last_position_;
     std::optional<Clock::time_point> last_position_at_;

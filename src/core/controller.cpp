@@ -224,6 +224,7 @@ Result<AzEl> Controller::ask_position(std::chrono::milliseconds timeout) {
         return parse_position(profile_, lines).status.code != Errc::protocol;
     };
     const auto reply = session_.transact(profile_.position_query, timeout, complete);
+    fault_reported_ = reply.status.code == Errc::protocol;  // the session's only protocol error: a fault line
     if (!reply && reply.status.code != Errc::protocol) {
         return {{}, reply.status};
     }
@@ -413,11 +414,10 @@ Status Controller::service_axis_leg() {
         return position.status;
     }
     if (!position) {
-        bool fault = position.value.az != 0.0 || position.value.el != 0.0;
-        if (!fault && !over_budget) {
+        if (!fault_reported_ && !over_budget) {
             return Status::ok();  // an unusable reply; poll again
         }
-        finish_leg("abandoned: " + position.status.message);
+        finish_leg("abandoned: " + position.status.message);  // e.g. AZ MOTOR STALLED
         return position.status;
     }
     const double seen = axis_value(position.value, leg.axis);
@@ -491,7 +491,7 @@ Status Controller::service() {
         in_flight_.reset();
         return Status{Errc::not_initialised, "the dish printed boot output: it rebooted; initialise again"};
     }
-    if (!initialised_ && !options_.skip_init) {
+    if (!initialised_) {
         return idle() ? Status::ok() : Status{Errc::not_initialised, "initialize() has not succeeded"};
     }
     if (in_flight_) {

@@ -436,3 +436,22 @@ TEST_CASE("controller: service before initialise with work queued reports not_in
     CHECK(controller.service().code == Errc::not_initialised);
     CHECK(wire.commands().empty());
 }
+
+TEST_CASE("controller G2: a stall reported during a leg abandons it with a protocol error") {
+    FakeG2 dish;
+    dish.step_per_query = 1.0;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({190, 45}));
+    clock.now += 100ms;
+    REQUIRE(controller.service());  // sends AZ
+    dish.extra_lines_after_query = {"AZ MOTOR STALLED"};
+    clock.now += 100ms;
+    const Status status = controller.service();
+    CHECK(status.code == Errc::protocol);
+    CHECK(status.message.find("AZ MOTOR STALLED") != std::string::npos);
+    CHECK(controller.idle());
+    CHECK(controller.last_position()->az == Approx(181));  // the position that came with it is kept
+}

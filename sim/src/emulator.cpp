@@ -11,6 +11,7 @@
 
 #include "birdcage_sim/console.hpp"
 #include "pty.hpp"
+#include "replay.hpp"
 
 namespace birdcage::sim {
 namespace {
@@ -25,6 +26,8 @@ constexpr std::size_t max_unsent_bytes = 1 << 20;
 struct Emulator::Impl {
     explicit Impl(Options opts) : options(std::move(opts)), console(options)
     {
+        if (options.replay != ReplayMode::off)
+            replayer.emplace(load_transcript(options.transcript_path), options.replay, options.transcript_path);
         device_path = pty.slave_path();
         if (!options.link_path.empty()) {
             ::unlink(options.link_path.c_str());
@@ -64,9 +67,20 @@ struct Emulator::Impl {
             std::string sent;
             {
                 std::lock_guard lock(mutex);
-                if (!received.empty()) console.feed(received);
-                console.advance(dt);
-                sent = console.take_output();
+                if (replayer && (replayer->replaying() || replayer->failure())) {
+                    // The model keeps its own time but stays silent until a lenient fallback.
+                    const std::string unmatched = replayer->receive(received);
+                    replayer->advance(dt);
+                    sent = replayer->take_output();
+                    if (!unmatched.empty()) console.feed(unmatched);
+                    console.advance(dt);
+                    const std::string model_output = console.take_output();
+                    if (replayer->fell_back()) sent += model_output;
+                } else {
+                    if (!received.empty()) console.feed(received);
+                    console.advance(dt);
+                    sent = console.take_output();
+                }
             }
             if (options.trace) {
                 if (!received.empty()) options.trace(true, received);
@@ -85,6 +99,7 @@ struct Emulator::Impl {
     Pty pty;
     mutable std::mutex mutex;
     Console console;
+    std::optional<Replayer> replayer;
     std::string device_path;
     std::atomic<bool> stopping{false};
     std::thread thread;
@@ -147,6 +162,24 @@ double Emulator::sim_time() const
 {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.time();
+}
+
+std::optional<std::string> Emulator::replay_failure() const
+{
+    std::lock_guard lock(impl_->mutex);
+    return impl_->replayer ? impl_->replayer->failure() : std::nullopt;
+}
+
+bool Emulator::replay_complete() const
+{
+    std::lock_guard lock(impl_->mutex);
+    return impl_->replayer && impl_->replayer->complete();
+}
+
+bool Emulator::replay_fell_back() const
+{
+    std::lock_guard lock(impl_->mutex);
+    return impl_->replayer && impl_->replayer->fell_back();
 }
 
 void Emulator::power_cycle()

@@ -10,30 +10,15 @@
 #include <string_view>
 
 #include "birdcage_sim/emulator.hpp"
+#include "birdcage_sim/transcript.hpp"
 
 namespace {
 
 void usage()
 {
     std::cerr << "usage: birdcage-sim --variant hal205|g2|hal000|pro|carryout2003 [--link PATH]\n"
-                 "                    [--time-scale X] [--booting] [--search] [--az A --el E] [--trace]\n";
-}
-
-std::string escaped(std::string_view bytes)
-{
-    std::string text;
-    for (const char c : bytes) {
-        const auto byte = static_cast<unsigned char>(c);
-        if (c == '\r') text += "\\r";
-        else if (c == '\n') text += "\\n";
-        else if (c == '\\') text += "\\\\";
-        else if (byte < 0x20 || byte >= 0x7f) {
-            char hex[8];
-            std::snprintf(hex, sizeof hex, "\\x%02x", byte);
-            text += hex;
-        } else text += c;
-    }
-    return text;
+                 "                    [--time-scale X] [--booting] [--search] [--az A --el E] [--trace]\n"
+                 "                    [--replay TRANSCRIPT [--lenient]]   (--variant defaults to the transcript's)\n";
 }
 
 std::optional<double> number(const char* text)
@@ -70,17 +55,39 @@ int main(int argc, char** argv)
                 return 2;
             }
             (arg == "--time-scale" ? options.time_scale : arg == "--az" ? options.start_az : options.start_el) = *value;
+        } else if (arg == "--replay" && has_value) {
+            options.transcript_path = argv[++i];
+            if (options.replay == birdcage::sim::ReplayMode::off) options.replay = birdcage::sim::ReplayMode::strict;
+        } else if (arg == "--lenient") {
+            options.replay = birdcage::sim::ReplayMode::lenient;
         } else if (arg == "--booting") {
             options.already_booted = false;
         } else if (arg == "--search") {
             options.search_running = true;
         } else if (arg == "--trace") {
             options.trace = [](bool from_client, std::string_view bytes) {
-                std::cerr << (from_client ? "<< " : ">> ") << escaped(bytes) << '\n';
+                std::cerr << (from_client ? "<< " : ">> ") << birdcage::sim::escape_chunk(bytes) << '\n';
             };
         } else {
             usage();
             return 2;
+        }
+    }
+    if (options.replay != birdcage::sim::ReplayMode::off && options.transcript_path.empty()) {
+        usage();
+        return 2;
+    }
+    if (!have_variant && !options.transcript_path.empty()) {
+        try {
+            const auto variant_name = birdcage::sim::load_transcript(options.transcript_path).header("Variant");
+            const auto variant = variant_name ? birdcage::sim::parse_variant(*variant_name) : std::nullopt;
+            if (variant) {
+                options.variant = *variant;
+                have_variant = true;
+            }
+        } catch (const std::exception& error) {
+            std::cerr << "birdcage-sim: " << error.what() << '\n';
+            return 1;
         }
     }
     if (!have_variant) {
@@ -98,8 +105,20 @@ int main(int argc, char** argv)
     try {
         birdcage::sim::Emulator emulator(options);
         std::cout << "device: " << emulator.device_path() << std::endl;
-        int signal_number = 0;
-        sigwait(&stop_signals, &signal_number);
+        // A strict replay that fails has nothing more to say: report the diff and stop.
+        const timespec check_period{0, 100'000'000};
+        bool reported_complete = false;
+        for (;;) {
+            if (sigtimedwait(&stop_signals, nullptr, &check_period) >= 0) break;
+            if (const auto failure = emulator.replay_failure()) {
+                std::cerr << *failure;
+                return 1;
+            }
+            if (!reported_complete && emulator.replay_complete()) {
+                std::cerr << "birdcage-sim: replay complete\n";
+                reported_complete = true;
+            }
+        }
     } catch (const std::exception& error) {
         std::cerr << "birdcage-sim: " << error.what() << '\n';
         return 1;

@@ -27,6 +27,9 @@ enum class OutOfRange { clamp, reject };     // §14 HAL0.4, G2.6; §3.4 "unreli
 enum class MoveAck { immediate, after_motion };  // §14 G2.3
 enum class PromptStyle { named, bare };      // Trav'ler/Carryout 2003 prompts, §14 HAL0.1, CO.2
 enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete line, §4.2
+// Transcript replay (docs/transcripts.md): strict stops at the first unexpected command and reports
+// it through Emulator::replay_failure(); lenient hands the session over to the model console.
+enum class ReplayMode { off, strict, lenient };
 
 struct Options {
     Variant variant = Variant::carryout_g2;
@@ -71,6 +74,12 @@ struct Options {
     double carryout_search_seconds = 600.0;
     double rssi_floor = 401.0;  // §11.2 (Davidson ~400 with lnbdc odu; birdcage ~500, §14 G2.14)
 
+    // --- transcript replay ------------------------------------------------------------------
+    // With a mode other than off, the dish answers from this transcript (recorded timing divided
+    // by time_scale) instead of the model; the constructor throws TranscriptError if it is bad.
+    std::string transcript_path;
+    ReplayMode replay = ReplayMode::off;
+
     // Console traffic observer, called from the console thread. from_client: bytes the client
     // wrote; otherwise bytes the dish sent.
     std::function<void(bool from_client, std::string_view bytes)> trace;
@@ -108,6 +117,12 @@ public:
     double sim_time() const;
     void power_cycle();                      // reboot: boot log, search restart, menu at root
     bool shell_alive() const;                // false after a G2 root `q` or an ADC `scan` deadlock
+
+    // Replay only. The diff at the first unexpected command (strict mode), escaped, with the
+    // transcript line number; nullopt while the session follows the transcript.
+    std::optional<std::string> replay_failure() const;
+    bool replay_complete() const;            // every transcript chunk was matched or sent
+    bool replay_fell_back() const;           // lenient mode handed over to the model console
 
 private:
     struct Impl;

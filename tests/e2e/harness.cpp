@@ -28,6 +28,16 @@ using Clock = std::chrono::steady_clock;
 
 std::string backend_library() { return BIRDCAGE_BACKEND_LIBRARY; }
 
+std::map<std::string, std::string> preload_environment() {
+#ifdef BIRDCAGE_SANITIZER_RUNTIME
+    // rotctld's own allocations are not ours to judge: leak checking stays on in the in-process tests.
+    return {{"LD_PRELOAD", std::string(BIRDCAGE_SANITIZER_RUNTIME) + ":" + backend_library()},
+            {"ASAN_OPTIONS", "detect_leaks=0"}};
+#else
+    return {{"LD_PRELOAD", backend_library()}};
+#endif
+}
+
 namespace {
 
 std::vector<std::string> merged_environment(const std::map<std::string, std::string>& extra) {
@@ -266,8 +276,7 @@ Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_
                                      "-r", dish_->device_path(), "-T", "127.0.0.1",
                                      "-t", std::to_string(port_), "-vvvv"};
     argv.insert(argv.end(), extra_rotctld_args.begin(), extra_rotctld_args.end());
-    rotctld_ = std::make_unique<Child>(argv, std::map<std::string, std::string>{{"LD_PRELOAD", backend_library()}},
-                                       log_path_);
+    rotctld_ = std::make_unique<Child>(argv, preload_environment(), log_path_);
     // rotctld opens the rotator (and so initialises the dish) before it listens.
     const bool up = wait_until(
         [this] {

@@ -16,6 +16,9 @@ namespace e2e {
 
 // Path of the backend library under test (set by CMake).
 std::string backend_library();
+// Environment that makes a stock Hamlib program load the backend: LD_PRELOAD (with the sanitizer
+// runtime first in a sanitizer build, which a non-instrumented rotctld needs).
+std::map<std::string, std::string> preload_environment();
 
 struct CommandResult {
     int exit_code = -1;

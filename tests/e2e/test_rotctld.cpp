@@ -58,7 +58,7 @@ std::vector<double> numbers(const std::string& text) {
 } // namespace
 
 TEST_CASE("rotctl -l lists the Winegard models only when the backend is preloaded", "[e2e][registration]") {
-    const e2e::CommandResult with = e2e::run({"/usr/bin/rotctl", "-l"}, {{"LD_PRELOAD", e2e::backend_library()}});
+    const e2e::CommandResult with = e2e::run({"/usr/bin/rotctl", "-l"}, e2e::preload_environment());
     REQUIRE(with.exit_code == 0);
     for (const ModelUnderTest& m : kModels) {
         INFO(m.name);

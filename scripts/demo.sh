@@ -61,7 +61,7 @@ for v in "${variants[@]}"; do
     rc() { rotctl -m 2 -r "127.0.0.1:$port" "$@"; }
     echo "info:     $(rc _ | tr '\n' ' ')"
     echo "position: $(rc p | tr '\n' ' ')"
-    echo "command:  P 180 45"
+    echo "command:  P 180 45   (leapfrog is on by default: each lagging axis is led by up to 1 degree)"
     rc P 180 45
     last=""
     for _ in $(seq 1 60); do
@@ -71,12 +71,12 @@ for v in "${variants[@]}"; do
         last=$pos
         sleep 0.25
     done
-    echo "command:  P 230 25, then S while it moves"
+    before=$(rc p | tr '\n' ' ')
+    echo "command:  P 230 25, then S at once"
     rc P 230 25
-    sleep 0.3
     rc S
-    sleep 1
-    echo "stopped:  $(rc p | tr '\n' ' ')  (the leg in flight finishes; the other leg is dropped)"
+    sleep 2
+    echo "stopped:  $(rc p | tr '\n' ' ')  (from $before: the axis leg in flight finishes, the other is dropped)"
 done
 echo
 echo "demo finished"

@@ -1,4 +1,4 @@
-/* Hides the Hamlib API differences between 4.5.4 (Debian bookworm) and 4.6 / 4.7 / master.
+/* Hides the Hamlib API differences between 4.5.4 (Debian bookworm) and 4.6 / 4.7 / master (C++ only).
  * Never touch rot->state directly: master removed it. See ../shared notes hamlib.md §3. */
 #ifndef BIRDCAGE_HAMLIB_COMPAT_H
 #define BIRDCAGE_HAMLIB_COMPAT_H
@@ -17,14 +17,16 @@
 typedef token_t hamlib_token_t;
 #endif
 
-#if defined(HAMLIB_ROTSTATE) /* 4.6+: through the exported rot_data_pointer() */
-#  define WG_ROTSTATE(r) HAMLIB_ROTSTATE(r)
+/* 4.6+: through the exported rot_data_pointer(), as HAMLIB_ROTSTATE/HAMLIB_ROTPORT do, but with a
+ * C++ cast (their C cast trips -Wold-style-cast in C++ code). */
+#if defined(HAMLIB_ROTSTATE)
+#  define WG_ROTSTATE(r) static_cast<struct rot_state *>(rot_data_pointer((r), RIG_PTRX_ROTSTATE))
 #else
 #  define WG_ROTSTATE(r) (&(r)->state)
 #endif
 
 #if defined(HAMLIB_ROTPORT)
-#  define WG_ROTPORT(r) HAMLIB_ROTPORT(r)
+#  define WG_ROTPORT(r) static_cast<hamlib_port_t *>(rot_data_pointer((r), RIG_PTRX_ROTPORT))
 #else
 #  define WG_ROTPORT(r) (&(r)->state.rotport)
 #endif

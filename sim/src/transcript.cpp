@@ -198,10 +198,11 @@ TranscriptRecorder::TranscriptRecorder(std::vector<std::pair<std::string, std::s
     for (const auto& [key, value] : headers) text_ += "# " + key + ": " + value + "\n";
 }
 
-void TranscriptRecorder::add(Direction direction, std::string_view bytes, double seconds)
+void TranscriptRecorder::add(Direction direction, std::string_view bytes, double seconds, bool reconstructed)
 {
     if (bytes.empty()) return;
     TranscriptEntry entry{direction, std::string(bytes)};
+    entry.reconstructed = reconstructed;
     if (last_seconds_) entry.delay_ms = std::round((seconds - *last_seconds_) * 10000.0) / 10.0;
     last_seconds_ = seconds;
     text_ += format_entry(entry) + "\n";

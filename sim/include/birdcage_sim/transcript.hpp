@@ -55,8 +55,9 @@ public:
     // `headers` are written first, in order, as `# Key: value`.
     explicit TranscriptRecorder(std::vector<std::pair<std::string, std::string>> headers);
 
-    // `seconds`: any monotonic time; the first chunk gets no delay.
-    void add(Direction direction, std::string_view bytes, double seconds);
+    // `seconds`: any monotonic time; the first chunk gets no delay. `reconstructed` marks a chunk
+    // that did not come from a real dish (drafts made against the emulator).
+    void add(Direction direction, std::string_view bytes, double seconds, bool reconstructed = false);
     void comment(std::string_view text);
     const std::string& text() const { return text_; }
 

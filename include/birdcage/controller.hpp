@@ -36,7 +36,7 @@ public:
     Result<AzEl> query_position();    // asks the dish now; updates last_position(); az in [0, 360)
     Status set_target(AzEl target);   // validates, clamps, leap-frogs, queues legs. No I/O.
     Status service();                 // one pump step (~every 50 ms)
-    void cancel_pending();            // drops legs not yet sent; the leg in flight finishes
+    void cancel_pending();            // drops legs not yet sent; aborts a running `g` where input aborts it
     bool idle() const;
     std::optional<AzEl> last_position() const { return last_position_; }
     std::optional<AzEl> current_target() const { return current_target_; }
@@ -67,6 +67,8 @@ private:
     Status service_axis_leg();
     Status service_combined_leg();
     void finish_leg(std::string_view how);
+    void finish_combined_leg(std::string_view how);
+    Result<AzEl> note_live_output(std::span<const std::string> lines);
     double leg_distance(const Leg& leg) const;
     Result<AzEl> ask_position(std::chrono::milliseconds timeout);
 

@@ -353,7 +353,9 @@ Status Controller::send_leg(Leg& leg) {
         return reply.status;
     }
     if (!reply) {
-        emit(options_.log, LogLevel::warning, "no prompt after " + command + "; assuming the move runs");
+        // Expected for `g` where prompts are unknown: the live output runs until the move ends.
+        emit(options_.log, leg.combined ? LogLevel::verbose : LogLevel::warning,
+             "no prompt after " + command + "; assuming the move runs");
     } else if (profile_.move_ack == MoveAckFormat::g2_angle) {
         const auto ack = parse_g2_move_ack(reply.value.lines);
         if (ack.status.code == Errc::not_homed) {
@@ -371,11 +373,7 @@ Status Controller::send_leg(Leg& leg) {
         commanded_az_ = leg.target.az;
         commanded_el_ = leg.target.el;
         // Live output that arrived with the reply is the first position sample.
-        if (const auto live = parse_carryout_live(reply.value.lines); live) {
-            last_position_ = AzEl{normalize_azimuth(live.value.az), live.value.el};
-            last_position_at_ = now();
-            position_estimated_ = false;
-        }
+        note_live_output(reply.value.lines);
     } else {
         (leg.axis == Axis::azimuth ? commanded_az_ : commanded_el_) = axis_value(leg.target, leg.axis);
     }
@@ -386,6 +384,9 @@ Status Controller::send_leg(Leg& leg) {
     emit(options_.log, LogLevel::verbose,
          "sent " + command + " (estimated " + std::to_string(estimate.count()) + " ms)");
     in_flight_ = leg;
+    if (leg.combined && reply && !reply.value.prompt.empty()) {
+        finish_combined_leg("ended (prompt after the move)");
+    }
     return Status::ok();
 }
 
@@ -461,12 +462,10 @@ Status Controller::service_combined_leg() {
             finish_leg("abandoned: " + heard.status.message);
             return heard.status;
         }
-        sample = parse_carryout_live(heard.value.lines);
-        if (sample) {
-            sample.value.az = normalize_azimuth(sample.value.az);
-            last_position_ = sample.value;
-            last_position_at_ = t;
-            position_estimated_ = false;
+        sample = note_live_output(heard.value.lines);
+        if (!heard.value.prompt.empty()) {
+            finish_combined_leg("ended (prompt after the move)");
+            return Status::ok();
         }
     }
     if (sample && axis_error(Axis::azimuth, sample.value.az, leg.target.az) <= profile_.arrival_tolerance &&
@@ -508,9 +507,43 @@ Status Controller::service() {
     return Status::ok();
 }
 
+Result<AzEl> Controller::note_live_output(std::span<const std::string> lines) {
+    auto sample = parse_carryout_live(lines);
+    if (sample) {
+        sample.value.az = normalize_azimuth(sample.value.az);
+        last_position_ = sample.value;
+        last_position_at_ = now();
+        position_estimated_ = false;
+    }
+    return sample;
+}
+
+void Controller::finish_combined_leg(std::string_view how) {
+    if (!last_position_ || position_estimated_) {
+        // The dish printed no live sample: the commanded position is all we know.
+        last_position_ = in_flight_ ? in_flight_->target : last_position_;
+        last_position_at_ = now();
+        position_estimated_ = true;
+    }
+    finish_leg(how);
+}
+
 void Controller::cancel_pending() {
     pending_.clear();
     current_target_.reset();
+    // A running `g` on firmware where any byte aborts it (firmware.md 2, 3.5): a bare line ending
+    // is the documented way to stop it. Where the byte does not abort, it waits for the move to end.
+    if (in_flight_ && in_flight_->combined && profile_.has(quirk_g_aborts_on_input)) {
+        if (const auto heard = session_.listen(0ms); heard) {
+            note_live_output(heard.value.lines);
+        }
+        const auto reply = session_.transact("", menu_step_timeout);
+        note_live_output(reply.value.lines);
+        if (!reply.value.prompt.empty()) {
+            emit(options_.log, LogLevel::verbose, "stop: sent a line ending to abort the running g");
+            finish_leg("aborted by stop");
+        }
+    }
 }
 
 bool Controller::idle() const { return !in_flight_ && pending_.empty(); }

@@ -25,10 +25,14 @@ constexpr std::array<ConsoleStep, 6> hal205_search_kill{{{"q", 0ms}, {"", 0ms}, 
 constexpr std::array<std::string_view, 2> hal205_boot_complete{"NoGPS", "No LNB Voltage"};
 
 // ---- Trav'ler Pro (firmware.md 5) ----
-// Client v2.0 start-up: q, 1 s, CR, 1 s, odu, 1 s, CR, q, CR, then (README) os / kill Search / q.
-constexpr std::array<ConsoleStep, 10> pro_search_kill{{{"q", 1000ms}, {"", 1000ms}, {"odu", 1000ms},
-                                                       {"", 0ms}, {"q", 0ms}, {"", 0ms}, {"os", 0ms},
-                                                       {"kill Search", 0ms}, {"q", 0ms}, {"", 0ms}}};
+// Client v2.0 start-up paces `odu` with 1 s pauses (5.6), then (README) os / kill Search / q.
+// Whether `q` at the ODU root returns to the IDU is unknown (14 Pro.2), so the sequence works
+// either way: two `q` reach the ODU root or the IDU; `odu` then enters the ODU from the IDU and
+// is an unknown (harmless) command at the ODU root. No `q` follows `odu` (the upstream client's
+// `odu`, `q`, `mot` only works if `q` stays on the ODU).
+constexpr std::array<ConsoleStep, 9> pro_search_kill{{{"q", 0ms}, {"q", 0ms}, {"", 1000ms}, {"odu", 1000ms},
+                                                      {"", 0ms}, {"os", 0ms}, {"kill Search", 0ms}, {"q", 0ms},
+                                                      {"", 0ms}}};
 constexpr std::array<ConsoleStep, 1> pro_motor_entry{{{"mot", 0ms}}};
 
 // ---- Carryout 2003, HAL 1.00.065 (firmware.md 8) ----

@@ -35,8 +35,8 @@ constexpr const char* kBackendVersion = "20261122.0";
 // Variants registered as Hamlib models. Each one is a row of the core's variant table; the
 // caps below are derived from that row so limits and baud rates live in one place.
 constexpr std::array kRegisteredVariants = {
-    birdcage::VariantId::travler_hal205,
-    birdcage::VariantId::carryout_g2,
+    birdcage::VariantId::travler_hal000, birdcage::VariantId::travler_hal205, birdcage::VariantId::travler_pro,
+    birdcage::VariantId::carryout2003,   birdcage::VariantId::carryout_g2,
 };
 
 // Accepted by Hamlib's own range check (which answers RPRT -1 outside it, and Gpredict disengages

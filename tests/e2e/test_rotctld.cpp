@@ -22,7 +22,10 @@ struct ModelUnderTest {
 };
 
 const ModelUnderTest kModels[] = {
+    {Variant::travler_hal000, 90101, "Trav'ler HAL 0.0.00", 15.0, 90.0, 8.0},
     {Variant::travler_hal205, 90102, "Trav'ler HAL 2.05", 15.0, 90.0, 8.0},
+    {Variant::travler_pro, 90103, "Trav'ler Pro", 12.0, 75.0, 8.0},
+    {Variant::carryout2003, 90104, "Carryout HAL 1.00.065", 22.0, 73.0, 4.0},
     {Variant::carryout_g2, 90105, "Carryout G2", 18.0, 65.0, 2.0},
 };
 
@@ -101,7 +104,7 @@ TEST_CASE("stock rotctld drives the dish: P moves it, p reports it", "[e2e]") {
 TEST_CASE("leapfrog (default on) leads each axis in its direction of travel", "[e2e][leapfrog]") {
     // From (100, 30) both axes lag by more than 2 degrees: each is led by 1 degree. Upstream's
     // bug would have put both nudges on azimuth (182, 45).
-    const ModelUnderTest& m = kModels[1];
+    const ModelUnderTest& m = kModels[4];
     e2e::Rig rig(dish_at(m.variant, 100.0, 30.0, 50.0), m.model);
     REQUIRE(rig.rotctl({"P", "180", "45"}).exit_code == 0);
     REQUIRE(e2e::wait_until([&] { return settled_at(rig.dish(), 181.0, 46.0, 0.1); }, 30s));
@@ -145,7 +148,7 @@ TEST_CASE("elevation is clamped to the variant's limits", "[e2e][limits]") {
 }
 
 TEST_CASE("rotctld wire replies: errors are RPRT codes, the session survives them", "[e2e][wire]") {
-    const ModelUnderTest& m = kModels[1];
+    const ModelUnderTest& m = kModels[4];
     e2e::Rig rig(dish_at(m.variant, 100.0, 30.0, 50.0), m.model, {"-C", "leapfrog=0"});
     e2e::RotctldConnection client(rig.port());
 

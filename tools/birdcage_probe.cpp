@@ -1,0 +1,542 @@
+// birdcage-probe: maps an unknown dish console (baud, prompt, error text, help, submenus) into a
+// JSON report, and `record`s interactive sessions as transcripts (docs/transcripts.md). The seed's
+// console-probe, rewritten on the core's transports, prompt rule and hazard guard.
+//
+//   birdcage-probe --port PATH [--baud N] [--variant V] [--fd] [--force]
+//   birdcage-probe record --port PATH --output FILE [--baud N] [--variant V] [--fd] [--force]
+//                  [--source TEXT]
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <poll.h>
+#include <string>
+#include <string_view>
+#include <termios.h>
+#include <unistd.h>
+#include <vector>
+
+#include "birdcage/framer.hpp"
+#include "birdcage/protocol.hpp"
+#include "birdcage/transport.hpp"
+#include "birdcage/variants.hpp"
+#include "birdcage_sim/transcript.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+using birdcage::Clock;
+
+// firmware.md 6.1: the G2 answers only at 115200; the others are documented at 57600; 9600 is
+// pyserial's default (the Pro client) and 19200/38400 are the rest of the usual set.
+constexpr std::array<int, 5> candidate_bauds{115200, 57600, 9600, 19200, 38400};
+constexpr auto baud_listen = 600ms;      // after a bare CR, for a console to say anything
+constexpr auto reply_timeout = 3000ms;   // one command's reply, up to its prompt
+constexpr auto quiet_after_prompt = 80ms;  // a prompt only counts if nothing follows it
+constexpr const char* nonsense_word = "xyzzyq";  // harmless: no firmware documents it
+
+std::optional<int> int_arg(const char* text)
+{
+    char* end = nullptr;
+    const long value = std::strtol(text, &end, 10);
+    if (end == text || *end != '\0' || value <= 0) return std::nullopt;
+    return static_cast<int>(value);
+}
+
+// ---- transports -------------------------------------------------------------------------------
+
+bool is_pty(const std::string& path)
+{
+    std::error_code error;
+    const auto resolved = std::filesystem::canonical(path, error);
+    return (error ? path : resolved.string()).rfind("/dev/pts/", 0) == 0;
+}
+
+// libserialport cannot open ptys (codebases.md 3): ptys (or --fd) get FdTransport; real ports try
+// libserialport first and fall back to a plain fd.
+std::unique_ptr<birdcage::Transport> open_port(const std::string& path, int baud, bool force_fd, std::string& error)
+{
+    if (!force_fd && !is_pty(path)) {
+        auto serial = birdcage::SerialPortTransport::open(path, baud);
+        if (serial) return std::move(serial.value);
+        error = serial.status.message;
+    }
+    auto fd = birdcage::FdTransport::open(path, baud);
+    if (fd) return std::move(fd.value);
+    error += (error.empty() ? "" : "; ") + fd.status.message;
+    return nullptr;
+}
+
+// ---- console reading --------------------------------------------------------------------------
+
+std::string last_line(std::string_view text)
+{
+    const std::size_t end = text.find_last_of("\r\n");
+    return std::string(end == std::string_view::npos ? text : text.substr(end + 1));
+}
+
+// The prompt rule is the core's: only the unterminated text after the last line ending, and only
+// if the whole of it is `WORD>` — so `help [<command>]` and `Enter <a3981> - ...` never count.
+std::optional<std::string> trailing_prompt(std::string_view text)
+{
+    std::string line = last_line(text);
+    if (!birdcage::looks_like_prompt(line)) return std::nullopt;
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    return line;
+}
+
+struct Reply {
+    std::string raw;
+    std::optional<std::string> prompt;
+};
+
+Reply read_reply(birdcage::Transport& port, std::chrono::milliseconds timeout)
+{
+    Reply reply;
+    const auto deadline = Clock::now() + timeout;
+    std::array<char, 512> buffer{};
+    for (;;) {
+        const bool prompt_seen = trailing_prompt(reply.raw).has_value();
+        const auto wait_until = prompt_seen ? std::min(deadline, Clock::now() + quiet_after_prompt) : deadline;
+        const auto got = port.read(buffer.data(), buffer.size(), wait_until);
+        if (!got) break;
+        reply.raw.append(buffer.data(), got.value);
+    }
+    reply.prompt = trailing_prompt(reply.raw);
+    return reply;
+}
+
+// Reply lines without the echo of `command`, the prompt and empty lines.
+std::vector<std::string> reply_lines(const Reply& reply, std::string_view command)
+{
+    std::vector<std::string> lines;
+    std::string text = reply.raw;
+    if (reply.prompt) text.resize(text.size() - last_line(text).size());
+    std::size_t start = 0;
+    bool echo_skipped = command.empty();
+    while (start <= text.size()) {
+        const std::size_t end = text.find_first_of("\r\n", start);
+        std::string line = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+        start = end == std::string::npos ? text.size() + 1 : end + 1;
+        if (line.empty()) continue;
+        if (!echo_skipped && (line == command || line.ends_with(">" + std::string(command)))) {
+            echo_skipped = true;
+            continue;
+        }
+        lines.push_back(line);
+    }
+    return lines;
+}
+
+// ---- help parsing -----------------------------------------------------------------------------
+
+struct HelpEntry {
+    std::string name;
+    std::string description;
+};
+
+// Help formats seen on these consoles (firmware.md 6.3, seed 004): `Enter <cmd> - Description`;
+// `cmd - Description`; `cmd  Description` (two or more spaces). Usage lines such as
+// `help [<command>]` and placeholder words are not commands.
+std::optional<HelpEntry> parse_help_line(std::string_view line)
+{
+    while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
+    if (line.empty() || line.find('[') != std::string_view::npos) return std::nullopt;
+    HelpEntry entry;
+    if (line.rfind("Enter <", 0) == 0) {
+        const std::size_t close = line.find('>');
+        if (close == std::string_view::npos) return std::nullopt;
+        entry.name = std::string(line.substr(7, close - 7));
+        const std::size_t dash = line.find(" - ", close);
+        if (dash != std::string_view::npos) entry.description = std::string(line.substr(dash + 3));
+    } else {
+        std::size_t split = line.find(" - ");
+        std::size_t skip = 3;
+        if (split == std::string_view::npos) {
+            split = line.find("  ");
+            skip = 2;
+        }
+        if (split == std::string_view::npos) return std::nullopt;
+        entry.name = std::string(line.substr(0, split));
+        std::string_view rest = line.substr(split + skip);
+        while (!rest.empty() && rest.front() == ' ') rest.remove_prefix(1);
+        entry.description = std::string(rest);
+    }
+    static constexpr std::array<std::string_view, 5> placeholders{"command", "value", "index", "cmd", "n"};
+    const bool word = !entry.name.empty() && std::all_of(entry.name.begin(), entry.name.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '?';
+    });
+    if (!word || std::find(placeholders.begin(), placeholders.end(), entry.name) != placeholders.end()) return std::nullopt;
+    return entry;
+}
+
+std::vector<HelpEntry> parse_help(const std::vector<std::string>& lines)
+{
+    std::vector<HelpEntry> entries;
+    for (const auto& line : lines)
+        if (auto entry = parse_help_line(line)) entries.push_back(std::move(*entry));
+    return entries;
+}
+
+// ---- JSON ---------------------------------------------------------------------------------------
+
+std::string json_string(std::string_view text)
+{
+    std::string out = "\"";
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (byte < 0x20 || byte >= 0x7f) {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "\\u%04x", byte);
+            out += hex;
+        } else out += c;
+    }
+    return out + "\"";
+}
+
+std::string json_strings(const std::vector<std::string>& items)
+{
+    std::string out = "[";
+    for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + json_string(items[i]);
+    return out + "]";
+}
+
+std::string json_help(const std::vector<HelpEntry>& entries, const std::string& indent)
+{
+    std::string out = "[";
+    for (std::size_t i = 0; i < entries.size(); ++i)
+        out += (i ? "," : "") + std::string("\n") + indent + "  {\"name\": " + json_string(entries[i].name) +
+               ", \"description\": " + json_string(entries[i].description) + "}";
+    return out + (entries.empty() ? "]" : "\n" + indent + "]");
+}
+
+// ---- the hazard guard ---------------------------------------------------------------------------
+
+// The core's guard (protocol.hpp hazard_check) is the deny list. Without --variant it judges with
+// the G2's rules, the strictest: they include `q` at the root prompt.
+class Guard {
+public:
+    Guard(const birdcage::FirmwareProfile& profile, bool force) : profile_(profile), force_(force) {}
+
+    // Empty when the command may go out; otherwise why not.
+    std::string refusal(std::string_view command, std::string_view prompt) const
+    {
+        if (force_) return {};
+        const std::string menu = birdcage::menu_for_prompt(profile_, prompt);
+        const birdcage::HazardContext context{menu, false, false};
+        const auto verdict = birdcage::hazard_check(profile_, command, context);
+        return verdict ? std::string() : verdict.message;
+    }
+
+private:
+    const birdcage::FirmwareProfile& profile_;
+    bool force_;
+};
+
+// ---- probe --------------------------------------------------------------------------------------
+
+struct Menu {
+    std::string name;
+    std::string prompt;
+    std::vector<HelpEntry> help;
+};
+
+struct Probe {
+    Probe(birdcage::Transport& transport, const Guard& hazard_guard) : port(transport), guard(hazard_guard) {}
+
+    birdcage::Transport& port;
+    const Guard& guard;
+    std::string line_ending = "\r";
+    std::string prompt;  // the prompt the console showed last
+    std::vector<std::pair<std::string, std::string>> refused;
+
+    std::optional<Reply> send(const std::string& command)
+    {
+        if (const std::string why = guard.refusal(command, prompt); !why.empty()) {
+            refused.emplace_back(command, why);
+            return std::nullopt;
+        }
+        port.discard_input();
+        if (!port.write(command + line_ending, Clock::now() + reply_timeout)) return std::nullopt;
+        Reply reply = read_reply(port, reply_timeout);
+        if (reply.prompt) prompt = *reply.prompt;
+        return reply;
+    }
+};
+
+// A baud "answers" when a bare CR yields printable text or a prompt.
+bool answers(birdcage::Transport& port)
+{
+    port.discard_input();
+    if (!port.write("\r", Clock::now() + 1s)) return false;
+    std::string heard;
+    const auto deadline = Clock::now() + baud_listen;
+    std::array<char, 256> buffer{};
+    while (auto got = port.read(buffer.data(), buffer.size(), deadline)) heard.append(buffer.data(), got.value);
+    if (trailing_prompt(heard)) return true;
+    const auto printable = std::count_if(heard.begin(), heard.end(), [](char c) {
+        return (c >= 0x20 && c < 0x7f);
+    });
+    return printable >= 2 && printable * 10 >= static_cast<long>(heard.size()) * 8;
+}
+
+int run_probe(const std::string& path, std::optional<int> baud, const birdcage::FirmwareProfile& profile, bool force_fd,
+              bool force)
+{
+    std::unique_ptr<birdcage::Transport> port;
+    std::vector<int> tried;
+    int found_baud = 0;
+    for (const int candidate : baud ? std::vector<int>{*baud} : std::vector<int>(candidate_bauds.begin(), candidate_bauds.end())) {
+        std::string error;
+        auto opened = open_port(path, candidate, force_fd, error);
+        if (!opened) {
+            std::cerr << "birdcage-probe: cannot open " << path << ": " << error << '\n';
+            return 1;
+        }
+        tried.push_back(candidate);
+        if (answers(*opened)) {
+            port = std::move(opened);
+            found_baud = candidate;
+            break;
+        }
+    }
+    if (!port) {
+        std::cerr << "birdcage-probe: no answer at any baud rate\n";
+        std::cout << "{\"format_version\": 1, \"port\": " << json_string(path) << ", \"baud\": null}\n";
+        return 1;
+    }
+
+    const Guard guard(profile, force);
+    Probe probe(*port, guard);
+    const auto resync = probe.send("");
+    const std::string root_prompt = probe.prompt;
+
+    const auto nonsense = probe.send(nonsense_word);
+    const auto error_lines = nonsense ? reply_lines(*nonsense, nonsense_word) : std::vector<std::string>{};
+
+    const auto root_help_reply = probe.send("?");
+    const auto root_help = root_help_reply ? parse_help(reply_lines(*root_help_reply, "?")) : std::vector<HelpEntry>{};
+
+    std::vector<Menu> menus;
+    std::vector<std::pair<std::string, std::vector<std::string>>> commands;
+    for (const auto& entry : root_help) {
+        if (entry.name == "q" || entry.name == "?" || entry.name == "help") continue;  // never `q` at the root
+        if (probe.prompt != root_prompt) break;  // lost our way; do not wander further
+        const auto reply = probe.send(entry.name);
+        if (!reply) continue;  // refused: recorded in probe.refused
+        if (!reply->prompt || *reply->prompt == root_prompt) {
+            commands.emplace_back(entry.name, reply_lines(*reply, entry.name));
+            continue;
+        }
+        Menu menu{entry.name, *reply->prompt, {}};
+        if (const auto help = probe.send("?")) menu.help = parse_help(reply_lines(*help, "?"));
+        probe.send("q");  // leaves the submenu; the guard would refuse it at the root
+        menus.push_back(std::move(menu));
+    }
+
+    std::cout << "{\n  \"format_version\": 1,\n  \"port\": " << json_string(path) << ",\n  \"baud\": " << found_baud
+              << ",\n  \"bauds_tried\": [";
+    for (std::size_t i = 0; i < tried.size(); ++i) std::cout << (i ? ", " : "") << tried[i];
+    std::cout << "],\n  \"line_ending\": " << json_string(probe.line_ending)
+              << ",\n  \"root_prompt\": " << json_string(root_prompt)
+              << ",\n  \"error_probe\": " << json_string(nonsense_word)
+              << ",\n  \"error_string\": " << json_string(error_lines.empty() ? "" : error_lines.front())
+              << ",\n  \"root_help\": " << json_help(root_help, "  ") << ",\n  \"menus\": [";
+    for (std::size_t i = 0; i < menus.size(); ++i)
+        std::cout << (i ? "," : "") << "\n    {\"name\": " << json_string(menus[i].name)
+                  << ", \"prompt\": " << json_string(menus[i].prompt) << ", \"help\": " << json_help(menus[i].help, "    ")
+                  << "}";
+    std::cout << (menus.empty() ? "" : "\n  ") << "],\n  \"commands\": [";
+    for (std::size_t i = 0; i < commands.size(); ++i)
+        std::cout << (i ? "," : "") << "\n    {\"name\": " << json_string(commands[i].first)
+                  << ", \"reply\": " << json_strings(commands[i].second) << "}";
+    std::cout << (commands.empty() ? "" : "\n  ") << "],\n  \"refused\": [";
+    for (std::size_t i = 0; i < probe.refused.size(); ++i)
+        std::cout << (i ? "," : "") << "\n    {\"command\": " << json_string(probe.refused[i].first)
+                  << ", \"reason\": " << json_string(probe.refused[i].second) << "}";
+    std::cout << (probe.refused.empty() ? "" : "\n  ") << "],\n  \"final_prompt\": " << json_string(probe.prompt)
+              << "\n}\n";
+    return resync && !root_prompt.empty() ? 0 : 1;
+}
+
+// ---- record -------------------------------------------------------------------------------------
+
+// Raw mode while recording from a terminal, restored on every exit path.
+class RawTerminal {
+public:
+    RawTerminal()
+    {
+        if (!::isatty(STDIN_FILENO) || ::tcgetattr(STDIN_FILENO, &saved_) != 0) return;
+        termios raw = saved_;
+        ::cfmakeraw(&raw);
+        raw.c_oflag |= OPOST | ONLCR;  // keep our own messages readable
+        active_ = ::tcsetattr(STDIN_FILENO, TCSANOW, &raw) == 0;
+    }
+    ~RawTerminal()
+    {
+        if (active_) ::tcsetattr(STDIN_FILENO, TCSANOW, &saved_);
+    }
+    RawTerminal(const RawTerminal&) = delete;
+    RawTerminal& operator=(const RawTerminal&) = delete;
+    bool active() const { return active_; }
+
+private:
+    termios saved_{};
+    bool active_ = false;
+};
+
+int run_record(const std::string& path, int baud, const birdcage::FirmwareProfile& profile, bool force_fd, bool force,
+               const std::string& output, const std::string& source)
+{
+    std::string error;
+    auto port = open_port(path, baud, force_fd, error);
+    if (!port) {
+        std::cerr << "birdcage-probe: cannot open " << path << ": " << error << '\n';
+        return 1;
+    }
+    std::ofstream file(output, std::ios::binary);
+    if (!file) {
+        std::cerr << "birdcage-probe: cannot write " << output << '\n';
+        return 1;
+    }
+    birdcage::sim::TranscriptRecorder transcript({{"Variant", std::string(profile.short_name)},
+                                                  {"Firmware", "(fill in: the version the dish reports)"},
+                                                  {"Serial", std::to_string(baud) + " 8N1"},
+                                                  {"Source", source},
+                                                  {"Notes", "(fill in: what the dish was doing, what you typed and why)"}});
+    const auto start = Clock::now();
+    auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+
+    const Guard guard(profile, force);
+    const RawTerminal terminal;
+    std::cerr << "birdcage-probe: recording " << path << " to " << output
+              << (terminal.active() ? " (Ctrl-] to stop)" : "") << "\r\n";
+    std::string typed;   // input not yet sent; lines go out whole, after the guard has seen them
+    std::string heard;   // dish output, for the prompt the guard judges against
+    // Piped input arrives all at once: each line waits for the reply to the previous one (its
+    // prompt, or reply_timeout), so the guard judges it in the menu the dish is really in.
+    std::optional<Clock::time_point> awaiting_reply_until;
+    bool input_open = true;
+    std::optional<Clock::time_point> closing_at;
+    std::array<char, 512> buffer{};
+    for (;;) {
+        if (input_open) {
+            pollfd stdin_poll{STDIN_FILENO, POLLIN, 0};
+            if (::poll(&stdin_poll, 1, 10) > 0) {
+                const ssize_t count = ::read(STDIN_FILENO, buffer.data(), buffer.size());
+                if (count <= 0) input_open = false;
+                const std::string_view bytes(buffer.data(), count > 0 ? static_cast<std::size_t>(count) : 0);
+                if (const std::size_t stop = bytes.find('\x1d'); stop != std::string_view::npos) {  // Ctrl-]
+                    input_open = false;
+                    typed.clear();  // a half-typed line is dropped, not sent
+                    closing_at = Clock::now();
+                } else {
+                    typed.append(bytes);
+                }
+            }
+        }
+        if (awaiting_reply_until && Clock::now() >= *awaiting_reply_until) awaiting_reply_until.reset();
+        const std::size_t line_end = typed.find_first_of("\r\n");
+        if (!awaiting_reply_until && line_end != std::string::npos) {
+            const std::string line = typed.substr(0, line_end);
+            const bool crlf = typed[line_end] == '\r' && line_end + 1 < typed.size() && typed[line_end + 1] == '\n';
+            typed.erase(0, line_end + (crlf ? 2 : 1));
+            const auto prompt = trailing_prompt(heard);
+            if (const std::string why = guard.refusal(line, prompt.value_or("")); !why.empty()) {
+                std::cerr << "\r\nbirdcage-probe: not sent: " << why << " (--force sends it)\r\n";
+                transcript.comment("refused by birdcage-probe: " + birdcage::sim::escape_chunk(line) + " (" + why + ")");
+            } else {
+                const std::string wire = line + std::string(profile.line_ending);
+                transcript.add(birdcage::sim::Direction::host_to_dish, wire, seconds());
+                heard.clear();
+                awaiting_reply_until = Clock::now() + reply_timeout;
+                if (!port->write(wire, Clock::now() + 2s)) {
+                    std::cerr << "birdcage-probe: write failed\r\n";
+                    break;
+                }
+            }
+        }
+        if (!input_open && !closing_at && typed.find_first_of("\r\n") == std::string::npos && !awaiting_reply_until)
+            closing_at = Clock::now() + 300ms;  // the dish may still be talking
+        const auto got = port->read(buffer.data(), buffer.size(), Clock::now() + 10ms);
+        if (got) {
+            const std::string_view bytes(buffer.data(), got.value);
+            transcript.add(birdcage::sim::Direction::dish_to_host, bytes, seconds());
+            heard.append(bytes);
+            if (heard.size() > 4096) heard.erase(0, heard.size() - 4096);
+            std::cout.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+            std::cout.flush();
+            if (trailing_prompt(heard)) awaiting_reply_until.reset();
+            if (closing_at) closing_at = std::max(*closing_at, Clock::now() + 300ms);
+        } else if (got.status.code != birdcage::Errc::timeout) {
+            std::cerr << "\r\nbirdcage-probe: " << got.status.message << "\r\n";
+            break;
+        }
+        if (closing_at && Clock::now() >= *closing_at) break;
+    }
+    file << transcript.text();
+    std::cerr << "\r\nbirdcage-probe: wrote " << output << "\r\n";
+    return 0;
+}
+
+void usage()
+{
+    std::cerr << "usage: birdcage-probe --port PATH [--baud N] [--variant V] [--fd] [--force]\n"
+                 "       birdcage-probe record --port PATH --output FILE [--baud N] [--variant V] [--fd] [--force]\n"
+                 "                      [--source TEXT]\n"
+                 "  V: hal000 hal205 pro carryout2003 g2 (default: judge hazards by the G2's rules)\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    bool record = false, force = false, force_fd = false;
+    std::string port, output, source = "recorded with birdcage-probe record";
+    std::optional<int> baud;
+    birdcage::VariantId variant = birdcage::VariantId::carryout_g2;
+    bool variant_given = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view arg = argv[i];
+        const bool has_value = i + 1 < argc;
+        if (i == 1 && arg == "record") record = true;
+        else if (arg == "--port" && has_value) port = argv[++i];
+        else if (arg == "--output" && has_value) output = argv[++i];
+        else if (arg == "--source" && has_value) source = argv[++i];
+        else if (arg == "--baud" && has_value) {
+            baud = int_arg(argv[++i]);
+            if (!baud) {
+                usage();
+                return 2;
+            }
+        } else if (arg == "--variant" && has_value) {
+            const auto parsed = birdcage::variant_from_name(argv[++i]);
+            if (!parsed) {
+                usage();
+                return 2;
+            }
+            variant = *parsed;
+            variant_given = true;
+        } else if (arg == "--force") force = true;
+        else if (arg == "--fd") force_fd = true;
+        else {
+            usage();
+            return 2;
+        }
+    }
+    if (port.empty() || (record && output.empty())) {
+        usage();
+        return 2;
+    }
+    const auto& profile = birdcage::profile(variant);
+    if (record) return run_record(port, baud.value_or(variant_given ? profile.baud : 115200), profile, force_fd, force, output, source);
+    return run_probe(port, baud, profile, force_fd, force);
+}

@@ -9,6 +9,7 @@
 //                                            session as a transcript (every chunk marked `~`)
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -105,8 +106,11 @@ std::string quoted(const std::string& text) { return "\"" + sim::escape_chunk(te
 // Runs the operations over `transport` and describes, line by line, what the core did and saw.
 class OperationRunner {
 public:
-    OperationRunner(birdcage::Transport& transport, birdcage::VariantId variant)
-        : recorder_(transport),
+    // `stop` is asked between operations and while a move runs: once the replay has failed the dish
+    // is silent, and waiting out every timeout would only make the failure slow.
+    OperationRunner(birdcage::Transport& transport, birdcage::VariantId variant, std::function<bool()> stop = {})
+        : stop_(std::move(stop)),
+          recorder_(transport),
           profile_(birdcage::profile(variant)),
           controller_(recorder_, make_options(variant)),
           session_(recorder_, profile_, {})
@@ -117,6 +121,10 @@ public:
     {
         std::ostringstream out;
         for (std::size_t i = 0; i < tokens.size();) {
+            if (stop_ && stop_()) {
+                out << "stopped: the replay failed\n";
+                break;
+            }
             const std::string& op = tokens[i++];
             if (op == "init") {
                 out << "op init: " << status_text(controller_.initialize()) << '\n';
@@ -170,12 +178,14 @@ private:
         std::optional<birdcage::Status> first_failure;
         while (!controller_.idle()) {
             if (std::chrono::steady_clock::now() > deadline) return "not idle within the test deadline";
+            if (stop_ && stop_()) return "stopped: the replay failed";
             if (const auto status = controller_.service(); !status && !first_failure) first_failure = status;
             std::this_thread::sleep_for(pump_period);
         }
         return first_failure ? status_text(*first_failure) : "ok";
     }
 
+    std::function<bool()> stop_;
     RecordingTransport recorder_;
     const birdcage::FirmwareProfile& profile_;
     birdcage::Controller controller_;
@@ -227,7 +237,7 @@ Outcome replay(const std::filesystem::path& transcript_path)
 
     const auto variant = variant_of(*variant_name);
     auto device = open_device(emulator.device_path(), birdcage::profile(variant).baud);
-    OperationRunner runner(*device, variant);
+    OperationRunner runner(*device, variant, [&emulator] { return emulator.replay_failure().has_value(); });
 
     Outcome outcome;
     outcome.text = "# birdcage-regress output for " + transcript_path.filename().string() +

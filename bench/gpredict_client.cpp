@@ -1,0 +1,140 @@
+#include "gpredict_client.hpp"
+
+#include "harness.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
+
+namespace bench {
+
+using Clock = std::chrono::steady_clock;
+
+GpredictClient::GpredictClient(const Pass& pass, ClientSettings settings, const birdcage::sim::Emulator& dish,
+                               double time_scale, int rotctld_port, double pass_clock_start)
+    : pass_(pass), settings_(settings), dish_(dish), time_scale_(time_scale), port_(rotctld_port),
+      sim_origin_(dish.sim_time()), pass_origin_(pass_clock_start) {}
+
+double GpredictClient::pass_now() const { return pass_time_of(dish_.sim_time()); }
+
+void GpredictClient::sleep_sim(double seconds) const {
+    std::this_thread::sleep_for(std::chrono::duration<double>(seconds / time_scale_));
+}
+
+Direction GpredictClient::lead_target(double now, Direction current) const {
+    // Gpredict searches in days with the cycle as the coarsest and a quarter cycle as the finest
+    // step; here the same in seconds.
+    double time_delta = pass_.los() - now;
+    double step = std::max(time_delta / 2.0, settings_.cycle_s);
+    Direction future = current;
+    while (step > settings_.cycle_s / 4.0) {
+        future = pass_.at(now + time_delta);
+        const bool too_far = future.el < 0.0 || std::fabs(current.az - future.az) > settings_.threshold_deg ||
+                             std::fabs(current.el - future.el) > settings_.threshold_deg;
+        time_delta += too_far ? -step : step;
+        step /= 2.0;
+    }
+    return future;
+}
+
+void GpredictClient::timer_tick() {
+    const double now = pass_now();
+    const Direction sat = pass_.at(now);
+    auto clamp_az = [this](double az) { return std::clamp(az, settings_.min_az, settings_.max_az); };
+    auto clamp_el = [this](double el) { return std::clamp(el, settings_.min_el, settings_.max_el); };
+    Direction set{};
+    if (sat.el < 0.0) {
+        const bool before = now < pass_.aos();
+        set = {clamp_az(before ? pass_.aos_az() : pass_.los_az()), clamp_el(0.0)};
+    } else {
+        set = {clamp_az(sat.az), clamp_el(sat.el)};
+    }
+    std::lock_guard lock(mutex_);
+    Direction rot = read_back_;
+    while (rot.az < 0.0) {
+        rot.az += 360.0;
+    }
+    while (rot.az > 360.0) {
+        rot.az -= 360.0;
+    }
+    if (std::fabs(set.az - rot.az) <= settings_.threshold_deg && std::fabs(set.el - rot.el) <= settings_.threshold_deg) {
+        return;
+    }
+    if (sat.el > 0.0) {
+        // The search compares against the clamped current target, as Gpredict's does.
+        const Direction ahead = lead_target(now, set);
+        set = {clamp_az(ahead.az), clamp_el(ahead.el)};
+    }
+    pending_ = set;
+    new_target_ = true;
+}
+
+void GpredictClient::io_loop(double end) {
+    e2e::RotctldConnection connection(port_);
+    auto elapsed_ms = [](Clock::time_point since) {
+        return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+    };
+    while (!stop_ && pass_now() < end) {
+        const auto loop_start = Clock::now();
+        std::optional<Direction> target;
+        {
+            std::lock_guard lock(mutex_);
+            if (new_target_) {
+                target = pending_;
+            }
+        }
+        if (target) {
+            char command[64];
+            std::snprintf(command, sizeof command, "P %.2f %.2f", target->az, target->el);
+            const auto sent_at = Clock::now();
+            const std::string reply = connection.ask(command, 1);
+            record_.set_round_trip_ms.push_back(elapsed_ms(sent_at));
+            if (reply.rfind("RPRT 0", 0) == 0) {
+                std::lock_guard lock(mutex_);
+                new_target_ = false;  // Gpredict retries a failed P on the next loop
+                record_.sent_targets.push_back({pass_now(), *target});
+            } else {
+                ++record_.failed_replies;
+            }
+        }
+        sleep_sim(settings_.io_sleep_s);
+        const auto asked_at = Clock::now();
+        const std::string reply = connection.ask("p", 2);
+        record_.p_round_trip_ms.push_back(elapsed_ms(asked_at));
+        const birdcage::sim::Pose truth = dish_.true_position();
+        char* rest = nullptr;
+        const double az = std::strtod(reply.c_str(), &rest);
+        const bool parsed = rest != reply.c_str() && *rest == '\n';
+        const double el = parsed ? std::strtod(rest + 1, nullptr) : 0.0;
+        if (parsed && reply.rfind("RPRT", 0) != 0) {
+            record_.p_error_deg.push_back(angle_between({az, el}, {truth.az, truth.el}));
+            std::lock_guard lock(mutex_);
+            read_back_ = {az, el};
+        } else {
+            ++record_.failed_replies;
+        }
+        const double elapsed_sim_s = elapsed_ms(loop_start) / 1000.0 * time_scale_;
+        sleep_sim(std::max(elapsed_sim_s, settings_.io_min_period_s));
+    }
+}
+
+ClientRecord GpredictClient::run_until(double end) {
+    std::thread io([this, end] { io_loop(end); });
+    // The GUI timer: fixed real-time period of cycle / scale, like a GLib timeout.
+    const auto period = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(settings_.cycle_s / time_scale_));
+    auto next = Clock::now();
+    while (pass_now() < end) {
+        timer_tick();
+        next += period;
+        std::this_thread::sleep_until(next);
+    }
+    stop_ = true;
+    io.join();
+    return record_;
+}
+
+} // namespace bench

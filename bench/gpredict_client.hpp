@@ -1,0 +1,82 @@
+// A client that drives rotctld the way Gpredict 2.3–2.6 does (notes/hamlib.md §5,
+// notes/tracking.md §1.3 and §3.2), written from that description, on a scaled clock:
+//   * a "GUI" timer every `cycle` computes the target: the satellite's position clamped to the
+//     configured limits (before AOS: the AOS azimuth at the lowest elevation); only when the
+//     read-back position is more than `threshold` away on either axis (plain differences, no
+//     wrap) does it post a new target, and then it leads the satellite: a bisection finds the
+//     furthest future time at which the satellite is still within `threshold` of where it is now;
+//   * an I/O thread loops: `P az el` (%.2f) if a target is pending, sleep 100 ms, `p`, then sleep
+//     max(elapsed, 0.7 s).
+// Simulated time is the emulator's clock; every client sleep is divided by the emulator's time
+// scale, so the client keeps Gpredict's rhythm in simulated seconds.
+#pragma once
+
+#include "pass.hpp"
+
+#include <birdcage_sim/emulator.hpp>
+
+#include <atomic>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+namespace bench {
+
+struct ClientSettings {
+    double threshold_deg = 5.0;  // Gpredict default
+    double cycle_s = 1.0;        // Gpredict default "Cycle" 1000 ms
+    double io_sleep_s = 0.1;     // between P and p
+    double io_min_period_s = 0.7;
+    // Gpredict's rotator limits, set to the dish's (as the README tells users to).
+    double min_az = 0.0, max_az = 360.0, min_el = 0.0, max_el = 90.0;
+};
+
+struct TimedDirection {
+    double t;  // pass clock, seconds
+    Direction dir;
+};
+
+struct ClientRecord {
+    std::vector<TimedDirection> sent_targets;   // every P
+    std::vector<double> p_round_trip_ms;        // real time
+    std::vector<double> set_round_trip_ms;      // real time
+    std::vector<double> p_error_deg;            // reported position against the dish's true one
+    unsigned failed_replies = 0;
+};
+
+class GpredictClient {
+public:
+    // pass_clock_start: the pass time that the emulator's current sim_time() corresponds to.
+    GpredictClient(const Pass& pass, ClientSettings settings, const birdcage::sim::Emulator& dish,
+                   double time_scale, int rotctld_port, double pass_clock_start);
+
+    // Runs the timer and I/O threads until the pass clock reaches `end`.
+    ClientRecord run_until(double end);
+
+    // Pass clock time that corresponds to an emulator sim time.
+    double pass_time_of(double sim_time) const { return sim_time - sim_origin_ + pass_origin_; }
+
+private:
+    double pass_now() const;
+    void sleep_sim(double seconds) const;
+    void timer_tick();
+    Direction lead_target(double now, Direction current) const;
+    void io_loop(double end);
+
+    const Pass& pass_;
+    ClientSettings settings_;
+    const birdcage::sim::Emulator& dish_;
+    double time_scale_;
+    int port_;
+    double sim_origin_ = 0.0;
+    double pass_origin_ = 0.0;
+
+    std::mutex mutex_;  // between the timer and the I/O thread, like Gpredict's client mutex
+    Direction read_back_{};
+    Direction pending_{};
+    bool new_target_ = false;
+    std::atomic<bool> stop_{false};
+    ClientRecord record_;
+};
+
+} // namespace bench

@@ -24,5 +24,10 @@ unsigned Console::hazards() const { return engine_->hazards; }
 const std::vector<std::string>& Console::commands() const { return engine_->commands; }
 double Console::time() const { return engine_->now; }
 void Console::power_cycle() { engine_->start_boot(); }
+void Console::inject_motor_stall(int axis)
+{
+    if (axis == 0 || axis == 1) engine_->inject_motor_stall(static_cast<std::size_t>(axis));
+}
+unsigned Console::motor_stalls() const { return engine_->motor_stalls; }
 
 }  // namespace birdcage::sim

@@ -288,6 +288,7 @@ void Engine::start_boot()
     apply_nvs_limits();
     nvs_cursor = -1;
     lnb_mode = "STB";
+    stall_arms_ = {};  // an injected stall meant for the interrupted move does not hit homing
     if (profile.needs_homing) homed = {false, false};
     boot_steps_ = profile.boot_script(*this);
     boot_index_ = 0;
@@ -374,8 +375,45 @@ void Engine::record_sample()
     history.push_back(sample);
 }
 
+// --- injected motor stalls -------------------------------------------------------------------
+
+void Engine::inject_motor_stall(std::size_t axis)
+{
+    if (axis != axis_az && axis != axis_el) return;
+    stall_arms_[axis] = StallArm{true, false, 0.0, 0.0, 0.0};
+}
+
+void Engine::run_stalls()
+{
+    for (const std::size_t index : {axis_az, axis_el}) {
+        StallArm& arm = stall_arms_[index];
+        Axis& axis = motors.axis(index);
+        if (!arm.armed) continue;
+        if (!axis.moving()) {
+            arm.tracking = false;  // that move ended short of the stall point: wait for the next
+            continue;
+        }
+        if (!arm.tracking || arm.target != axis.target()) {
+            // First seen moving (within one tick of the start): stall halfway to the target.
+            arm.tracking = true;
+            arm.target = axis.target();
+            arm.stall_at = 0.5 * (axis.position() + axis.target());
+            arm.direction = axis.target() >= axis.position() ? 1.0 : -1.0;
+        }
+        if ((axis.position() - arm.stall_at) * arm.direction < 0.0) continue;
+        arm = {};
+        motors.stop_all();                     // the firmware abandons the rest of the command
+        axis.set_position(axis.position());    // a stalled stepper stops dead
+        ++motor_stalls;
+        // §6.3 / §3.3 text; where it lands relative to the prompt is INVENTED (printed when it
+        // happens, no prompt reprint; a waiting command prints its prompt when motion ends).
+        print_line(index == axis_az ? "AZ MOTOR STALLED" : "EL MOTOR STALLED");
+    }
+}
+
 void Engine::tick()
 {
+    run_stalls();
     run_boot();
     run_search();
     run_busy();

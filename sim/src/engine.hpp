@@ -116,6 +116,9 @@ struct Engine {
     void wait_until_idle(std::function<void(Engine&)> finish);
     void wait_for(double seconds, std::function<void(Engine&)> finish);
     void start_goto(std::function<void(Engine&)> finish);
+    // Fault injection: the move of `axis` (AZ or EL) in progress, or its next one, stalls
+    // halfway: the axis stops dead, queued moves are dropped, `AZ/EL MOTOR STALLED` (§6.3).
+    void inject_motor_stall(std::size_t axis);
     double displayed_az() const;
     double reported_az() const;  // per Options::az_report
     double el_limit_min() const { return el_min_active_; }
@@ -142,6 +145,7 @@ struct Engine {
     NvsTable nvs;
     int nvs_cursor = -1;
     std::string lnb_mode = "STB";  // §6.2 item 8
+    unsigned motor_stalls = 0;     // injected stalls that have happened
 
 private:
     void record_received(char byte);
@@ -157,6 +161,16 @@ private:
     void finish_boot();
     void apply_nvs_limits();
     void finish_busy();
+    void run_stalls();
+
+    struct StallArm {
+        bool armed = false;
+        bool tracking = false;  // the armed axis is moving; stall_at is set
+        double stall_at = 0.0;  // mechanical position where it stalls
+        double direction = 0.0;
+        double target = 0.0;    // the move being tracked
+    };
+    std::array<StallArm, 2> stall_arms_{};
 
     std::string line_;
     std::string pending_;

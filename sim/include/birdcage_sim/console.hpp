@@ -35,6 +35,9 @@ public:
     const std::vector<std::string>& commands() const;
     double time() const;
     void power_cycle();
+    // Fault injection (axis 0 = AZ, 1 = EL): see Emulator::inject_motor_stall.
+    void inject_motor_stall(int axis);
+    unsigned motor_stalls() const;
 
 private:
     std::unique_ptr<Engine> engine_;

@@ -31,6 +31,26 @@ enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete lin
 // it through Emulator::replay_failure(); lenient hands the session over to the model console.
 enum class ReplayMode { off, strict, lenient };
 
+// Faults of the serial line between the dish and the client (issue 6, firmware.md §6.1). They
+// are wire properties and run in real time, not scaled by Options::time_scale. Settable at
+// construction and live through the Emulator setters.
+struct LineFaults {
+    double idle_noise_bps = 0.0;    // random bytes per real second while the line is idle
+    bool inverted_polarity = false; // every byte the dish sends is bit-inverted (swapped RX pair)
+    bool ignore_input = false;      // the dish never sees client bytes (swapped TX pair)
+    double drop_probability = 0.0;  // each byte the dish sends is lost with this probability
+    int pace_baud = 0;              // 0: as fast as the pty takes it; else 10 bits per byte
+};
+
+// Bookkeeping of what the injected faults did.
+struct FaultCounters {
+    std::uint64_t garbage_bytes = 0;  // noise written to the line (inject_garbage + idle noise)
+    std::uint64_t dropped_bytes = 0;  // dish bytes lost to set_drop_probability
+    std::uint64_t ignored_bytes = 0;  // client bytes lost to set_ignore_input or a hang-up
+    std::uint64_t discarded_bytes = 0;  // dish bytes printed while the adapter was unplugged
+    unsigned motor_stalls = 0;        // injected motor stalls that have happened
+};
+
 struct Options {
     Variant variant = Variant::carryout_g2;
     double time_scale = 1.0;      // simulated seconds per real second
@@ -38,7 +58,8 @@ struct Options {
     bool search_running = false;  // with already_booted: the TV-satellite search is running
     double start_az = 180.0, start_el = 45.0;  // true position at start (mapped into the wrap window)
     std::string link_path;        // if non-empty: symlink to the pty slave, removed on destruction
-    std::uint32_t seed = 1;       // RSSI noise, search wander
+    std::uint32_t seed = 1;       // RSSI noise, search wander, fault injection (garbage, drops)
+    LineFaults line_faults;       // initial line faults (see Emulator fault injection)
 
     // --- unknown-behaviour switches -----------------------------------------------------
     bool echo = true;             // §6.1 (G2: strong evidence), §3.1 / §14 (others: hints only)
@@ -106,7 +127,8 @@ public:
     Emulator(const Emulator&) = delete;
     Emulator& operator=(const Emulator&) = delete;
 
-    const std::string& device_path() const;  // link_path if given, else /dev/pts/N
+    // link_path if given, else /dev/pts/N (a new N after reconnect(), hence by value).
+    std::string device_path() const;
     Pose true_position() const;              // displayed az in [0,360), el
     double true_mechanical_az() const;       // az including cable-wrap turns
     bool moving() const;
@@ -115,8 +137,49 @@ public:
     unsigned hazards_received() const;
     std::vector<std::string> received_commands() const;  // every complete line, in order (empty lines included)
     double sim_time() const;
-    void power_cycle();                      // reboot: boot log, search restart, menu at root
+    // Reboot, also mid-move: motion stops dead, boot log (and boot moves), the search restarts
+    // where the variant's does, menu at root, deadlocks cleared. Counts as an injected fault.
+    void power_cycle();
     bool shell_alive() const;                // false after a G2 root `q` or an ADC `scan` deadlock
+
+    // --- fault injection (issue 6), all thread-safe -------------------------------------
+    // Random bytes (seeded by Options::seed) queued on the line now, behind dish output already
+    // queued, as an idle unbiased RS-422 bus produces (§6.1 MAX490 without fail-safe biasing).
+    void inject_garbage(std::size_t bytes);
+    // Continuous garbage at this many bytes per real second whenever the dish has nothing queued
+    // to send (0 = off).
+    void set_idle_noise(double bytes_per_second);
+    // Swapped RX pair (§6.1): every byte the dish sends arrives bit-inverted (~b); input is still
+    // parsed normally.
+    void set_inverted_polarity(bool on);
+    // Swapped TX pair (§6.1): the dish silently ignores input (bytes never reach the console).
+    void set_ignore_input(bool on);
+    // Each byte the dish sends is lost with probability p (seeded RNG, one draw per byte).
+    void set_drop_probability(double p);
+    // 0 = unpaced. Otherwise each byte occupies the line for 10 bits at this baud rate of REAL
+    // time (a wire property: not scaled by time_scale); no byte reaches the client before its
+    // last bit would have.
+    void set_output_pacing(int baud);
+    // The dish sends nothing for this many simulated seconds and reads nothing either: input is
+    // buffered and answered afterwards; motion and time go on. Overlapping stalls extend.
+    void stall_output(double sim_seconds);
+    // Adapter unplugged: the pty is closed (the client's fd sees POLLHUP, read returns 0/EIO,
+    // writes fail), the symlink is removed, the /dev/pts node goes away. The dish keeps running;
+    // what it prints meanwhile is lost.
+    void hang_up();
+    // Adapter back: a new pty; with link_path the symlink now points at the new slave (and
+    // device_path() stays the link). No-op while connected.
+    void reconnect();
+    bool connected() const;
+    // Axis 0 = AZ, 1 = EL: the move of that motor in progress, or its next one, stalls halfway to
+    // its target: the axis stops dead, queued moves are dropped and the console prints
+    // `AZ MOTOR STALLED` / `EL MOTOR STALLED` (§6.3). Other values are ignored.
+    void inject_motor_stall(int motor);
+    // One-shot faults injected so far: inject_garbage, stall_output, power_cycle, hang_up,
+    // inject_motor_stall calls.
+    unsigned faults_injected() const;
+    FaultCounters fault_counters() const;
+    LineFaults line_faults() const;          // the current continuous faults
 
     // Replay only. The diff at the first unexpected command (strict mode), escaped, with the
     // transcript line number; nullopt while the session follows the transcript.

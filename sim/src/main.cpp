@@ -1,5 +1,7 @@
 // birdcage-sim: run one emulated dish on a pty until SIGINT/SIGTERM.
+#include <algorithm>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -18,7 +20,9 @@ void usage()
 {
     std::cerr << "usage: birdcage-sim --variant hal205|g2|hal000|pro|carryout2003 [--link PATH]\n"
                  "                    [--time-scale X] [--booting] [--search] [--az A --el E] [--trace]\n"
-                 "                    [--replay TRANSCRIPT [--lenient]]   (--variant defaults to the transcript's)\n";
+                 "                    [--replay TRANSCRIPT [--lenient]]   (--variant defaults to the transcript's)\n"
+                 "                    [--idle-noise BPS] [--invert] [--ignore-input] [--drop P] [--pace BAUD]\n"
+                 "                    [--seed N]   (line faults; BPS and BAUD in real time)\n";
 }
 
 std::optional<double> number(const char* text)
@@ -55,6 +59,22 @@ int main(int argc, char** argv)
                 return 2;
             }
             (arg == "--time-scale" ? options.time_scale : arg == "--az" ? options.start_az : options.start_el) = *value;
+        } else if ((arg == "--idle-noise" || arg == "--drop" || arg == "--pace" || arg == "--seed") && has_value) {
+            const auto value = number(argv[++i]);
+            const bool integral = arg == "--pace" || arg == "--seed";
+            if (!value || *value < 0.0 || (arg == "--drop" && *value > 1.0) ||
+                (integral && (*value != static_cast<double>(static_cast<long>(*value)) || *value > 4294967295.0))) {
+                usage();
+                return 2;
+            }
+            if (arg == "--idle-noise") options.line_faults.idle_noise_bps = *value;
+            if (arg == "--drop") options.line_faults.drop_probability = *value;
+            if (arg == "--pace") options.line_faults.pace_baud = static_cast<int>(std::min(*value, 1e9));
+            if (arg == "--seed") options.seed = static_cast<std::uint32_t>(*value);
+        } else if (arg == "--invert") {
+            options.line_faults.inverted_polarity = true;
+        } else if (arg == "--ignore-input") {
+            options.line_faults.ignore_input = true;
         } else if (arg == "--replay" && has_value) {
             options.transcript_path = argv[++i];
             if (options.replay == birdcage::sim::ReplayMode::off) options.replay = birdcage::sim::ReplayMode::strict;

@@ -12,71 +12,13 @@
 #include <unistd.h>
 
 #include "birdcage_sim/emulator.hpp"
+#include "pty_client.hpp"
 
 using namespace birdcage::sim;
+using namespace birdcage::sim::testing;
 using namespace std::chrono_literals;
 
 namespace {
-
-class PtyClient {
-public:
-    explicit PtyClient(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK))
-    {
-        if (fd_ < 0) throw std::runtime_error("cannot open " + path);
-        termios attributes{};
-        ::tcgetattr(fd_, &attributes);
-        ::cfmakeraw(&attributes);
-        ::tcsetattr(fd_, TCSANOW, &attributes);
-    }
-    ~PtyClient() { ::close(fd_); }
-    PtyClient(const PtyClient&) = delete;
-    PtyClient& operator=(const PtyClient&) = delete;
-
-    void send(std::string_view bytes) { REQUIRE(::write(fd_, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size())); }
-
-    // Everything up to and including `needle`; what follows stays buffered. Empty on timeout.
-    std::string read_until(std::string_view needle, std::chrono::milliseconds timeout = 5s)
-    {
-        const auto deadline = std::chrono::steady_clock::now() + timeout;
-        for (;;) {
-            const std::size_t found = buffer_.find(needle);
-            if (found != std::string::npos) {
-                std::string head = buffer_.substr(0, found + needle.size());
-                buffer_.erase(0, found + needle.size());
-                return head;
-            }
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-            if (left.count() <= 0) return {};
-            pollfd descriptor{fd_, POLLIN, 0};
-            if (::poll(&descriptor, 1, static_cast<int>(left.count())) > 0) {
-                char chunk[1024];
-                const ssize_t count = ::read(fd_, chunk, sizeof chunk);
-                if (count > 0) buffer_.append(chunk, static_cast<std::size_t>(count));
-            }
-        }
-    }
-
-    std::string command(std::string_view line, std::string_view prompt, std::chrono::milliseconds timeout = 5s)
-    {
-        send(std::string(line) + "\r");
-        return read_until(prompt, timeout);
-    }
-
-private:
-    int fd_;
-    std::string buffer_;
-};
-
-template <typename Predicate>
-bool wait_for(Predicate done, std::chrono::milliseconds timeout = 10s)
-{
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (!done()) {
-        if (std::chrono::steady_clock::now() > deadline) return false;
-        std::this_thread::sleep_for(1ms);
-    }
-    return true;
-}
 
 Options fast(Variant variant)
 {

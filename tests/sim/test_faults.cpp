@@ -256,7 +256,12 @@ TEST_CASE("faults: hang-up of the pty, and its return at the same link path", "[
         PtyClient client(dish.device_path());
         REQUIRE(client.command("mot", "MOT>") == "mot\r\nMOT>");
         REQUIRE(client.command("a 0 300", "MOT>") == "a 0 300\r\nAngle = 300.00\r\nMOT>");
+        char target[256] = {};
+        REQUIRE(::readlink(options.link_path.c_str(), target, sizeof target - 1) > 0);
+        const std::string old_slave = target;
+        REQUIRE(path_exists(old_slave));
         dish.hang_up();
+        CHECK_FALSE(path_exists(old_slave));  // even though the client still holds it open
         CHECK_FALSE(dish.connected());
         CHECK_FALSE(path_exists(options.link_path));
         CHECK(dish.device_path() == options.link_path);
@@ -264,6 +269,7 @@ TEST_CASE("faults: hang-up of the pty, and its return at the same link path", "[
         CHECK(client.read_for(1s).empty());
         CHECK((client.last_revents & POLLHUP) != 0);
         CHECK((client.last_read == 0 || (client.last_read < 0 && client.last_errno == EIO)));
+        UNSCOPED_INFO("read after hang-up: " << client.last_read << " errno " << client.last_errno);
         CHECK(::write(client.fd(), "a\r", 2) < 0);
         // The dish itself keeps running while unplugged.
         REQUIRE(wait_for([&] { return !dish.moving(); }));

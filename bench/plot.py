@@ -21,6 +21,32 @@ import numpy as np  # noqa: E402
 # Traces worth a picture: the keyhole pass on both dishes and a north-crossing pass.
 TRACE_PLOTS = [("iss-85", "hal205"), ("iss-85", "g2"), ("iss-45", "g2"), ("sso-70", "hal205")]
 VARIANT_LABEL = {"g2": "Carryout G2", "hal205": "Trav'ler HAL 2.05"}
+# Mechanical azimuth window and elevation limits (README, sim/README.md) for the unwind verdict.
+AZ_WINDOW = {"g2": (-423.33, 23.33), "hal205": (0.0, 455.0)}
+EL_MIN = {"g2": 18.0, "hal205": 15.0}
+PASSES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "passes")
+
+
+def unwind_avoidable(pass_name, variant):
+    """True when one continuous azimuth branch inside the dish's window covers the whole measured
+    stretch of the pass (from EL_MIN - 6 to EL_MIN, as tracking_bench runs it): then an unwind is
+    the backend's choice, not the geometry's."""
+    t, az, el = [], [], []
+    with open(os.path.join(PASSES_DIR, pass_name + ".csv")) as f:
+        for line in f:
+            if line[0] in "#t":
+                continue
+            a, b, c = (float(x) for x in line.split(","))
+            t.append(a), az.append(b), el.append(c)
+    el = np.array(el)
+    above = np.where(el >= EL_MIN[variant] - 6.0)[0]
+    inside = np.where(el >= EL_MIN[variant])[0]
+    if len(inside) == 0:
+        return True
+    track = unwrap_deg(np.array(az[above[0]:inside[-1] + 1]))
+    lo, hi = track.min(), track.max()
+    w_lo, w_hi = AZ_WINDOW[variant]
+    return any(lo + n * 360.0 >= w_lo and hi + n * 360.0 <= w_hi for n in range(-3, 4))
 
 
 def read_csv(path):
@@ -128,17 +154,18 @@ def plot_scale(sweeps, image_dir):
 
 def tables(summary, sweeps):
     out = ["### Per pass (error in degrees while the satellite is inside the dish's EL limits)", "",
-           "| pass | peak | N-cross | variant | mode | thr | tracked s | RMS | p95 | max | motor cmds | P sent | extra AZ travel | unwound |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "| pass | peak | N-cross | variant | mode | thr | tracked s | RMS | p95 | max | motor cmds | P sent | extra AZ travel | unwound | avoidable |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(summary, key=lambda r: (r["variant"], r["pass"], float(r["threshold"]), r["mode"])):
         tracked = float(r["tracked_s"]) > 0
         fmt = (lambda k: f"{float(r[k]):.2f}") if tracked else (lambda k: "–")
         out.append(f"| {r['pass']} | {float(r['peak_el']):.0f}° | {'yes' if r['crosses_north'] == '1' else 'no'} | "
                    f"{r['variant']} | {r['mode']} | {r['threshold']}° | {float(r['tracked_s']):.0f} | {fmt('rms')} | "
                    f"{fmt('p95')} | {fmt('max')} | {r['motor_commands']} | {r['set_commands']} | "
-                   f"{float(r['extra_az_travel']):.0f}° | {'**yes**' if r['unwound'] == '1' else 'no'} |")
+                   f"{float(r['extra_az_travel']):.0f}° | {'**yes**' if r['unwound'] == '1' else 'no'} | "
+                   f"{'yes' if unwind_avoidable(r['pass'], r['variant']) else 'no'} |")
     out += ["", "### Aggregated over the passes (worst pass RMS / median of per-pass RMS / worst max)", "",
-            "| variant | mode | thr | worst RMS | median RMS | worst p95 | worst max | motor cmds/pass (median) | unwinds |",
+            "| variant | mode | thr | worst RMS | median RMS | worst p95 | worst max | motor cmds/pass (median) | unwinds (avoidable) |",
             "|---|---|---|---|---|---|---|---|---|"]
     groups = sorted({(r["variant"], r["mode"], r["threshold"]) for r in summary}, key=lambda g: (g[0], float(g[2]), g[1]))
     for g in groups:
@@ -149,7 +176,8 @@ def tables(summary, sweeps):
         out.append(f"| {g[0]} | {g[1]} | {g[2]}° | {max(rms):.2f} | {np.median(rms):.2f} | "
                    f"{max(float(r['p95']) for r in rows):.2f} | {max(float(r['max']) for r in rows):.2f} | "
                    f"{np.median([int(r['motor_commands']) for r in rows]):.0f} | "
-                   f"{sum(int(r['unwound']) for r in rows)} of {len(rows)} |")
+                   f"{sum(int(r['unwound']) for r in rows)} of {len(rows)} "
+                   f"({sum(int(r['unwound']) for r in rows if unwind_avoidable(r['pass'], r['variant']))}) |")
     out += ["", "### Latency through rotctld (ms, per run, pooled as max over runs of each percentile)", "",
             "| source | variant | p median | p p99 | p max | P median | P p99 | P max | wire floor `a` | reported-vs-true p95 |",
             "|---|---|---|---|---|---|---|---|---|---|"]

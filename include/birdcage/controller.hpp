@@ -61,6 +61,7 @@ private:
     Clock::time_point now() const;
     Status run_steps(std::span<const ConsoleStep> steps, std::string_view purpose);
     Status wait_for_boot();
+    Status answers_help();
     Status leave_submenus();
     Status check_homing();
     Status send_leg(Leg& leg);

@@ -16,7 +16,8 @@ using namespace std::chrono_literals;
 constexpr auto menu_step_timeout = 3000ms;    // one menu command and its reply
 constexpr auto query_timeout = 2000ms;        // `a`: ~60 bytes even at 57600 baud is ~11 ms
 constexpr auto resync_timeout = 1500ms;
-constexpr auto boot_progress_interval = 30000ms;
+constexpr auto boot_progress_interval = 10000ms;  // debug-log progress while a dish boots
+constexpr auto boot_probe_interval = 500ms;      // bare line-ending probes while it boots
 constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (tracking.md 1.2)
 constexpr auto still_window = 2000ms;         // an axis unchanged this long has stopped
 constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
@@ -102,11 +103,13 @@ Status Controller::wait_for_boot() {
             return Status::ok();
         }
     }
-    if (profile_.boot_complete_markers.empty()) {
-        emit(options_.log, LogLevel::verbose, "no boot-complete signal is known for this dish; assuming it has booted");
-        return Status::ok();
+    if (Status helped = answers_help(); helped || helped.code != Errc::timeout) {
+        return helped;
     }
 
+    // Still booting (a booting dish ignores its input): listen for the boot-complete line and
+    // keep offering a bare line ending, which a booted console answers with its prompt. The
+    // line-ending probe also covers units that never print the marker (Trav'lers with GPS, 3.2).
     auto is_boot_done = [this](const std::string& text) {
         if (looks_like_prompt(text)) {
             return true;
@@ -114,30 +117,78 @@ Status Controller::wait_for_boot() {
         return std::any_of(profile_.boot_complete_markers.begin(), profile_.boot_complete_markers.end(),
                            [&](std::string_view marker) { return text.find(marker) != std::string::npos; });
     };
-    // The signal may already have passed by while we probed.
-    if (!session_.last_boot_line().empty() && is_boot_done(session_.last_boot_line())) {
-        emit(options_.log, LogLevel::verbose, "boot finished (" + session_.last_boot_line() + ")");
-        return Status::ok();
-    }
-    emit(options_.log, LogLevel::warning, "waiting for the dish to finish booting (up to " +
-                                              std::to_string(options_.boot_timeout.count() / 1000) + " s)");
-    std::chrono::milliseconds waited{0};
-    while (waited < options_.boot_timeout) {
-        const auto chunk = std::min<std::chrono::milliseconds>(boot_progress_interval, options_.boot_timeout - waited);
-        const auto heard = session_.listen(chunk, is_boot_done);
+    // Time spent: the larger of the real time and the sum of the listening periods (the latter
+    // keeps the wait bounded over transports whose reads time out at once, like test fakes).
+    const auto started = Clock::now();
+    std::chrono::milliseconds listened{0};
+    auto elapsed = [&] {
+        return std::max(listened, std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started));
+    };
+    auto elapsed_s = [&] { return std::to_string(elapsed().count() / 1000); };
+    emit(options_.log, LogLevel::warning,
+         "the console does not answer yet; waiting for the dish to finish booting (up to " +
+             std::to_string(options_.boot_timeout.count() / 1000) + " s)");
+    auto next_progress = boot_progress_interval;
+    while (elapsed() < options_.boot_timeout) {
+        if (!session_.last_boot_line().empty() && is_boot_done(session_.last_boot_line())) {
+            emit(options_.log, LogLevel::verbose, "boot finished (" + session_.last_boot_line() + ") after " +
+                                                      elapsed_s() + " s");
+            (void)session_.resync(resync_timeout);  // learn the prompt if there is one
+            return Status::ok();
+        }
+        const auto period = std::min<std::chrono::milliseconds>(boot_probe_interval, options_.boot_timeout - elapsed());
+        const auto heard = session_.listen(period, is_boot_done);
+        listened += period;
         if (heard) {
-            emit(options_.log, LogLevel::verbose, "boot finished");
+            emit(options_.log, LogLevel::verbose, "boot finished after " + elapsed_s() + " s");
+            (void)session_.resync(resync_timeout);
             return Status::ok();
         }
         if (heard.status.code != Errc::timeout) {
             return heard.status;
         }
-        waited += chunk;
-        emit(options_.log, LogLevel::verbose, "still waiting for the dish to boot (" +
-                                                  std::to_string(waited.count() / 1000) + " s)");
+        if (elapsed() >= options_.boot_timeout) {
+            break;
+        }
+        if (Status probed = session_.resync(boot_probe_interval); probed) {
+            emit(options_.log, LogLevel::verbose, "console answered with prompt " + session_.last_prompt() +
+                                                      " after " + elapsed_s() + " s");
+            return Status::ok();
+        } else if (probed.code != Errc::timeout) {
+            return probed;
+        }
+        if (Status helped = answers_help(); helped || helped.code != Errc::timeout) {
+            return helped;
+        }
+        if (elapsed() >= next_progress) {
+            next_progress += boot_progress_interval;
+            emit(options_.log, LogLevel::verbose,
+                 "still waiting for the dish to boot (" + elapsed_s() + " s" +
+                     (session_.last_boot_line().empty() ? std::string(", no boot output yet")
+                                                        : "; last boot output: " + session_.last_boot_line()) +
+                     ")");
+        }
     }
-    return Status{Errc::timeout, "no boot-complete signal within " + std::to_string(options_.boot_timeout.count() / 1000) +
-                                     " s; if the dish is already running, use skip_init"};
+    return Status{Errc::timeout, "the dish did not finish booting within " +
+                                     std::to_string(options_.boot_timeout.count() / 1000) +
+                                     " s (no prompt, no boot-complete line); check wiring and baud, or use skip_init"};
+}
+
+// Where prompts are undocumented: `?` lists the menu's commands on every variant (firmware.md 2,
+// 8.1 "Typing ? should return a menu"); any reply line proves a live console. Errc::timeout if none.
+Status Controller::answers_help() {
+    if (profile_.prompt_known()) {
+        return Status{Errc::timeout, "prompt known; no help probe"};
+    }
+    const auto help = session_.transact("?", query_timeout);
+    if (!help && help.status.code != Errc::timeout) {
+        return help.status;
+    }
+    if (!help.value.lines.empty() || !help.value.prompt.empty()) {
+        emit(options_.log, LogLevel::verbose, "console answered ? (" + help.value.lines.front() + " ...)");
+        return Status::ok();
+    }
+    return Status{Errc::timeout, "no reply to ?"};
 }
 
 Status Controller::leave_submenus() {

@@ -269,9 +269,40 @@ std::string RotctldConnection::ask(const std::string& command, int lines, std::c
     return reply;
 }
 
-Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args)
+void type_into(birdcage::sim::Emulator& dish, const std::vector<std::string>& lines) {
+    const int fd = open(dish.device_path().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
+    if (fd < 0) {
+        throw std::runtime_error("cannot open " + dish.device_path());
+    }
+    auto drain_until_quiet = [fd] {
+        char buf[512];
+        for (;;) {
+            pollfd p{fd, POLLIN, 0};
+            if (poll(&p, 1, 100) <= 0 || read(fd, buf, sizeof buf) <= 0) {
+                return;
+            }
+        }
+    };
+    for (const std::string& line : lines) {
+        const std::size_t before = dish.received_commands().size();
+        const std::string wire = line + "\r";
+        if (write(fd, wire.data(), wire.size()) != static_cast<ssize_t>(wire.size())) {
+            close(fd);
+            throw std::runtime_error("cannot type into the dish");
+        }
+        wait_until([&] { return dish.received_commands().size() > before; }, 5s);
+        drain_until_quiet();
+    }
+    close(fd);
+}
+
+Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args,
+         const std::function<void(birdcage::sim::Emulator&)>& prepare)
     : dish_(std::make_unique<birdcage::sim::Emulator>(std::move(dish))), port_(free_tcp_port()),
       log_path_(temp_path("rotctld")) {
+    if (prepare) {
+        prepare(*dish_);
+    }
     std::vector<std::string> argv = {"/usr/bin/rotctld", "-m", std::to_string(model),
                                      "-r", dish_->device_path(), "-T", "127.0.0.1",
                                      "-t", std::to_string(port_), "-vvvv"};

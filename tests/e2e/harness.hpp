@@ -67,10 +67,17 @@ private:
     std::string pending_;
 };
 
+// Types console lines into the dish as a user at a terminal would (each line ends with CR), before
+// the backend opens the port: e.g. to leave the dish inside a submenu. Waits until the dish has
+// read each line and its reply has gone quiet; the reply is read and discarded.
+void type_into(birdcage::sim::Emulator& dish, const std::vector<std::string>& lines);
+
 // Emulator + preloaded stock rotctld for one Winegard model.
 class Rig {
 public:
-    Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args = {});
+    // `prepare` runs after the emulator starts and before rotctld opens the port.
+    Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args = {},
+        const std::function<void(birdcage::sim::Emulator&)>& prepare = {});
     ~Rig();
     birdcage::sim::Emulator& dish() { return *dish_; }
     int port() const { return port_; }

@@ -22,6 +22,8 @@ struct ControllerOptions {
     std::optional<double> el_min, el_max;          // user overrides, never beyond the variant's mechanical/firmware limits
     std::chrono::milliseconds boot_timeout{15 * 60 * 1000};
     bool skip_init = false;                         // user says the dish is ready (already in the motor menu)
+    bool detect = false;                            // RotatorService: identify the variant at start (auto)
+    std::string detection_note;                     // how the variant was identified (shown by describe())
     LogSink log;
     // Time source for motion bookkeeping (leg timeouts, poll pacing). Tests inject a fake clock;
     // I/O deadlines always use the real steady clock.

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "birdcage/controller.hpp"
+#include "birdcage/detect.hpp"
 #include "birdcage/errors.hpp"
 #include "birdcage/transport.hpp"
 
@@ -59,9 +60,11 @@ public:
 private:
     void run();
     void publish_locked(const Controller& controller, const Status& step);
+    Status detect();
 
     std::unique_ptr<Transport> transport_;
-    Controller controller_;
+    ControllerOptions options_;
+    std::unique_ptr<Controller> controller_;   // built at start() once the variant is known
     ServiceTiming timing_;
 
     mutable std::mutex mutex_;

@@ -59,6 +59,8 @@ public:
     void set_allow_nvs_write(bool allow) { allow_nvs_write_ = allow; }
     // The controller reports the homing state it learnt from position replies; the guard uses it.
     void set_axes_unhomed(bool unhomed) { axes_unhomed_ = unhomed; }
+    // The caller learnt which menu the console is in by other means (e.g. its `?` listing).
+    void set_menu(std::string menu) { menu_ = std::move(menu); }
     // Forget what we knew about the menu (e.g. after a timeout left the console in an unknown state).
     void forget_menu();
 

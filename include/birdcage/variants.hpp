@@ -96,11 +96,28 @@ struct FirmwareProfile {
 
     std::uint32_t quirks;
 
+    // Auto-detection: commands that, all listed by `?` at this variant's root, identify it
+    // (root menus per firmware.md 3.3, 4.3, 5.3, 6.3, 8.3). Rows are tried in detection_order().
+    std::span<const std::string_view> help_signature;
+
     bool has(Quirk quirk) const { return (quirks & quirk) != 0; }
     bool prompt_known() const { return !motor_prompt.empty(); }
 };
 
 const FirmwareProfile& profile(VariantId id);
+
+// The console profile used while the variant is still unknown: no known prompts, quiet-gap
+// framing, every variant's boot markers, and the strictest hazard rules (a `q` is refused unless
+// the console is known to be inside a submenu, because `q` at the G2 root kills its shell).
+const FirmwareProfile& probe_profile();
+
+// The variant whose help_signature is fully contained in `commands` (the words a `?` listed),
+// trying the most specific rows first; nullopt when none matches.
+std::optional<VariantId> variant_from_help(std::span<const std::string> commands);
+
+// True if `commands` contains any command of the G2 root menu that no other variant's root has
+// (then a `q` there would be the shell-killing hazard).
+bool lists_g2_root_command(std::span<const std::string> commands);
 std::optional<VariantId> variant_from_name(std::string_view short_name);
 std::span<const FirmwareProfile> all_profiles();
 

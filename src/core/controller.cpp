@@ -600,12 +600,16 @@ void Controller::cancel_pending() {
 bool Controller::idle() const { return !in_flight_ && pending_.empty(); }
 
 std::string Controller::describe() const {
-    std::string text = std::string(profile_.display_name) + " [" + std::string(profile_.short_name) + ", " +
+    std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +
+                       std::string(profile_.short_name) + ", " +
                        std::to_string(profile_.baud) + " baud";
     if (!session_.last_prompt().empty()) {
         text += ", prompt " + session_.last_prompt();
     }
     text += "]";
+    if (!options_.detection_note.empty()) {
+        text += "; " + options_.detection_note;
+    }
     text += initialised_ ? "; initialised" : "; not initialised";
     if (unhomed_) {
         text += "; axes NOT homed";

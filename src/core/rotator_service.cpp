@@ -1,5 +1,6 @@
 #include "birdcage/rotator_service.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -7,8 +8,24 @@ namespace birdcage {
 
 RotatorService::RotatorService(std::unique_ptr<Transport> transport, ControllerOptions options,
                                ServiceTiming timing)
-    : transport_(std::move(transport)), controller_(*transport_, std::move(options)),
+    : transport_(std::move(transport)), options_(std::move(options)),
+      controller_(options_.detect ? nullptr : std::make_unique<Controller>(*transport_, options_)),
       timing_(timing) {}
+
+Status RotatorService::detect() {
+    const auto found = detect_variant(*transport_, options_.log, options_.boot_timeout);
+    if (!found) {
+        return found.status;
+    }
+    options_.variant = found.value.variant;
+    options_.detection_note = found.value.evidence;
+    if (found.value.maybe_pro_odu) {
+        const double pro_cap = birdcage::profile(VariantId::travler_pro).el_max;
+        options_.el_max = std::min(options_.el_max.value_or(pro_cap), pro_cap);
+    }
+    controller_ = std::make_unique<Controller>(*transport_, options_);
+    return Status::ok();
+}
 
 RotatorService::~RotatorService() { shutdown(); }
 
@@ -16,13 +33,18 @@ Status RotatorService::start() {
     if (worker_.joinable()) {
         return Status::ok();
     }
-    if (Status st = controller_.initialize(); !st) {
+    if (!controller_) {
+        if (Status st = detect(); !st) {
+            return st;
+        }
+    }
+    if (Status st = controller_->initialize(); !st) {
         return st;
     }
-    Result<AzEl> first = controller_.query_position();
+    Result<AzEl> first = controller_->query_position();
     {
         std::lock_guard lock(mutex_);
-        publish_locked(controller_, first.status);
+        publish_locked(*controller_, first.status);
         shutdown_requested_ = false;
     }
     // A dish that answers its menus but not a position query is still usable for moves; the error
@@ -94,7 +116,9 @@ std::string RotatorService::describe() const {
     return description_;
 }
 
-const FirmwareProfile& RotatorService::profile() const { return controller_.profile(); }
+const FirmwareProfile& RotatorService::profile() const {
+    return controller_ ? controller_->profile() : probe_profile();
+}
 
 void RotatorService::publish_locked(const Controller& controller, const Status& step) {
     if (auto pos = controller.last_position()) {
@@ -117,24 +141,24 @@ void RotatorService::run() {
         // Only this thread touches the controller (and through it the transport) after start().
         Status step = Status::ok();
         if (cancel) {
-            controller_.cancel_pending();
+            controller_->cancel_pending();
         }
         if (target) {
-            step = controller_.set_target(*target);
+            step = controller_->set_target(*target);
         }
         if (step) {
-            step = controller_.service();
+            step = controller_->service();
         }
-        const bool idle_now = controller_.idle();
+        const bool idle_now = controller_->idle();
         if (step && idle_now && Clock::now() - last_poll >= timing_.idle_poll_period) {
-            step = controller_.query_position().status;
+            step = controller_->query_position().status;
             last_poll = Clock::now();
         } else if (!idle_now) {
             last_poll = Clock::now();
         }
 
         lock.lock();
-        publish_locked(controller_, step);
+        publish_locked(*controller_, step);
         if (shutdown_requested_) {
             break;
         }

@@ -44,6 +44,23 @@ constexpr std::array<std::string_view, 1> g2_boot_complete{"Boot Complete"};
 constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -",
                                                     "Boot Complete", "Loc Startup:"};
 
+// ---- auto-detection signatures (`?` at the root) ----
+constexpr std::array<std::string_view, 2> hal000_help{"mot", "os"};
+constexpr std::array<std::string_view, 1> hal205_help{"ngsearch"};
+constexpr std::array<std::string_view, 1> pro_help{"odu"};          // the IDU console (5.1)
+constexpr std::array<std::string_view, 1> carryout_help{"target"};
+constexpr std::array<std::string_view, 1> g2_help{"a3981"};
+// G2 root commands found on no other variant's root (6.3 vs 3.3/4.3/5.3/8.3).
+constexpr std::array<std::string_view, 8> g2_only_root{"a3981", "adc", "dipswitch", "eeprom",
+                                                       "gpio", "latlon", "peak", "step"};
+// Most specific first: the HAL 0.0.00 root (mot, os) is a subset of the G2's and of the Pro ODU's.
+constexpr std::array<VariantId, 5> detection_order{VariantId::carryout_g2, VariantId::travler_pro,
+                                                   VariantId::carryout2003, VariantId::travler_hal205,
+                                                   VariantId::travler_hal000};
+constexpr std::array<std::string_view, 8> any_boot_marker{"NoGPS", "No LNB Voltage", "Boot Complete",
+                                                          "Bootloader v", "Motor init:", "Ant ID -",
+                                                          "Loc Startup:", "Antenna Facing"};
+
 constexpr std::array<FirmwareProfile, 5> profiles{{
     {
         .id = VariantId::travler_hal000,
@@ -70,6 +87,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::travler_time_fit,
         .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
         .quirks = quirk_g_aborts_on_input,
+        .help_signature = hal000_help,
     },
     {
         .id = VariantId::travler_hal205,
@@ -96,6 +114,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::travler_time_fit,
         .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
         .quirks = quirk_g_aborts_on_input,
+        .help_signature = hal205_help,
     },
     {
         .id = VariantId::travler_pro,
@@ -122,6 +141,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::travler_time_fit,
         .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
         .quirks = quirk_g_aborts_on_input | quirk_odu_tunnel,
+        .help_signature = pro_help,
     },
     {
         .id = VariantId::carryout2003,
@@ -149,6 +169,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::trapezoid,
         .az_speed_dps = 10.0, .el_speed_dps = 10.0, .accel_dps2 = 20.0,
         .quirks = quirk_no_position_query | quirk_g_aborts_on_input,
+        .help_signature = carryout_help,
     },
     {
         .id = VariantId::carryout_g2,
@@ -175,6 +196,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::trapezoid,
         .az_speed_dps = 65.0, .el_speed_dps = 45.0, .accel_dps2 = 400.0,  // NVS 80/85/81/86
         .quirks = quirk_q_at_root_kills_shell | quirk_requires_homing | quirk_g_aborts_on_input,
+        .help_signature = g2_help,
     },
 }};
 
@@ -197,7 +219,56 @@ double seconds_travler_fit(double distance) {
     return std::max(1.0, std::fabs(3.23 * std::log(0.84 * distance) - 0.48));
 }
 
+constexpr FirmwareProfile probe{
+    .id = VariantId::carryout_g2,  // not used for decisions; the quirks below are the G2's worst case
+    .short_name = "auto",
+    .display_name = "Auto-detect",
+    .model_index = 0,
+    .baud = 57600,
+    .line_ending = "\r",
+    .root_prompt = "",
+    .motor_prompt = "",
+    .quiet_gap = 150ms,
+    .motor_menu_entry = {},
+    .search_kill = {},
+    .boot_complete_markers = {},
+    .reboot_markers = any_boot_marker,
+    .position_query = "",
+    .position_format = PositionFormat::travler_az_el_sk,
+    .move_ack = MoveAckFormat::none,
+    .move_style = MoveStyle::per_axis_a,
+    .combined_move_menu = "",
+    .el_min = 0, .el_max = 0,
+    .az_min = 0, .az_max = 0,
+    .arrival_tolerance = 0,
+    .motion_model = MotionModel::trapezoid,
+    .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
+    .quirks = quirk_q_at_root_kills_shell | quirk_g_aborts_on_input,
+    .help_signature = {},
+};
+
+bool contains(std::span<const std::string> words, std::string_view word) {
+    return std::find(words.begin(), words.end(), word) != words.end();
+}
+
 }  // namespace
+
+const FirmwareProfile& probe_profile() { return probe; }
+
+std::optional<VariantId> variant_from_help(std::span<const std::string> commands) {
+    for (VariantId id : detection_order) {
+        const auto& signature = profile(id).help_signature;
+        if (!signature.empty() && std::all_of(signature.begin(), signature.end(),
+                                              [&](std::string_view w) { return contains(commands, w); })) {
+            return id;
+        }
+    }
+    return std::nullopt;
+}
+
+bool lists_g2_root_command(std::span<const std::string> commands) {
+    return std::any_of(g2_only_root.begin(), g2_only_root.end(), [&](std::string_view w) { return contains(commands, w); });
+}
 
 const FirmwareProfile& profile(VariantId id) {
     for (const auto& row : profiles) {

@@ -108,8 +108,13 @@ const birdcage::FirmwareProfile* profile_for_model(rot_model_t model) {
             return &p;
         }
     }
+    if (ROT_MAKE_MODEL(BIRDCAGE_MODEL_FAMILY, birdcage::probe_profile().model_index) == model) {
+        return &birdcage::probe_profile();  // the auto-detecting model
+    }
     return nullptr;
 }
+
+bool is_auto(const birdcage::FirmwareProfile* p) { return p == &birdcage::probe_profile(); }
 
 bool parse_bool(const char* text, bool* out) {
     if (std::strcmp(text, "1") == 0 || std::strcmp(text, "on") == 0 || std::strcmp(text, "true") == 0) {
@@ -144,6 +149,7 @@ extern "C" int winegard_rot_init(ROT* rot) {
         return -RIG_ENOMEM;
     }
     priv->options.variant = profile->id;
+    priv->options.detect = is_auto(profile);
     priv->options.log = [](birdcage::LogLevel level, const std::string& message) {
         rot_debug(to_hamlib_level(level), "winegard: %s\n", message.c_str());
     };
@@ -406,11 +412,12 @@ extern "C" int initrots4_winegard(void* /*be_handle*/) {
     // (the preload constructor may run before this library's other initialisers). Hamlib keeps
     // the caps pointers, so the storage lives until exit.
     // The caps point into their own strings, so they are filled in place, never copied or moved.
-    static std::array<RegisteredModel, kRegisteredVariants.size()> models;
+    static std::array<RegisteredModel, kRegisteredVariants.size() + 1> models;
     static const bool filled = [] {
         for (std::size_t i = 0; i < kRegisteredVariants.size(); ++i) {
             fill_caps(models[i], birdcage::profile(kRegisteredVariants[i]));
         }
+        fill_caps(models.back(), birdcage::probe_profile());
         return true;
     }();
     (void)filled;

@@ -20,6 +20,7 @@ struct ControllerOptions {
     VariantId variant;
     bool leapfrog = true;
     std::optional<double> el_min, el_max;          // user overrides, never beyond the variant's mechanical/firmware limits
+    std::optional<double> az_min, az_max;          // user azimuth range (0..360 display degrees): targets are clamped into it
     std::chrono::milliseconds boot_timeout{15 * 60 * 1000};
     bool skip_init = false;                         // user says the dish is ready (already in the motor menu)
     bool detect = false;                            // RotatorService: identify the variant at start (auto)
@@ -39,6 +40,10 @@ public:
     Status set_target(AzEl target);   // validates, clamps, leap-frogs, queues legs. No I/O.
     Status service();                 // one pump step (~every 50 ms)
     void cancel_pending();            // drops legs not yet sent; aborts a running `g` where input aborts it
+    Status home();                    // runs the variant's homing commands (blocking); unsupported if none
+    AzEl park_position() const { return {profile_.park_az, profile_.park_el}; }
+    bool unhomed() const { return unhomed_; }
+    bool tracker_enabled() const { return tracker_enabled_; }
     bool idle() const;
     std::optional<AzEl> last_position() const { return last_position_; }
     std::optional<AzEl> current_target() const { return current_target_; }
@@ -66,6 +71,7 @@ private:
     Status answers_help();
     Status leave_submenus();
     Status check_homing();
+    Status check_tracker_disabled();
     Status send_leg(Leg& leg);
     Status service_axis_leg();
     Status service_combined_leg();
@@ -81,6 +87,8 @@ private:
     double el_min_, el_max_;
     bool initialised_ = false;
     bool unhomed_ = false;
+    bool tracker_enabled_ = false;
+    bool tracker_checked_ = false;      // G2 NVS 20 "Disable Tracker Proc?" read FALSE at init
     bool fault_reported_ = false;       // the last position reply carried a fault line (stall)
     bool position_estimated_ = false;   // last_position_ comes from commands, not a readback
     std::optional<AzEl> last_position_;

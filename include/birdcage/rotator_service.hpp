@@ -48,8 +48,12 @@ public:
     // The last position read from the dish (or, on variants that cannot report it at rest, the
     // controller's best knowledge). Never talks to the dish.
     Result<AzEl> position() const;
-    // Drops every leg not yet sent to the dish.
+    // Drops every leg not yet sent to the dish (and aborts a running `g` where input aborts it).
     Status stop();
+    // Moves to the variant's safe park position with ordinary moves (never `stow`).
+    Status park();
+    // Homes the axes (G2: h 1, h 0) in the worker; Errc::unsupported where the firmware cannot.
+    Status reset();
 
     bool idle() const;
     // The worker's last error (ok if the last service step succeeded).
@@ -72,6 +76,8 @@ private:
     // Mailbox from callers to the worker.
     std::optional<AzEl> posted_target_;
     bool cancel_requested_ = false;
+    bool home_requested_ = false;
+    bool unhomed_ = false;
     bool shutdown_requested_ = false;
     // Snapshot from the worker to callers.
     std::optional<AzEl> position_;

@@ -96,6 +96,14 @@ struct FirmwareProfile {
 
     std::uint32_t quirks;
 
+    // Park: a safe resting pointing reached with ordinary moves (never the firmware's `stow`,
+    // which folds the dish flat and can destroy a modified feed, firmware.md 3.5).
+    double park_az, park_el;
+    // Homing (Hamlib reset): the commands, in order; empty = the firmware has none (power-on only).
+    std::span<const std::string_view> home_commands;
+    // NVS index of "Disable Tracker Proc?" (read-only check at init); -1 = none.
+    int tracker_disable_nvs_index;
+
     // Auto-detection: commands that, all listed by `?` at this variant's root, identify it
     // (root menus per firmware.md 3.3, 4.3, 5.3, 6.3, 8.3). Rows are tried in detection_order().
     std::span<const std::string_view> help_signature;

@@ -16,6 +16,7 @@ using namespace std::chrono_literals;
 constexpr auto menu_step_timeout = 3000ms;    // one menu command and its reply
 constexpr auto query_timeout = 2000ms;        // `a`: ~60 bytes even at 57600 baud is ~11 ms
 constexpr auto resync_timeout = 1500ms;
+constexpr auto home_timeout = 180000ms;        // `h <id>` blocks the shell until the axis is homed
 constexpr auto boot_progress_interval = 10000ms;  // debug-log progress while a dish boots
 constexpr auto boot_probe_interval = 500ms;      // bare line-ending probes while it boots
 constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (tracking.md 1.2)
@@ -24,6 +25,7 @@ constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move
 constexpr auto unknown_prompt_send_timeout = 1000ms;
 constexpr double stillness_degrees = 0.02;    // position changes smaller than this are noise
 constexpr double same_target_degrees = 0.005; // targets arrive with two decimals
+constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
 
 std::string degrees_text(double value) { return format_degrees(value); }
 
@@ -103,8 +105,10 @@ Status Controller::wait_for_boot() {
             return Status::ok();
         }
     }
-    if (Status helped = answers_help(); helped || helped.code != Errc::timeout) {
-        return helped;
+    if (profile_.position_query.empty()) {
+        if (Status helped = answers_help(); helped || helped.code != Errc::timeout) {
+            return helped;
+        }
     }
 
     // Still booting (a booting dish ignores its input): listen for the boot-complete line and
@@ -133,7 +137,6 @@ Status Controller::wait_for_boot() {
         if (!session_.last_boot_line().empty() && is_boot_done(session_.last_boot_line())) {
             emit(options_.log, LogLevel::verbose, "boot finished (" + session_.last_boot_line() + ") after " +
                                                       elapsed_s() + " s");
-            (void)session_.resync(resync_timeout);  // learn the prompt if there is one
             return Status::ok();
         }
         const auto period = std::min<std::chrono::milliseconds>(boot_probe_interval, options_.boot_timeout - elapsed());
@@ -141,7 +144,6 @@ Status Controller::wait_for_boot() {
         listened += period;
         if (heard) {
             emit(options_.log, LogLevel::verbose, "boot finished after " + elapsed_s() + " s");
-            (void)session_.resync(resync_timeout);
             return Status::ok();
         }
         if (heard.status.code != Errc::timeout) {
@@ -150,6 +152,19 @@ Status Controller::wait_for_boot() {
         if (elapsed() >= options_.boot_timeout) {
             break;
         }
+        if (!profile_.boot_complete_markers.empty()) {
+            // The documented boot-complete line is the signal; nothing is sent to a booting dish.
+            if (elapsed() >= next_progress) {
+                next_progress += boot_progress_interval;
+                emit(options_.log, LogLevel::verbose,
+                     "still waiting for the dish to boot (" + elapsed_s() + " s" +
+                         (session_.last_boot_line().empty() ? std::string(", no boot output yet")
+                                                            : "; last boot output: " + session_.last_boot_line()) +
+                         ")");
+            }
+            continue;
+        }
+        // No boot line is documented: offer a bare line ending and `?`, which a booted console answers.
         if (Status probed = session_.resync(boot_probe_interval); probed) {
             emit(options_.log, LogLevel::verbose, "console answered with prompt " + session_.last_prompt() +
                                                       " after " + elapsed_s() + " s");
@@ -219,7 +234,82 @@ Status Controller::check_homing() {
         return Status::ok();
     }
     emit(options_.log, LogLevel::error,
-         "the dish's axes are not homed (it reports INT_MAX); moves are refused until it is homed (h 0, h 1)");
+         "the dish's axes are not homed (it reports INT_MAX); moves are refused until it is homed: "
+         "use reset (rotctl R 1), which runs h 1 and h 0");
+    return Status::ok();
+}
+
+// Read-only: the firmware's TV search runs after boot unless NVS "Disable Tracker Proc?" is TRUE
+// (firmware.md 6.2 item 14, Appendix A). The backend never writes NVS; it only warns.
+Status Controller::check_tracker_disabled() {
+    if (profile_.tracker_disable_nvs_index < 0) {
+        return Status::ok();
+    }
+    tracker_checked_ = true;
+    if (Status left = leave_submenus(); !left) {
+        return left;
+    }
+    const std::array<std::string, 2> steps{"nvs", build_nvs_dump(profile_.tracker_disable_nvs_index)};
+    std::optional<NvsEntry> entry;
+    for (const auto& step : steps) {
+        const auto reply = session_.transact(step, menu_step_timeout);
+        if (!reply) {
+            emit(options_.log, LogLevel::warning, "could not read NVS " + std::to_string(profile_.tracker_disable_nvs_index) +
+                                                      ": " + reply.status.message);
+            break;
+        }
+        for (const auto& line : reply.value.lines) {
+            if (auto parsed = parse_g2_nvs_line(line); parsed && parsed->index == profile_.tracker_disable_nvs_index) {
+                entry = parsed;
+            }
+        }
+    }
+    if (session_.menu() == "nvs") {
+        if (const auto left = session_.transact("q", menu_step_timeout); !left) {
+            return left.status;
+        }
+    }
+    if (Status back = run_steps(profile_.motor_menu_entry, "re-entering the motor menu"); !back) {
+        return back;
+    }
+    if (entry && entry->current == "FALSE") {
+        tracker_enabled_ = true;
+        emit(options_.log, LogLevel::warning,
+             "NVS " + std::to_string(entry->index) + " (" + entry->name +
+                 ") is FALSE: the firmware's TV-satellite search runs after every boot and will move the dish on "
+                 "its own. Set it to TRUE yourself (nvs, e " + std::to_string(entry->index) +
+                 " TRUE, s, reboot); the backend never writes NVS.");
+    }
+    return Status::ok();
+}
+
+Status Controller::home() {
+    if (profile_.home_commands.empty()) {
+        return Status{Errc::unsupported, std::string(profile_.display_name) +
+                                             " has no homing command (it calibrates at power-up only)"};
+    }
+    if (!initialised_) {
+        return Status{Errc::not_initialised, "initialize() has not succeeded"};
+    }
+    pending_.clear();
+    in_flight_.reset();
+    current_target_.reset();
+    commanded_az_.reset();
+    commanded_el_.reset();
+    for (const auto command : profile_.home_commands) {
+        emit(options_.log, LogLevel::verbose, "homing: " + std::string(command));
+        const auto reply = session_.transact(command, home_timeout);
+        if (!reply) {
+            return Status{reply.status.code, "homing (" + std::string(command) + "): " + reply.status.message};
+        }
+    }
+    unhomed_ = false;
+    session_.set_axes_unhomed(false);
+    const auto position = ask_position(query_timeout);
+    if (!position) {
+        return Status{position.status.code, "after homing: " + position.status.message};
+    }
+    emit(options_.log, LogLevel::verbose, "homed: " + describe());
     return Status::ok();
 }
 
@@ -307,7 +397,19 @@ Result<AzEl> Controller::query_position() {
         }
         return {{}, Status{Errc::unsupported, "this dish cannot report its position at rest and none has been commanded yet"}};
     }
-    return ask_position(query_timeout);
+    const auto before = last_position_;
+    auto position = ask_position(query_timeout);
+    // The dish moving on its own at rest is the firmware's TV search (tracker enabled): find out
+    // why once, read-only (firmware.md 6.2 item 14).
+    if (position && before && idle() && initialised_ && !tracker_checked_ && profile_.tracker_disable_nvs_index >= 0 &&
+        (std::fabs(azimuth_difference(before->az, position.value.az)) > unexpected_motion_degrees ||
+         std::fabs(before->el - position.value.el) > unexpected_motion_degrees)) {
+        emit(options_.log, LogLevel::warning, "the dish moves on its own while idle; checking whether its tracker is enabled");
+        if (Status checked = check_tracker_disabled(); !checked) {
+            return {position.value, checked};
+        }
+    }
+    return position;
 }
 
 Status Controller::set_target(AzEl target) {
@@ -317,7 +419,15 @@ Status Controller::set_target(AzEl target) {
     if (unhomed_) {
         return Status{Errc::not_homed, "the axes are not homed; moves are refused"};
     }
-    const AzEl wanted{normalize_azimuth(target.az), std::clamp(target.el, el_min_, el_max_)};
+    AzEl wanted{normalize_azimuth(target.az), std::clamp(target.el, el_min_, el_max_)};
+    if (options_.az_min && options_.az_max && *options_.az_min < *options_.az_max) {
+        const double clamped = std::clamp(wanted.az, *options_.az_min, *options_.az_max);
+        if (clamped != wanted.az) {
+            emit(options_.log, LogLevel::verbose, "azimuth " + degrees_text(wanted.az) + " clamped to " +
+                                                      degrees_text(clamped) + " (az_min/az_max)");
+            wanted.az = clamped;
+        }
+    }
     if (wanted.el != target.el) {
         emit(options_.log, LogLevel::verbose, "elevation " + degrees_text(target.el) + " clamped to " +
                                                   degrees_text(wanted.el));
@@ -612,7 +722,11 @@ std::string Controller::describe() const {
     }
     text += initialised_ ? "; initialised" : "; not initialised";
     if (unhomed_) {
-        text += "; axes NOT homed";
+        text += "; axes NOT homed (reset, R 1, homes them)";
+    }
+    if (tracker_enabled_) {
+        text += "; WARNING: NVS " + std::to_string(profile_.tracker_disable_nvs_index) +
+                " Disable Tracker Proc? is FALSE (the TV search will move the dish)";
     }
     if (last_position_) {
         text += "; position az " + degrees_text(last_position_->az) + " el " + degrees_text(last_position_->el);

@@ -73,6 +73,10 @@ Status RotatorService::set_target(AzEl target) {
         if (!worker_.joinable()) {
             return {Errc::not_initialised, "rotator is not open"};
         }
+        if (unhomed_ && !home_requested_) {
+            return {Errc::not_homed, "the dish's axes are not homed (it reports INT_MAX); home them first with "
+                                     "reset (rotctl: R 1)"};
+        }
         posted_target_ = target;
         cancel_requested_ = false;
         idle_ = false;
@@ -83,6 +87,9 @@ Status RotatorService::set_target(AzEl target) {
 
 Result<AzEl> RotatorService::position() const {
     std::lock_guard lock(mutex_);
+    if (unhomed_) {
+        return {AzEl{}, Status{Errc::not_homed, "the dish's axes are not homed; reset (R 1) homes them"}};
+    }
     if (!position_) {
         Status why = last_error_ ? Status{Errc::not_initialised, "no position read from the dish yet"}
                                  : last_error_;
@@ -96,6 +103,34 @@ Status RotatorService::stop() {
         std::lock_guard lock(mutex_);
         posted_target_.reset();
         cancel_requested_ = true;
+    }
+    wake_.notify_all();
+    return Status::ok();
+}
+
+Status RotatorService::park() {
+    if (!controller_) {
+        return {Errc::not_initialised, "rotator is not open"};
+    }
+    return set_target(controller_->park_position());
+}
+
+Status RotatorService::reset() {
+    if (!controller_) {
+        return {Errc::not_initialised, "rotator is not open"};
+    }
+    if (controller_->profile().home_commands.empty()) {
+        return {Errc::unsupported, std::string(controller_->profile().display_name) +
+                                       " has no homing command (it calibrates at power-up only)"};
+    }
+    {
+        std::lock_guard lock(mutex_);
+        if (!worker_.joinable()) {
+            return {Errc::not_initialised, "rotator is not open"};
+        }
+        posted_target_.reset();
+        home_requested_ = true;
+        idle_ = false;
     }
     wake_.notify_all();
     return Status::ok();
@@ -125,7 +160,8 @@ void RotatorService::publish_locked(const Controller& controller, const Status& 
         position_ = pos;
     }
     // A target posted while the worker was busy keeps the service non-idle until it is taken.
-    idle_ = controller.idle() && !posted_target_;
+    idle_ = controller.idle() && !posted_target_ && !home_requested_;
+    unhomed_ = controller.unhomed();
     last_error_ = step;
     description_ = controller.describe();
 }
@@ -136,6 +172,7 @@ void RotatorService::run() {
     while (!shutdown_requested_) {
         std::optional<AzEl> target = std::exchange(posted_target_, std::nullopt);
         bool cancel = std::exchange(cancel_requested_, false);
+        const bool home = home_requested_;
         lock.unlock();
 
         // Only this thread touches the controller (and through it the transport) after start().
@@ -145,6 +182,11 @@ void RotatorService::run() {
         }
         if (target) {
             step = controller_->set_target(*target);
+        }
+        if (home) {
+            step = controller_->home();
+            std::lock_guard done(mutex_);
+            home_requested_ = false;
         }
         if (step) {
             step = controller_->service();
@@ -164,7 +206,7 @@ void RotatorService::run() {
         }
         const auto period = idle_now ? timing_.idle_poll_period : timing_.busy_period;
         wake_.wait_for(lock, period, [this] {
-            return shutdown_requested_ || posted_target_.has_value() || cancel_requested_;
+            return shutdown_requested_ || posted_target_.has_value() || cancel_requested_ || home_requested_;
         });
     }
 }

@@ -44,6 +44,9 @@ constexpr std::array<std::string_view, 1> g2_boot_complete{"Boot Complete"};
 constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -",
                                                     "Boot Complete", "Loc Startup:"};
 
+// G2 homing, elevation first as at boot (6.2 item 11): the dish rises before it turns.
+constexpr std::array<std::string_view, 2> g2_home{"h 1", "h 0"};
+
 // ---- auto-detection signatures (`?` at the root) ----
 constexpr std::array<std::string_view, 2> hal000_help{"mot", "os"};
 constexpr std::array<std::string_view, 1> hal205_help{"ngsearch"};
@@ -87,6 +90,9 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::travler_time_fit,
         .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
         .quirks = quirk_g_aborts_on_input,
+        .park_az = 0.0, .park_el = 45.0,
+        .home_commands = {},
+        .tracker_disable_nvs_index = -1,
         .help_signature = hal000_help,
     },
     {
@@ -114,6 +120,9 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::travler_time_fit,
         .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
         .quirks = quirk_g_aborts_on_input,
+        .park_az = 0.0, .park_el = 45.0,
+        .home_commands = {},
+        .tracker_disable_nvs_index = -1,
         .help_signature = hal205_help,
     },
     {
@@ -141,6 +150,9 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::travler_time_fit,
         .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
         .quirks = quirk_g_aborts_on_input | quirk_odu_tunnel,
+        .park_az = 0.0, .park_el = 45.0,
+        .home_commands = {},
+        .tracker_disable_nvs_index = -1,
         .help_signature = pro_help,
     },
     {
@@ -169,6 +181,9 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::trapezoid,
         .az_speed_dps = 10.0, .el_speed_dps = 10.0, .accel_dps2 = 20.0,
         .quirks = quirk_no_position_query | quirk_g_aborts_on_input,
+        .park_az = 0.0, .park_el = 45.0,
+        .home_commands = {},
+        .tracker_disable_nvs_index = -1,
         .help_signature = carryout_help,
     },
     {
@@ -196,6 +211,9 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .motion_model = MotionModel::trapezoid,
         .az_speed_dps = 65.0, .el_speed_dps = 45.0, .accel_dps2 = 400.0,  // NVS 80/85/81/86
         .quirks = quirk_q_at_root_kills_shell | quirk_requires_homing | quirk_g_aborts_on_input,
+        .park_az = 0.0, .park_el = 65.0,
+        .home_commands = g2_home,
+        .tracker_disable_nvs_index = 20,
         .help_signature = g2_help,
     },
 }};
@@ -244,6 +262,9 @@ constexpr FirmwareProfile probe{
     .motion_model = MotionModel::trapezoid,
     .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
     .quirks = quirk_q_at_root_kills_shell | quirk_g_aborts_on_input,
+    .park_az = 0, .park_el = 0,
+    .home_commands = {},
+    .tracker_disable_nvs_index = -1,
     .help_signature = {},
 };
 

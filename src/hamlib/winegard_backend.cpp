@@ -19,6 +19,7 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string>
 
 #ifndef BIRDCAGE_MODEL_FAMILY
@@ -47,13 +48,6 @@ constexpr float kCapsMaxAz = 540.0f;
 constexpr float kCapsMinEl = 0.0f;
 constexpr float kCapsMaxEl = 90.0f;
 
-enum ConfToken : long {
-    tok_leapfrog = 1,
-    tok_boot_timeout,
-    tok_skip_init,
-    tok_el_min,
-    tok_el_max,
-};
 
 struct WinegardPriv {
     birdcage::ControllerOptions options;
@@ -139,6 +133,15 @@ bool parse_number(const char* text, double* out) {
     return true;
 }
 
+bool parse_optional(const char* text, std::optional<double>& out) {
+    double number = 0;
+    if (!parse_number(text, &number)) {
+        return false;
+    }
+    out = number;
+    return true;
+}
+
 extern "C" int winegard_rot_init(ROT* rot) {
     const birdcage::FirmwareProfile* profile = profile_for_model(rot->caps->rot_model);
     if (profile == nullptr) {
@@ -190,51 +193,118 @@ extern "C" int winegard_rot_close(ROT* rot) {
     return RIG_OK;
 }
 
+// ---- conf parameters: one row per parameter (token, name, help, type, default, parse, format) ----
+
+std::string format_number(double value) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", value);
+    return buf;
+}
+
+struct ConfParam {
+    long token;
+    const char* name;
+    const char* label;
+    const char* tooltip;
+    enum rig_conf_e type;
+    float min, max, step;                                               // numeric only
+    std::string (*dflt)(const birdcage::FirmwareProfile&);              // shown by rotctl -L
+    bool (*parse)(const char* text, WinegardPriv& priv);               // false: -RIG_EINVAL
+    std::string (*format)(const WinegardPriv& priv);
+};
+
+const birdcage::FirmwareProfile& variant_profile(const WinegardPriv& priv) { return birdcage::profile(priv.options.variant); }
+
+const ConfParam kConfParams[] = {
+    {1, "variant", "Firmware variant",
+     "auto (identify at open), hal000, hal205, pro, carryout2003 or g2; overrides the model's variant",
+     RIG_CONF_STRING, 0, 0, 0,
+     [](const birdcage::FirmwareProfile& p) { return std::string(p.short_name); },
+     [](const char* text, WinegardPriv& priv) {
+         if (std::strcmp(text, "auto") == 0) {
+             priv.options.detect = true;
+             return true;
+         }
+         const auto id = birdcage::variant_from_name(text);
+         if (!id) {
+             return false;
+         }
+         priv.options.variant = *id;
+         priv.options.detect = false;
+         return true;
+     },
+     [](const WinegardPriv& priv) {
+         return priv.options.detect ? std::string("auto") : std::string(variant_profile(priv).short_name);
+     }},
+    {2, "leapfrog", "Leapfrog",
+     "Lead a lagging axis by 0.5/1 degree in its direction of travel (seed behaviour, elevation bug fixed)",
+     RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("1"); },
+     [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.options.leapfrog); },
+     [](const WinegardPriv& priv) { return std::string(priv.options.leapfrog ? "1" : "0"); }},
+    {3, "boot_timeout", "Boot timeout", "Seconds to wait at open for a booting dish to finish homing",
+     RIG_CONF_NUMERIC, 0, 3600, 1, [](const birdcage::FirmwareProfile&) { return std::string("900"); },
+     [](const char* text, WinegardPriv& priv) {
+         double number = 0;
+         if (!parse_number(text, &number) || number < 0 || number > 3600) {
+             return false;
+         }
+         priv.options.boot_timeout = std::chrono::milliseconds(static_cast<long long>(number * 1000.0));
+         return true;
+     },
+     [](const WinegardPriv& priv) { return std::to_string(priv.options.boot_timeout.count() / 1000); }},
+    {4, "skip_init", "Skip init", "Assume the dish is booted, its TV search stopped and the motor menu open",
+     RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("0"); },
+     [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.options.skip_init); },
+     [](const WinegardPriv& priv) { return std::string(priv.options.skip_init ? "1" : "0"); }},
+    {5, "el_min", "Min elevation", "Lowest elevation the backend will command (never below the variant's limit)",
+     RIG_CONF_NUMERIC, 0, 90, 0.01f, [](const birdcage::FirmwareProfile& p) { return format_number(p.el_min); },
+     [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.el_min); },
+     [](const WinegardPriv& priv) { return format_number(priv.options.el_min.value_or(variant_profile(priv).el_min)); }},
+    {6, "el_max", "Max elevation", "Highest elevation the backend will command (never above the variant's limit)",
+     RIG_CONF_NUMERIC, 0, 90, 0.01f, [](const birdcage::FirmwareProfile& p) { return format_number(p.el_max); },
+     [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.el_max); },
+     [](const WinegardPriv& priv) { return format_number(priv.options.el_max.value_or(variant_profile(priv).el_max)); }},
+    {7, "az_min", "Min azimuth",
+     "Wrap range: azimuth targets (0..360) below this are clamped to it (with az_max; default: whole circle)",
+     RIG_CONF_NUMERIC, 0, 360, 0.01f, [](const birdcage::FirmwareProfile&) { return std::string("0.00"); },
+     [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.az_min); },
+     [](const WinegardPriv& priv) { return format_number(priv.options.az_min.value_or(0.0)); }},
+    {8, "az_max", "Max azimuth", "Wrap range: azimuth targets (0..360) above this are clamped to it (with az_min)",
+     RIG_CONF_NUMERIC, 0, 360, 0.01f, [](const birdcage::FirmwareProfile&) { return std::string("360.00"); },
+     [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.az_max); },
+     [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(360.0)); }},
+};
+constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
+
+const ConfParam* conf_param(hamlib_token_t token) {
+    for (const ConfParam& c : kConfParams) {
+        if (c.token == static_cast<long>(token)) {
+            return &c;
+        }
+    }
+    return nullptr;
+}
+
 extern "C" int winegard_set_conf(ROT* rot, hamlib_token_t token, const char* val) {
-    birdcage::ControllerOptions& o = priv_of(rot)->options;
-    bool flag = false;
-    double number = 0;
-    switch (token) {
-    case tok_leapfrog:
-        if (!parse_bool(val, &flag)) { return -RIG_EINVAL; }
-        o.leapfrog = flag;
-        return RIG_OK;
-    case tok_skip_init:
-        if (!parse_bool(val, &flag)) { return -RIG_EINVAL; }
-        o.skip_init = flag;
-        return RIG_OK;
-    case tok_boot_timeout:
-        if (!parse_number(val, &number) || number < 0 || number > 3600) { return -RIG_EINVAL; }
-        o.boot_timeout = std::chrono::milliseconds(static_cast<long long>(number * 1000.0));
-        return RIG_OK;
-    case tok_el_min:
-        if (!parse_number(val, &number)) { return -RIG_EINVAL; }
-        o.el_min = number;
-        return RIG_OK;
-    case tok_el_max:
-        if (!parse_number(val, &number)) { return -RIG_EINVAL; }
-        o.el_max = number;
-        return RIG_OK;
-    default:
+    const ConfParam* c = conf_param(token);
+    if (c == nullptr) {
         rot_debug(RIG_DEBUG_ERR, "winegard: unknown conf token %ld\n", static_cast<long>(token));
         return -RIG_EINVAL;
     }
+    if (!c->parse(val, *priv_of(rot))) {
+        rot_debug(RIG_DEBUG_ERR, "winegard: bad value \"%s\" for %s\n", val, c->name);
+        return -RIG_EINVAL;
+    }
+    return RIG_OK;
 }
 
 extern "C" int winegard_get_conf2(ROT* rot, hamlib_token_t token, char* val, int val_len) {
-    const birdcage::ControllerOptions& o = priv_of(rot)->options;
-    const birdcage::FirmwareProfile& p = birdcage::profile(o.variant);
-    const auto size = static_cast<std::size_t>(val_len);
-    switch (token) {
-    case tok_leapfrog: std::snprintf(val, size, "%d", o.leapfrog ? 1 : 0); return RIG_OK;
-    case tok_skip_init: std::snprintf(val, size, "%d", o.skip_init ? 1 : 0); return RIG_OK;
-    case tok_boot_timeout:
-        std::snprintf(val, size, "%lld", static_cast<long long>(o.boot_timeout.count() / 1000));
-        return RIG_OK;
-    case tok_el_min: std::snprintf(val, size, "%.2f", o.el_min.value_or(p.el_min)); return RIG_OK;
-    case tok_el_max: std::snprintf(val, size, "%.2f", o.el_max.value_or(p.el_max)); return RIG_OK;
-    default: return -RIG_EINVAL;
+    const ConfParam* c = conf_param(token);
+    if (c == nullptr) {
+        return -RIG_EINVAL;
     }
+    std::snprintf(val, static_cast<std::size_t>(val_len), "%s", c->format(*priv_of(rot)).c_str());
+    return RIG_OK;
 }
 
 extern "C" int winegard_get_conf(ROT* rot, hamlib_token_t token, char* val) {
@@ -277,6 +347,22 @@ extern "C" int winegard_stop(ROT* rot) {
     return report(__func__, service->stop());
 }
 
+extern "C" int winegard_park(ROT* rot) {
+    birdcage::RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    return report(__func__, service->park());
+}
+
+extern "C" int winegard_reset(ROT* rot, rot_reset_t /*reset*/) {
+    birdcage::RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    return report(__func__, service->reset());
+}
+
 extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
     birdcage::RotatorService* service = open_service(rot);
     if (service == nullptr) {
@@ -294,60 +380,30 @@ extern "C" const char* winegard_get_info(ROT* rot) {
     return priv->info.c_str();
 }
 
-// Conf parameters per variant: the defaults shown by `rotctl -L` are the variant's own limits.
+// Conf parameters per model: the defaults shown by `rotctl -L` are the variant's own values.
 struct VariantConf {
-    std::string el_min_default;
-    std::string el_max_default;
-    std::array<confparams, 6> params{};
+    std::array<std::string, kConfCount> defaults;
+    std::array<confparams, kConfCount + 1> params{};  // last = RIG_CONF_END
 };
 
 void fill_conf(VariantConf& conf, const birdcage::FirmwareProfile& p) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", p.el_min);
-    conf.el_min_default = buf;
-    std::snprintf(buf, sizeof buf, "%.2f", p.el_max);
-    conf.el_max_default = buf;
-
-    auto numeric = [](long token, const char* name, const char* label, const char* tip, const char* dflt,
-                      float min, float max, float step) {
+    for (std::size_t i = 0; i < kConfCount; ++i) {
+        const ConfParam& row = kConfParams[i];
+        conf.defaults[i] = row.dflt(p);
         confparams c{};
-        c.token = token;
-        c.name = name;
-        c.label = label;
-        c.tooltip = tip;
-        c.dflt = dflt;
-        c.type = RIG_CONF_NUMERIC;
-        c.u.n.min = min;
-        c.u.n.max = max;
-        c.u.n.step = step;
-        return c;
-    };
-    auto check = [](long token, const char* name, const char* label, const char* tip, const char* dflt) {
-        confparams c{};
-        c.token = token;
-        c.name = name;
-        c.label = label;
-        c.tooltip = tip;
-        c.dflt = dflt;
-        c.type = RIG_CONF_CHECKBUTTON;
-        return c;
-    };
-    conf.params = {
-        check(tok_leapfrog, "leapfrog", "Leapfrog",
-              "Lead a lagging axis by 0.5/1 degree in its direction of travel (seed behaviour, elevation bug fixed)",
-              "1"),
-        numeric(tok_boot_timeout, "boot_timeout", "Boot timeout",
-                "Seconds to wait at open for a booting dish to finish homing", "900", 0, 3600, 1),
-        check(tok_skip_init, "skip_init", "Skip init",
-              "Assume the dish is booted, its TV search stopped and the motor menu open", "0"),
-        numeric(tok_el_min, "el_min", "Min elevation",
-                "Lowest elevation the backend will command (never below the variant's limit)",
-                conf.el_min_default.c_str(), 0, 90, 0.01f),
-        numeric(tok_el_max, "el_max", "Max elevation",
-                "Highest elevation the backend will command (never above the variant's limit)",
-                conf.el_max_default.c_str(), 0, 90, 0.01f),
-        confparams{}, // RIG_CONF_END
-    };
+        c.token = row.token;
+        c.name = row.name;
+        c.label = row.label;
+        c.tooltip = row.tooltip;
+        c.dflt = conf.defaults[i].c_str();
+        c.type = row.type;
+        if (row.type == RIG_CONF_NUMERIC) {
+            c.u.n.min = row.min;
+            c.u.n.max = row.max;
+            c.u.n.step = row.step;
+        }
+        conf.params[i] = c;
+    }
 }
 
 struct RegisteredModel {
@@ -399,6 +455,8 @@ void fill_caps(RegisteredModel& m, const birdcage::FirmwareProfile& p) {
     c.set_position = winegard_set_position;
     c.get_position = winegard_get_position;
     c.stop = winegard_stop;
+    c.park = winegard_park;
+    c.reset = winegard_reset;
     c.get_info = winegard_get_info;
     c.get_status = winegard_get_status;
     c.macro_name = m.macro_name.c_str();

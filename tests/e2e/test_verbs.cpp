@@ -1,0 +1,160 @@
+// End to end: the Hamlib verbs beyond P/p (park K, reset R, stop S, get_status s, get_info _, conf
+// parameters) and the G2 completions (homing, the INT_MAX sentinel, the NVS 20 warning).
+#include "harness.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace std::chrono_literals;
+using birdcage::sim::Options;
+using birdcage::sim::Variant;
+
+namespace {
+
+Options dish(Variant v, double az = 100.0, double el = 30.0) {
+    Options o;
+    o.variant = v;
+    o.time_scale = 50.0;
+    o.start_az = az;
+    o.start_el = el;
+    return o;
+}
+
+double angle_between(double a, double b) {
+    const double d = std::fmod(std::fabs(a - b), 360.0);
+    return d > 180.0 ? 360.0 - d : d;
+}
+
+bool settled_at(birdcage::sim::Emulator& d, double az, double el) {
+    const auto p = d.true_position();
+    return !d.moving() && angle_between(p.az, az) <= 0.1 && std::fabs(p.el - el) <= 0.1;
+}
+
+bool any_command_starting(const std::vector<std::string>& commands, const std::string& prefix) {
+    return std::any_of(commands.begin(), commands.end(), [&](const std::string& c) { return c.rfind(prefix, 0) == 0; });
+}
+
+struct ParkCase {
+    Variant variant;
+    int model;
+    double park_az, park_el;
+};
+
+} // namespace
+
+TEST_CASE("K parks every variant with ordinary moves, never with stow", "[e2e][verbs][park]") {
+    const ParkCase cases[] = {
+        {Variant::travler_hal000, 90101, 0.0, 45.0}, {Variant::travler_hal205, 90102, 0.0, 45.0},
+        {Variant::travler_pro, 90103, 0.0, 45.0},    {Variant::carryout2003, 90104, 0.0, 45.0},
+        {Variant::carryout_g2, 90105, 0.0, 65.0},
+    };
+    for (const ParkCase& c : cases) {
+        DYNAMIC_SECTION(birdcage::sim::variant_name(c.variant)) {
+            e2e::Rig rig(dish(c.variant), c.model, {"-C", "leapfrog=0"});
+            REQUIRE(rig.rotctl({"K"}).exit_code == 0);
+            CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), c.park_az, c.park_el); }, 30s));
+            CHECK_FALSE(any_command_starting(rig.dish().received_commands(), "stow"));
+            CHECK(rig.dish().hazards_received() == 0);
+        }
+    }
+}
+
+TEST_CASE("R: homing on the G2; RPRT -11 (not available) where the firmware has none", "[e2e][verbs][reset]") {
+    SECTION("Trav'ler HAL 2.05 has no homing command") {
+        e2e::Rig rig(dish(Variant::travler_hal205), 90102);
+        e2e::RotctldConnection client(rig.port());
+        CHECK(client.ask("R 1", 1) == "RPRT -11\n");
+        CHECK(client.ask("p", 2).find("RPRT") == std::string::npos);  // the session survives
+        CHECK(rig.dish().hazards_received() == 0);
+    }
+    SECTION("G2: R 1 homes (h 1, h 0) and the dish ends at its home position") {
+        e2e::Rig rig(dish(Variant::carryout_g2, 100.0, 30.0), 90105);
+        REQUIRE(rig.rotctl({"R", "1"}).exit_code == 0);
+        CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 0.0, 65.0); }, 30s));
+        const auto commands = rig.dish().received_commands();
+        CHECK(any_command_starting(commands, "h 1"));
+        CHECK(any_command_starting(commands, "h 0"));
+        CHECK(rig.dish().hazards_received() == 0);
+    }
+}
+
+TEST_CASE("G2 with unhomed axes: moves refused with a clear error until R homes them", "[e2e][verbs][g2][homing]") {
+    Options o = dish(Variant::carryout_g2);
+    SECTION("booted unhomed") { o.g2_homed = false; }
+    SECTION("boot skips homing (tracker disabled, g2_boot_homes off)") {
+        o.already_booted = false;
+        o.g2_boot_homes = false;
+    }
+    e2e::Rig rig(o, 90105, {"-C", "leapfrog=0"});
+    e2e::RotctldConnection client(rig.port());
+    CHECK(client.ask("P 150 40", 1) == "RPRT -9\n");   // -RIG_ERJCTED: refused, client stays connected
+    CHECK(client.ask("p", 1) == "RPRT -9\n");
+    const std::string info = client.ask("_", 1);
+    CHECK(info.find("NOT homed") != std::string::npos);
+    CHECK(rig.rotctld_log_text().find("R 1") != std::string::npos);  // the error says how to home
+    CHECK_FALSE(any_command_starting(rig.dish().received_commands(), "a 0"));  // no move sent while unhomed
+
+    CHECK(client.ask("R 1", 1) == "RPRT 0\n");
+    REQUIRE(e2e::wait_until([&] { return client.ask("s", 1).find("MOVING") == std::string::npos &&
+                                         settled_at(rig.dish(), 0.0, 65.0); }, 30s));
+    REQUIRE(e2e::wait_until([&] { return client.ask("P 150 40", 1) == "RPRT 0\n"; }, 10s));
+    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 150.0, 40.0); }, 30s));
+    CHECK(rig.dish().hazards_received() == 0);
+}
+
+TEST_CASE("G2 with NVS 20 FALSE: a clear warning, and NVS is never written", "[e2e][verbs][g2][nvs]") {
+    Options o = dish(Variant::carryout_g2);
+    o.search_running = true;  // the emulator runs its search exactly when NVS 20 is FALSE
+    e2e::Rig rig(o, 90105);
+    e2e::RotctldConnection client(rig.port());
+    // The search moves the dish while the backend is idle: that makes it read NVS 20 (once).
+    CHECK(e2e::wait_until([&] { return client.ask("_", 1).find("NVS 20") != std::string::npos; }, 20s));
+    CHECK(rig.rotctld_log_text().find("is FALSE") != std::string::npos);
+    const auto commands = rig.dish().received_commands();
+    CHECK(any_command_starting(commands, "d 20"));
+    CHECK_FALSE(any_command_starting(commands, "e "));
+    CHECK_FALSE(std::count(commands.begin(), commands.end(), std::string("s")));
+    CHECK(rig.dish().hazards_received() == 0);
+}
+
+TEST_CASE("s reports MOVING while a leg runs and nothing at rest", "[e2e][verbs][status]") {
+    Options o = dish(Variant::carryout_g2);
+    o.time_scale = 2.0;
+    e2e::Rig rig(o, 90105, {"-C", "leapfrog=0"});
+    e2e::RotctldConnection client(rig.port());
+    CHECK(client.ask("s", 1).find("MOVING") == std::string::npos);
+    CHECK(client.ask("P 300 40", 1) == "RPRT 0\n");
+    CHECK(e2e::wait_until([&] { return client.ask("s", 1).find("MOVING") != std::string::npos; }, 5s));
+    CHECK(e2e::wait_until([&] { return client.ask("s", 1).find("MOVING") == std::string::npos; }, 30s));
+    CHECK(rig.dish().hazards_received() == 0);
+}
+
+TEST_CASE("conf parameters: listed by rotctl -L, and they take effect", "[e2e][verbs][conf]") {
+    // Stock rotctl lists the parameters, then opens the port: a missing one makes it exit at once.
+    const e2e::CommandResult listed = e2e::run({"/usr/bin/rotctl", "-m", "90103", "-r", "/nonexistent/port", "-L"},
+                                               {{"LD_PRELOAD", e2e::backend_library()}});
+    for (const char* name : {"variant", "leapfrog", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max"}) {
+        INFO(name);
+        CHECK(listed.out.find(name) != std::string::npos);
+    }
+    CHECK(listed.out.find("75.00") != std::string::npos);  // the Pro's own elevation cap as the default
+
+    SECTION("az_min/az_max clamp azimuth targets") {
+        e2e::Rig rig(dish(Variant::carryout_g2), 90105, {"-C", "leapfrog=0", "-C", "az_min=90", "-C", "az_max=270"});
+        REQUIRE(rig.rotctl({"P", "300", "40"}).exit_code == 0);
+        CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 270.0, 40.0); }, 30s));
+    }
+    SECTION("el_max narrows the elevation range") {
+        e2e::Rig rig(dish(Variant::travler_hal000), 90101, {"-C", "leapfrog=0", "-C", "el_max=50"});
+        REQUIRE(rig.rotctl({"P", "120", "80"}).exit_code == 0);
+        CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 120.0, 50.0); }, 30s));
+    }
+    SECTION("variant=auto on a fixed model detects the real firmware") {
+        e2e::Rig rig(dish(Variant::carryout2003), 90105, {"-C", "variant=auto", "-C", "leapfrog=0"});
+        e2e::RotctldConnection client(rig.port());
+        CHECK(client.ask("_", 1).find("Carryout HAL 1.00.065 (auto-detected)") != std::string::npos);
+        CHECK(rig.dish().hazards_received() == 0);
+    }
+}

@@ -3,7 +3,7 @@
 # on a pseudo-terminal, start the distribution's stock rotctld with the Winegard backend preloaded,
 # and drive it with the stock rotctl client, printing what the dish does.
 #
-#   ./scripts/demo.sh [variant ...]        variants: hal205 g2 (default: both)
+#   ./scripts/demo.sh [variant ...]        variants: hal000 hal205 pro carryout2003 g2 (default: all)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${BIRDCAGE_BUILD_DIR:-$root/build}
@@ -13,7 +13,7 @@ lib="$build/src/hamlib/libhamlib-winegard.so"
 sim="$build/sim/birdcage-sim"
 time_scale=${BIRDCAGE_DEMO_TIME_SCALE:-4}
 variants=("$@")
-((${#variants[@]})) || variants=(hal205 g2)
+((${#variants[@]})) || variants=(hal000 hal205 pro carryout2003 g2)
 
 declare -A model=([hal000]=90101 [hal205]=90102 [pro]=90103 [carryout2003]=90104 [g2]=90105)
 work=$(mktemp -d /tmp/birdcage-demo.XXXXXX)
@@ -59,24 +59,31 @@ for v in "${variants[@]}"; do
         echo "rotctld did not start; its log:"; cat "$work/$v.rotctld.log"; exit 1
     fi
     rc() { rotctl -m 2 -r "127.0.0.1:$port" "$@"; }
+    # The 2003 Carryout cannot report its position at rest: p is an error until a move has run.
+    pos() {
+        local out
+        out=$(rc p 2>/dev/null | tr '\n' ' ') || true
+        [[ "$out" =~ ^-?[0-9.]+\ -?[0-9.]+\ $ ]] && echo "$out" || true
+    }
     echo "info:     $(rc _ | tr '\n' ' ')"
-    echo "position: $(rc p | tr '\n' ' ')"
+    p0=$(pos)
+    echo "position: ${p0:-unknown (this dish reports its position only while it moves)}"
     echo "command:  P 180 45   (leapfrog is on by default: each lagging axis is led by up to 1 degree)"
     rc P 180 45
     last=""
     for _ in $(seq 1 60); do
-        pos=$(rc p | tr '\n' ' ')
-        [[ "$pos" == "$last" ]] && break   # two equal readings: the dish has arrived
-        printf '  dish at  az %s el %s\n' $pos
-        last=$pos
+        now=$(pos)
+        [[ -n "$now" && "$now" == "$last" ]] && break   # two equal readings: the dish has arrived
+        [[ -n "$now" ]] && printf '  dish at  az %s el %s\n' $now
+        last=$now
         sleep 0.25
     done
-    before=$(rc p | tr '\n' ' ')
+    before=$(pos)
     echo "command:  P 230 25, then S at once"
     rc P 230 25
     rc S
     sleep 2
-    echo "stopped:  $(rc p | tr '\n' ' ')  (from $before: the axis leg in flight finishes, the other is dropped)"
+    echo "stopped:  $(pos)  (from $before: the leg in flight finishes, the rest is dropped)"
 done
 echo
 echo "demo finished"

@@ -100,7 +100,7 @@ TEST_CASE("auto-detect (90100) identifies every emulated variant without sending
 }
 
 TEST_CASE("rotctl -l lists the auto-detecting model", "[e2e][autodetect][registration]") {
-    const e2e::CommandResult with = e2e::run({"/usr/bin/rotctl", "-l"}, {{"LD_PRELOAD", e2e::backend_library()}});
+    const e2e::CommandResult with = e2e::run({"/usr/bin/rotctl", "-l"}, e2e::preload_environment());
     REQUIRE(with.exit_code == 0);
     CHECK(with.out.find(std::to_string(kAutoModel)) != std::string::npos);
     CHECK(with.out.find("Auto-detect") != std::string::npos);

@@ -134,7 +134,7 @@ TEST_CASE("s reports MOVING while a leg runs and nothing at rest", "[e2e][verbs]
 TEST_CASE("conf parameters: listed by rotctl -L, and they take effect", "[e2e][verbs][conf]") {
     // Stock rotctl lists the parameters, then opens the port: a missing one makes it exit at once.
     const e2e::CommandResult listed = e2e::run({"/usr/bin/rotctl", "-m", "90103", "-r", "/nonexistent/port", "-L"},
-                                               {{"LD_PRELOAD", e2e::backend_library()}});
+                                               e2e::preload_environment());
     for (const char* name : {"variant", "leapfrog", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max"}) {
         INFO(name);
         CHECK(listed.out.find(name) != std::string::npos);

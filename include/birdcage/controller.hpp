@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "birdcage/azel.hpp"
 #include "birdcage/errors.hpp"
@@ -36,6 +37,14 @@ public:
     Controller(Transport& transport, ControllerOptions options);
 
     Status initialize();
+    // initialize() again after a reboot, hang-up or lost sync, waiting at most `boot_budget` for a
+    // booting dish (bounded slices: the caller retries). Legs in flight are dropped.
+    Status reinitialize(std::chrono::milliseconds boot_budget);
+    // True when the controller must be initialised (again): never initialised, or the dish printed
+    // boot output since.
+    bool needs_reinit() const { return !initialised_ || session_.reboot_seen(); }
+    // The firmware's fault line (`AZ MOTOR STALLED`) that ended the last leg, once; empty if none.
+    std::string take_fault() { return std::exchange(leg_fault_, std::string()); }
     Result<AzEl> query_position();    // asks the dish now; updates last_position(); az in [0, 360)
     Status set_target(AzEl target);   // validates, clamps, leap-frogs, queues legs. No I/O.
     Status service();                 // one pump step (~every 50 ms)
@@ -67,6 +76,7 @@ private:
 
     Clock::time_point now() const;
     Status run_steps(std::span<const ConsoleStep> steps, std::string_view purpose);
+    Status initialize_within(std::chrono::milliseconds boot_budget);
     Status wait_for_boot();
     Status answers_help();
     Status leave_submenus();
@@ -99,6 +109,8 @@ private:
     std::optional<Leg> in_flight_;
     Clock::time_point last_poll_{};
     unsigned move_count_ = 0;
+    std::chrono::milliseconds boot_budget_{0};   // wait_for_boot()'s bound for this initialisation
+    std::string leg_fault_;                      // see take_fault()
 };
 
 }  // namespace birdcage

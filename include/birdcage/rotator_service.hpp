@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -27,12 +28,27 @@ struct ServiceTiming {
     std::chrono::milliseconds busy_period{50};
     // How often the position is refreshed while the dish is idle.
     std::chrono::milliseconds idle_poll_period{1000};
+    // Consecutive failed steps (timeouts, unusable replies) after which the console is considered
+    // out of sync and the worker re-synchronises and re-initialises it.
+    int failures_before_recovery = 2;
+    // Backoff between recovery attempts (reopen, re-initialise), doubling from min up to max.
+    std::chrono::milliseconds recovery_backoff_min{100};
+    std::chrono::milliseconds recovery_backoff_max{2000};
+    // Longest single wait for a booting dish inside one recovery attempt (the attempts repeat
+    // until the dish answers; the slice keeps stop/shutdown responsive).
+    std::chrono::milliseconds recovery_boot_slice{5000};
+    // position() refuses (Errc::timeout) a position older than this: the dish has not answered
+    // since, so the client is told instead of being handed a stale value.
+    std::chrono::milliseconds max_position_age{5000};
 };
+
+// Opens the device again after a hang-up (the glue opens the same path with FdTransport::open).
+using TransportFactory = std::function<Result<std::unique_ptr<Transport>>()>;
 
 class RotatorService {
 public:
     RotatorService(std::unique_ptr<Transport> transport, ControllerOptions options,
-                   ServiceTiming timing = {});
+                   ServiceTiming timing = {}, TransportFactory reopen = {});
     ~RotatorService();
     RotatorService(const RotatorService&) = delete;
     RotatorService& operator=(const RotatorService&) = delete;
@@ -46,8 +62,11 @@ public:
     // Posts a new target. Returns at once; an invalid target is refused here.
     Status set_target(AzEl target);
     // The last position read from the dish (or, on variants that cannot report it at rest, the
-    // controller's best knowledge). Never talks to the dish.
-    Result<AzEl> position() const;
+    // controller's best knowledge). Never talks to the dish. Errors instead of a position:
+    //  - Errc::timeout while the worker recovers (dish rebooting, unplugged, out of sync): the
+    //    last position is stale, so none is reported;
+    //  - Errc::protocol once after the dish reported a motor fault (`AZ MOTOR STALLED`).
+    Result<AzEl> position();
     // Drops every leg not yet sent to the dish (and aborts a running `g` where input aborts it).
     Status stop();
     // Moves to the variant's safe park position with ordinary moves (never `stow`).
@@ -56,7 +75,12 @@ public:
     Status reset();
 
     bool idle() const;
-    // The worker's last error (ok if the last service step succeeded).
+    // True while the worker re-initialises the dish (after a reboot, hang-up or lost sync).
+    bool recovering() const;
+    // How many times the worker has recovered the dish (re-initialised it) since start().
+    unsigned recoveries() const;
+    // The worker's last error (ok if the last service step succeeded); a motor fault stays here
+    // until the next target is posted.
     Status last_error() const;
     std::string describe() const;
     const FirmwareProfile& profile() const;
@@ -65,11 +89,19 @@ private:
     void run();
     void publish_locked(const Controller& controller, const Status& step);
     Status detect();
+    void enter_recovery_locked(std::string reason);
+    Status recover_once();
 
     std::unique_ptr<Transport> transport_;
     ControllerOptions options_;
     std::unique_ptr<Controller> controller_;   // built at start() once the variant is known
     ServiceTiming timing_;
+    TransportFactory reopen_;
+    // Worker-only recovery state.
+    bool link_down_ = false;               // the transport hung up; reopen before anything else
+    int consecutive_failures_ = 0;
+    std::chrono::milliseconds backoff_{0};
+    unsigned attempts_ = 0;
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
@@ -79,11 +111,19 @@ private:
     bool home_requested_ = false;
     bool unhomed_ = false;
     bool shutdown_requested_ = false;
+    std::optional<AzEl> latest_target_;   // the client's last target (resumed after a recovery)
     // Snapshot from the worker to callers.
     std::optional<AzEl> position_;
     bool idle_ = true;
     Status last_error_;
     std::string description_;
+    bool recovering_ = false;
+    Clock::time_point last_ok_at_{};     // the last service step that succeeded
+    std::string recovery_reason_;
+    unsigned recoveries_ = 0;
+    Status fault_;                 // the last motor fault, until the next target
+    Status fault_report_;          // what the next position() reports once
+    bool fault_unreported_ = false;
 
     std::thread worker_;
 };

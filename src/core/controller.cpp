@@ -131,15 +131,15 @@ Status Controller::wait_for_boot() {
     auto elapsed_s = [&] { return std::to_string(elapsed().count() / 1000); };
     emit(options_.log, LogLevel::warning,
          "the console does not answer yet; waiting for the dish to finish booting (up to " +
-             std::to_string(options_.boot_timeout.count() / 1000) + " s)");
+             std::to_string(boot_budget_.count() / 1000) + " s)");
     auto next_progress = boot_progress_interval;
-    while (elapsed() < options_.boot_timeout) {
+    while (elapsed() < boot_budget_) {
         if (!session_.last_boot_line().empty() && is_boot_done(session_.last_boot_line())) {
             emit(options_.log, LogLevel::verbose, "boot finished (" + session_.last_boot_line() + ") after " +
                                                       elapsed_s() + " s");
             return Status::ok();
         }
-        const auto period = std::min<std::chrono::milliseconds>(boot_probe_interval, options_.boot_timeout - elapsed());
+        const auto period = std::min<std::chrono::milliseconds>(boot_probe_interval, boot_budget_ - elapsed());
         const auto heard = session_.listen(period, is_boot_done);
         listened += period;
         if (heard) {
@@ -149,7 +149,7 @@ Status Controller::wait_for_boot() {
         if (heard.status.code != Errc::timeout) {
             return heard.status;
         }
-        if (elapsed() >= options_.boot_timeout) {
+        if (elapsed() >= boot_budget_) {
             break;
         }
         if (!profile_.boot_complete_markers.empty()) {
@@ -185,7 +185,7 @@ Status Controller::wait_for_boot() {
         }
     }
     return Status{Errc::timeout, "the dish did not finish booting within " +
-                                     std::to_string(options_.boot_timeout.count() / 1000) +
+                                     std::to_string(boot_budget_.count() / 1000) +
                                      " s (no prompt, no boot-complete line); check wiring and baud, or use skip_init"};
 }
 
@@ -313,10 +313,21 @@ Status Controller::home() {
     return Status::ok();
 }
 
-Status Controller::initialize() {
+Status Controller::reinitialize(std::chrono::milliseconds boot_budget) {
+    return initialize_within(std::min(boot_budget, options_.boot_timeout));
+}
+
+Status Controller::initialize() { return initialize_within(options_.boot_timeout); }
+
+Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
+    boot_budget_ = boot_budget;
     initialised_ = false;
     pending_.clear();
     in_flight_.reset();
+    // Whatever was commanded before is void (a reboot stops the axes, a hang-up loses replies).
+    current_target_.reset();
+    commanded_az_.reset();
+    commanded_el_.reset();
     if (options_.skip_init) {
         emit(options_.log, LogLevel::verbose, "skip_init: assuming the dish is booted and in its motor menu");
         if (profile_.prompt_known()) {
@@ -366,6 +377,9 @@ Result<AzEl> Controller::ask_position(std::chrono::milliseconds timeout) {
     };
     const auto reply = session_.transact(profile_.position_query, timeout, complete);
     fault_reported_ = reply.status.code == Errc::protocol;  // the session's only protocol error: a fault line
+    if (fault_reported_) {
+        leg_fault_ = reply.status.message;   // reported once by the service (take_fault())
+    }
     if (!reply && reply.status.code != Errc::protocol) {
         return {{}, reply.status};
     }
@@ -399,6 +413,23 @@ Result<AzEl> Controller::query_position() {
     }
     const auto before = last_position_;
     auto position = ask_position(query_timeout);
+    // At rest a reading far from the last one is either the dish moving on its own or a reply that
+    // lost bytes on the line (`123.45` -> `13.45` still parses). Ask again: a real position repeats,
+    // a corrupted one is refused and the previous position kept.
+    if (position && before && idle() && initialised_ && !position_estimated_ &&
+        (std::fabs(azimuth_difference(before->az, position.value.az)) > unexpected_motion_degrees ||
+         std::fabs(before->el - position.value.el) > unexpected_motion_degrees)) {
+        const AzEl first = position.value;
+        const auto again = ask_position(query_timeout);
+        if (!again || std::fabs(azimuth_difference(first.az, again.value.az)) > unexpected_motion_degrees ||
+            std::fabs(first.el - again.value.el) > unexpected_motion_degrees) {
+            last_position_ = before;
+            return {*before, Status{Errc::protocol, "inconsistent position readings (az " + degrees_text(first.az) +
+                                                         " el " + degrees_text(first.el) +
+                                                         ", then not repeated): line noise? keeping the last position"}};
+        }
+        position = again;
+    }
     // The dish moving on its own at rest is the firmware's TV search (tracker enabled): find out
     // why once, read-only (firmware.md 6.2 item 14).
     if (position && before && idle() && initialised_ && !tracker_checked_ && profile_.tracker_disable_nvs_index >= 0 &&
@@ -580,6 +611,14 @@ Status Controller::service_axis_leg() {
             return Status::ok();  // an unusable reply; poll again
         }
         finish_leg("abandoned: " + position.status.message);  // e.g. AZ MOTOR STALLED
+        if (fault_reported_) {
+            // The firmware dropped its queued moves (firmware.md 6.3): so do we. The target is
+            // forgotten, so the client sending the same P again retries the move.
+            pending_.clear();
+            current_target_.reset();
+            commanded_az_.reset();
+            commanded_el_.reset();
+        }
         return position.status;
     }
     const double seen = axis_value(position.value, leg.axis);

@@ -7,10 +7,10 @@
 namespace birdcage {
 
 RotatorService::RotatorService(std::unique_ptr<Transport> transport, ControllerOptions options,
-                               ServiceTiming timing)
+                               ServiceTiming timing, TransportFactory reopen)
     : transport_(std::move(transport)), options_(std::move(options)),
       controller_(options_.detect ? nullptr : std::make_unique<Controller>(*transport_, options_)),
-      timing_(timing) {}
+      timing_(timing), reopen_(std::move(reopen)) {}
 
 Status RotatorService::detect() {
     const auto found = detect_variant(*transport_, options_.log, options_.boot_timeout);
@@ -45,6 +45,7 @@ Status RotatorService::start() {
     {
         std::lock_guard lock(mutex_);
         publish_locked(*controller_, first.status);
+        last_ok_at_ = Clock::now();
         shutdown_requested_ = false;
     }
     // A dish that answers its menus but not a position query is still usable for moves; the error
@@ -78,17 +79,34 @@ Status RotatorService::set_target(AzEl target) {
                                      "reset (rotctl: R 1)"};
         }
         posted_target_ = target;
+        latest_target_ = target;
         cancel_requested_ = false;
         idle_ = false;
+        fault_ = Status::ok();   // a new target is the client's answer to a fault (p still reports it once)
     }
     wake_.notify_all();
     return Status::ok();
 }
 
-Result<AzEl> RotatorService::position() const {
+Result<AzEl> RotatorService::position() {
     std::lock_guard lock(mutex_);
+    if (recovering_) {
+        return {AzEl{}, Status{Errc::timeout, recovery_reason_}};
+    }
+    if (fault_unreported_) {
+        fault_unreported_ = false;
+        return {AzEl{}, fault_report_};
+    }
     if (unhomed_) {
         return {AzEl{}, Status{Errc::not_homed, "the dish's axes are not homed; reset (R 1) homes them"}};
+    }
+    if (position_ && Clock::now() - last_ok_at_ > timing_.max_position_age) {
+        return {AzEl{}, Status{Errc::timeout, "the dish has not answered for " +
+                                                  std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                                     Clock::now() - last_ok_at_)
+                                                                     .count() /
+                                                                 1000) +
+                                                  " s (" + last_error_.message + ")"}};
     }
     if (!position_) {
         Status why = last_error_ ? Status{Errc::not_initialised, "no position read from the dish yet"}
@@ -102,6 +120,7 @@ Status RotatorService::stop() {
     {
         std::lock_guard lock(mutex_);
         posted_target_.reset();
+        latest_target_.reset();
         cancel_requested_ = true;
     }
     wake_.notify_all();
@@ -109,22 +128,27 @@ Status RotatorService::stop() {
 }
 
 Status RotatorService::park() {
-    if (!controller_) {
-        return {Errc::not_initialised, "rotator is not open"};
+    AzEl park_at;
+    {
+        std::lock_guard lock(mutex_);
+        if (!controller_) {
+            return {Errc::not_initialised, "rotator is not open"};
+        }
+        park_at = controller_->park_position();
     }
-    return set_target(controller_->park_position());
+    return set_target(park_at);
 }
 
 Status RotatorService::reset() {
-    if (!controller_) {
-        return {Errc::not_initialised, "rotator is not open"};
-    }
-    if (controller_->profile().home_commands.empty()) {
-        return {Errc::unsupported, std::string(controller_->profile().display_name) +
-                                       " has no homing command (it calibrates at power-up only)"};
-    }
     {
         std::lock_guard lock(mutex_);
+        if (!controller_) {
+            return {Errc::not_initialised, "rotator is not open"};
+        }
+        if (controller_->profile().home_commands.empty()) {
+            return {Errc::unsupported, std::string(controller_->profile().display_name) +
+                                           " has no homing command (it calibrates at power-up only)"};
+        }
         if (!worker_.joinable()) {
             return {Errc::not_initialised, "rotator is not open"};
         }
@@ -141,14 +165,37 @@ bool RotatorService::idle() const {
     return idle_;
 }
 
+bool RotatorService::recovering() const {
+    std::lock_guard lock(mutex_);
+    return recovering_;
+}
+
+unsigned RotatorService::recoveries() const {
+    std::lock_guard lock(mutex_);
+    return recoveries_;
+}
+
 Status RotatorService::last_error() const {
     std::lock_guard lock(mutex_);
+    if (!fault_ && last_error_) {
+        return fault_;
+    }
     return last_error_;
 }
 
 std::string RotatorService::describe() const {
     std::lock_guard lock(mutex_);
-    return description_;
+    std::string text = description_;
+    if (recovering_) {
+        text += "; RECOVERING: " + recovery_reason_;
+    }
+    if (!fault_) {
+        text += "; last fault: " + fault_.message;
+    }
+    if (recoveries_ > 0) {
+        text += "; recovered " + std::to_string(recoveries_) + " time(s)";
+    }
+    return text;
 }
 
 const FirmwareProfile& RotatorService::profile() const {
@@ -166,6 +213,51 @@ void RotatorService::publish_locked(const Controller& controller, const Status& 
     description_ = controller.describe();
 }
 
+void RotatorService::enter_recovery_locked(std::string reason) {
+    if (!recovering_) {
+        emit(options_.log, LogLevel::warning, "recovering: " + reason);
+        attempts_ = 0;
+        backoff_ = std::chrono::milliseconds{0};
+    }
+    recovering_ = true;
+    recovery_reason_ = std::move(reason);
+    idle_ = false;
+}
+
+// One bounded recovery attempt: reopen the device if it hung up, then re-initialise the dish
+// (boot wait bounded by the slice, search stop, motor menu). Worker thread only.
+Status RotatorService::recover_once() {
+    ++attempts_;
+    if (link_down_) {
+        if (!reopen_) {
+            return {Errc::disconnected, "the serial port hung up and cannot be reopened"};
+        }
+        auto reopened = reopen_();
+        if (!reopened) {
+            return {Errc::disconnected, "the serial port hung up; reopening it (attempt " + std::to_string(attempts_) +
+                                            "): " + reopened.status.message};
+        }
+        // A new controller over the new transport: the old one holds a reference to the old one.
+        auto controller = std::make_unique<Controller>(*reopened.value, options_);
+        std::lock_guard swap(mutex_);
+        controller_ = std::move(controller);
+        transport_ = std::move(reopened.value);
+        link_down_ = false;
+        emit(options_.log, LogLevel::warning, "serial port reopened; re-initialising the dish");
+    }
+    Status st = controller_->reinitialize(timing_.recovery_boot_slice);
+    if (!st) {
+        if (st.code == Errc::disconnected || st.code == Errc::io) {
+            link_down_ = true;
+        }
+        return {st.code, "re-initialising the dish (attempt " + std::to_string(attempts_) + "): " + st.message};
+    }
+    if (!controller_->last_position()) {
+        (void)controller_->query_position();
+    }
+    return Status::ok();
+}
+
 void RotatorService::run() {
     auto last_poll = Clock::now();
     std::unique_lock lock(mutex_);
@@ -173,40 +265,116 @@ void RotatorService::run() {
         std::optional<AzEl> target = std::exchange(posted_target_, std::nullopt);
         bool cancel = std::exchange(cancel_requested_, false);
         const bool home = home_requested_;
+        const bool recovering = recovering_;
+        const std::optional<AzEl> resume = latest_target_;
         lock.unlock();
 
         // Only this thread touches the controller (and through it the transport) after start().
         Status step = Status::ok();
-        if (cancel) {
-            controller_->cancel_pending();
+        bool recovered = false;
+        bool talked = true;   // false: an idle step that sent nothing (proves nothing about the dish)
+        if (recovering) {
+            // Targets posted meanwhile are kept in latest_target_ and resumed below.
+            step = recover_once();
+            if (step) {
+                recovered = true;
+                consecutive_failures_ = 0;
+                emit(options_.log, LogLevel::warning,
+                     "recovered after " + std::to_string(attempts_) + " attempt(s)" +
+                         (resume ? "; resuming the last target" : ""));
+                if (resume) {
+                    step = controller_->set_target(*resume);
+                }
+            }
+        } else {
+            if (cancel) {
+                controller_->cancel_pending();
+            }
+            if (target) {
+                step = controller_->set_target(*target);
+            }
+            if (home) {
+                step = controller_->home();
+                std::lock_guard done(mutex_);
+                home_requested_ = false;
+            }
+            talked = target || home || cancel || !controller_->idle();
+            if (step) {
+                step = controller_->service();
+            }
+            const bool idle_now = controller_->idle();
+            if (step && idle_now && Clock::now() - last_poll >= timing_.idle_poll_period) {
+                talked = true;
+                step = controller_->query_position().status;
+                last_poll = Clock::now();
+            } else if (!idle_now) {
+                // Read the position once more shortly after the last leg ends: the dish may still
+                // have been finishing the move when the leg counted as arrived.
+                last_poll = Clock::now() - timing_.idle_poll_period + 4 * timing_.busy_period;
+            }
         }
-        if (target) {
-            step = controller_->set_target(*target);
-        }
-        if (home) {
-            step = controller_->home();
-            std::lock_guard done(mutex_);
-            home_requested_ = false;
-        }
-        if (step) {
-            step = controller_->service();
-        }
-        const bool idle_now = controller_->idle();
-        if (step && idle_now && Clock::now() - last_poll >= timing_.idle_poll_period) {
-            step = controller_->query_position().status;
-            last_poll = Clock::now();
-        } else if (!idle_now) {
-            last_poll = Clock::now();
+        std::string fault = controller_->take_fault();
+
+        // Classify the step: what needs recovering, what is only reported.
+        std::optional<std::string> recover_because;
+        if (!recovering) {
+            if (step.code == Errc::disconnected || step.code == Errc::io) {
+                link_down_ = true;
+                recover_because = "the serial port hung up (" + step.message + "); reopening it";
+            } else if (controller_->needs_reinit()) {
+                recover_because = "the dish rebooted; waiting for it to boot and re-initialising it";
+            } else if (!talked) {
+                // Nothing was asked of the dish: neither a success nor a failure.
+            } else if (!fault.empty() || step || step.code == Errc::not_homed || step.code == Errc::hazard ||
+                       step.code == Errc::invalid_argument || step.code == Errc::unsupported) {
+                consecutive_failures_ = 0;
+            } else if (++consecutive_failures_ >= timing_.failures_before_recovery) {
+                recover_because = "the dish stopped answering (" + step.message + "); re-synchronising";
+            }
+        } else if (!step) {
+            if (step.code == Errc::disconnected) {
+                link_down_ = true;
+            }
+            backoff_ = std::clamp(backoff_ * 2, timing_.recovery_backoff_min, timing_.recovery_backoff_max);
         }
 
         lock.lock();
-        publish_locked(*controller_, step);
+        if (!fault.empty()) {
+            fault_ = Status{Errc::protocol, "the dish reported a fault: " + fault};
+            fault_report_ = fault_;
+            fault_unreported_ = true;
+        }
+        if (step && talked) {
+            last_ok_at_ = Clock::now();
+        }
+        if (recovered) {
+            recovering_ = false;
+            ++recoveries_;
+        } else if (recovering && !step) {
+            recovery_reason_ = step.message;
+        }
+        if (recover_because) {
+            enter_recovery_locked(*recover_because);
+        }
+        publish_locked(*controller_, talked ? step : last_error_);
+        if (recovering_) {
+            idle_ = false;
+        }
         if (shutdown_requested_) {
             break;
         }
-        const auto period = idle_now ? timing_.idle_poll_period : timing_.busy_period;
+        std::chrono::milliseconds period = timing_.busy_period;
+        if (controller_->idle()) {
+            const auto until_poll =
+                std::chrono::duration_cast<std::chrono::milliseconds>(last_poll + timing_.idle_poll_period - Clock::now());
+            period = std::clamp(until_poll, timing_.busy_period, timing_.idle_poll_period);
+        }
+        if (recovering_) {
+            period = recover_because ? std::chrono::milliseconds{0} : backoff_;
+        }
         wake_.wait_for(lock, period, [this] {
-            return shutdown_requested_ || posted_target_.has_value() || cancel_requested_ || home_requested_;
+            return shutdown_requested_ || ((posted_target_.has_value() || cancel_requested_ || home_requested_) &&
+                                           !recovering_);
         });
     }
 }

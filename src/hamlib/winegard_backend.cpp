@@ -66,7 +66,8 @@ int to_hamlib_error(const Status& status) {
     case Errc::protocol: return -RIG_EPROTO;
     // Hamlib 4.7+ rotctld drops the client on -RIG_EIO: reserved for a port that is gone.
     case Errc::io: return -RIG_EIO;
-    case Errc::disconnected: return -RIG_EIO;
+    // The service reopens a hung-up port by path: recoverable, so the client must stay connected.
+    case Errc::disconnected: return -RIG_ETIMEOUT;
     case Errc::invalid_argument: return -RIG_EINVAL;
     case Errc::unsupported: return -RIG_ENAVAIL;
     case Errc::hazard: return -RIG_ERJCTED;
@@ -175,8 +176,20 @@ extern "C" int winegard_rot_open(ROT* rot) {
         return -RIG_EIO;
     }
     // Hamlib owns the fd (it closes it in rot_close); it is non-blocking, which FdTransport polls.
+    // After a hang-up (adapter unplugged) Hamlib's fd is dead and rotctld never reopens it: the
+    // service opens the same path itself, on its own fd (Hamlib's stays untouched for rot_close).
     auto transport = std::make_unique<birdcage::FdTransport>(port->fd, false);
-    priv->service = std::make_unique<birdcage::RotatorService>(std::move(transport), priv->options);
+    const std::string path = port->pathname;
+    const int baud = port->parm.serial.rate > 0 ? port->parm.serial.rate : rot->caps->serial_rate_max;
+    birdcage::TransportFactory reopen = [path, baud]() -> birdcage::Result<std::unique_ptr<birdcage::Transport>> {
+        auto opened = birdcage::FdTransport::open(path, baud);
+        if (!opened) {
+            return {nullptr, opened.status};
+        }
+        return {std::move(opened.value), birdcage::Status::ok()};
+    };
+    priv->service = std::make_unique<birdcage::RotatorService>(std::move(transport), priv->options,
+                                                               birdcage::ServiceTiming{}, std::move(reopen));
     if (Status st = priv->service->start(); !st) {
         priv->service.reset();
         return report(__func__, st);

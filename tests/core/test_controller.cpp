@@ -458,3 +458,88 @@ TEST_CASE("controller G2: a stall reported during a leg abandons it with a proto
     CHECK(controller.idle());
     CHECK(controller.last_position()->az == Approx(181));  // the position that came with it is kept
 }
+
+TEST_CASE("controller G2: a stall is kept for take_fault(), drops the other leg, and the same target retries") {
+    FakeG2 dish;
+    dish.step_per_query = 1.0;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({190, 50}));  // AZ leg, then EL leg
+    clock.now += 100ms;
+    REQUIRE(controller.service());
+    dish.extra_lines_after_query = {"AZ MOTOR STALLED"};
+    clock.now += 100ms;
+    CHECK(controller.service().code == Errc::protocol);
+    CHECK(controller.take_fault().find("AZ MOTOR STALLED") != std::string::npos);
+    CHECK(controller.take_fault().empty());  // once
+    CHECK(controller.idle());                // the EL leg was dropped with the AZ one
+    const std::size_t before = wire.commands().size();
+    REQUIRE(controller.set_target({190, 50}));  // the same target again is a retry, not a no-op
+    clock.now += 100ms;
+    REQUIRE(controller.service());
+    // Axes alternate which goes first: this second move starts with elevation.
+    CHECK((contains(since(wire, before), "a 0 190.00") || contains(since(wire, before), "a 1 50.00")));
+}
+
+TEST_CASE("controller G2: after a reboot, reinitialize() forgets what was commanded") {
+    FakeG2 dish;
+    dish.step_per_query = 1.0;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({190, 50}));
+    clock.now += 100ms;
+    REQUIRE(controller.service());
+    wire.push_input("Bootloader v1.01\r\nBoot Complete\r\nTRK>");
+    dish.menu = "TRK";
+    for (int i = 0; i < 5 && !controller.needs_reinit(); ++i) {
+        clock.now += 100ms;
+        (void)controller.service();
+    }
+    REQUIRE(controller.needs_reinit());
+    REQUIRE(controller.reinitialize(1000ms));
+    CHECK_FALSE(controller.needs_reinit());
+    CHECK_FALSE(controller.current_target());
+    const std::size_t before = wire.commands().size();
+    REQUIRE(controller.set_target({190, 50}));
+    clock.now += 100ms;
+    REQUIRE(controller.service());
+    CHECK(since(wire, before).size() == 1);  // the leg is sent again
+}
+
+TEST_CASE("controller G2: a position that jumps at rest and does not repeat is refused (line noise)") {
+    FakeG2 dish;
+    dish.az = 123.45;
+    dish.target_az = 123.45;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.last_position()->az == Approx(123.45));
+    // One reply lost a byte: `123.45` arrived as `13.45`; the repeat query reads the truth.
+    int queries = 0;
+    wire.set_responder([&](const std::string& c) {
+        auto out = dish.respond(c);
+        if (c == "a" && queries++ == 0) {
+            out.front() = "a\r\nAngle[0] = 13.45\r\nAngle[1] = 45.00\r\n";
+        }
+        return out;
+    });
+    const auto position = controller.query_position();
+    CHECK(position.status.code == Errc::protocol);
+    CHECK(controller.last_position()->az == Approx(123.45));
+    // Noise bytes inside a reply are dropped by the framer and never parsed as a position.
+    wire.set_responder([&](const std::string& c) {
+        auto out = dish.respond(c);
+        if (c == "a") {
+            out.front() = "a\r\nAngle[0] = 1\x8f\xff" "23.45\r\nAngle[1] = 4\x01" "5.00\r\n";
+        }
+        return out;
+    });
+    const auto noisy = controller.query_position();
+    CHECK(noisy.value.az == Approx(123.45));
+    CHECK(controller.last_position()->az == Approx(123.45));
+}

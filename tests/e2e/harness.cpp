@@ -71,6 +71,9 @@ pid_t spawn(const std::vector<std::string>& argv, const std::map<std::string, st
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_adddup2(&actions, stdout_fd, STDOUT_FILENO);
     posix_spawn_file_actions_adddup2(&actions, stderr_fd, STDERR_FILENO);
+    // Nothing else leaks into the child: an inherited pty master (the emulator's) would keep the
+    // pty alive after Emulator::hang_up(), and the child would never see the hang-up.
+    posix_spawn_file_actions_addclosefrom_np(&actions, STDERR_FILENO + 1);
     std::vector<std::string> args = argv;
     std::vector<std::string> envs = merged_environment(env);
     std::vector<char*> c_args = c_strings(args);
@@ -225,11 +228,18 @@ RotctldConnection::~RotctldConnection() {
     }
 }
 
+bool RotctldConnection::send_raw(const std::string& bytes) {
+    return send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(bytes.size());
+}
+
 std::string RotctldConnection::ask(const std::string& command, int lines, std::chrono::milliseconds timeout) {
-    const std::string wire = command + "\n";
-    if (send(fd_, wire.data(), wire.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(wire.size())) {
+    if (!send_raw(command + "\n")) {
         return {};
     }
+    return read_lines(lines, timeout);
+}
+
+std::string RotctldConnection::read_lines(int lines, std::chrono::milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
     auto complete_lines = [this] {
         int n = 0;
@@ -247,7 +257,7 @@ std::string RotctldConnection::ask(const std::string& command, int lines, std::c
         if (poll(&p, 1, static_cast<int>(left.count())) <= 0) {
             break;
         }
-        char buf[512];
+        char buf[4096];
         const ssize_t n = recv(fd_, buf, sizeof buf, 0);
         if (n <= 0) {
             break;
@@ -267,6 +277,31 @@ std::string RotctldConnection::ask(const std::string& command, int lines, std::c
     std::string reply = pending_.substr(0, end);
     pending_.erase(0, end);
     return reply;
+}
+
+RotctldConnection::Position RotctldConnection::get_position(std::chrono::milliseconds timeout) {
+    Position out;
+    if (!send_raw("p\n")) {
+        out.error = "connection closed";
+        return out;
+    }
+    std::string first = read_lines(1, timeout);
+    while (!first.empty() && (first.back() == '\n' || first.back() == '\r')) {
+        first.pop_back();
+    }
+    if (first.empty() || first.rfind("RPRT", 0) == 0) {
+        out.error = first.empty() ? "no reply" : first;
+        return out;
+    }
+    const std::string second = read_lines(1, timeout);
+    try {
+        out.az = std::stod(first);
+        out.el = std::stod(second);
+        out.ok = true;
+    } catch (const std::exception&) {
+        out.error = "unparsable: " + first + " / " + second;
+    }
+    return out;
 }
 
 void type_into(birdcage::sim::Emulator& dish, const std::vector<std::string>& lines) {

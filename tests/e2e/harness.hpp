@@ -61,6 +61,17 @@ public:
     RotctldConnection& operator=(const RotctldConnection&) = delete;
     // Sends one command line and reads until `lines` reply lines have arrived (or the timeout).
     std::string ask(const std::string& command, int lines, std::chrono::milliseconds timeout = std::chrono::seconds(10));
+    // Sends bytes as they are (no line ending added); false if the connection is gone.
+    bool send_raw(const std::string& bytes);
+    // Reads until `lines` reply lines have arrived (or the timeout) and hands exactly those back.
+    std::string read_lines(int lines, std::chrono::milliseconds timeout = std::chrono::seconds(10));
+    // `p`: the two values, or the RPRT line when the backend answered with an error.
+    struct Position {
+        bool ok = false;
+        double az = 0, el = 0;
+        std::string error;   // e.g. "RPRT -5"; empty when nothing arrived
+    };
+    Position get_position(std::chrono::milliseconds timeout = std::chrono::seconds(5));
 
 private:
     int fd_ = -1;
@@ -81,6 +92,8 @@ public:
     ~Rig();
     birdcage::sim::Emulator& dish() { return *dish_; }
     int port() const { return port_; }
+    pid_t rotctld_pid() const { return rotctld_->pid(); }
+    bool rotctld_running() { return rotctld_->running(); }
     const std::string& rotctld_log() const { return log_path_; }
     std::string rotctld_log_text() const;
     // Stock NET rotctl client: rotctl -m 2 -r 127.0.0.1:<port> <args...>

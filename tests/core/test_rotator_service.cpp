@@ -1,0 +1,149 @@
+// RotatorService recovery (issue 6) over scripted consoles: hang-up + reopen, reboot mid-move,
+// motor faults. Real threads and short real periods; every wait has a deadline.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "birdcage/rotator_service.hpp"
+#include "fake_transport.hpp"
+
+using namespace birdcage;
+using namespace birdcage::test;
+using namespace std::chrono_literals;
+
+namespace {
+
+bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout = 5000ms) {
+    const auto deadline = Clock::now() + timeout;
+    while (Clock::now() < deadline) {
+        if (condition()) {
+            return true;
+        }
+        std::this_thread::sleep_for(2ms);
+    }
+    return condition();
+}
+
+ServiceTiming fast_timing() {
+    ServiceTiming timing;
+    timing.busy_period = 2ms;
+    timing.idle_poll_period = 10ms;
+    timing.recovery_backoff_min = 2ms;
+    timing.recovery_backoff_max = 10ms;
+    timing.recovery_boot_slice = 50ms;
+    return timing;
+}
+
+ControllerOptions g2_options() {
+    ControllerOptions options{};
+    options.variant = VariantId::carryout_g2;
+    options.leapfrog = false;
+    options.boot_timeout = 200ms;
+    return options;
+}
+
+// One G2 console shared by every transport the service opens; the worker is the only caller.
+struct Dish {
+    std::mutex mutex;
+    FakeG2 g2;
+    std::atomic<bool> unplug{false};
+    std::atomic<bool> reboot{false};
+    std::atomic<int> stall{0};
+    FakeTransport* current = nullptr;
+
+    FakeTransport::Responder responder() {
+        return [this](const std::string& command) -> std::vector<std::string> {
+            std::lock_guard lock(mutex);
+            if (unplug.exchange(false)) {
+                current->hang_up();
+                return {};
+            }
+            if (reboot.exchange(false)) {
+                g2.menu = "TRK";
+                g2.target_az = g2.az;
+                g2.target_el = g2.el;
+                return {command + "\r\n", "Bootloader v1.01\r\n", "Boot Complete\r\nTRK>"};
+            }
+            if (command == "a" && g2.target_az != g2.az && stall.exchange(0) == 1) {  // mid-move only
+                g2.extra_lines_after_query = {"AZ MOTOR STALLED"};
+                g2.target_az = g2.az;
+            }
+            return g2.respond(command);
+        };
+    }
+    std::unique_ptr<FakeTransport> open() {
+        auto wire = std::make_unique<FakeTransport>(responder());
+        current = wire.get();
+        return wire;
+    }
+    double target_az() {
+        std::lock_guard lock(mutex);
+        return g2.target_az;
+    }
+};
+
+}  // namespace
+
+TEST_CASE("service: a hung-up port is reopened with backoff; p errors meanwhile, then works") {
+    Dish dish;
+    std::atomic<bool> plugged{true};
+    std::atomic<int> opens{0};
+    TransportFactory reopen = [&]() -> Result<std::unique_ptr<Transport>> {
+        ++opens;
+        if (!plugged) {
+            return {nullptr, Status{Errc::io, "cannot open /dev/ttyUSB0: No such file or directory"}};
+        }
+        std::lock_guard lock(dish.mutex);
+        return {dish.open(), Status::ok()};
+    };
+    RotatorService service(dish.open(), g2_options(), fast_timing(), reopen);
+    REQUIRE(service.start());
+    REQUIRE(service.position());
+
+    plugged = false;
+    dish.unplug = true;
+    REQUIRE(eventually([&] { return service.recovering(); }));
+    const auto p = service.position();
+    CHECK(p.status.code == Errc::timeout);  // an error, not the stale position
+    REQUIRE(eventually([&] { return opens >= 3; }));  // retried with backoff while unplugged
+    plugged = true;
+    REQUIRE(eventually([&] { return !service.recovering() && static_cast<bool>(service.position()); }));
+    CHECK(service.recoveries() == 1);
+    REQUIRE(service.set_target({200, 50}));
+    CHECK(eventually([&] { return dish.target_az() == Approx(200); }));
+}
+
+TEST_CASE("service: a reboot mid-move re-initialises by itself and resumes the latest target") {
+    Dish dish;
+    RotatorService service(dish.open(), g2_options(), fast_timing());
+    REQUIRE(service.start());
+    dish.reboot = true;  // the next command meets a rebooting dish
+    REQUIRE(service.set_target({250, 40}));
+    REQUIRE(eventually([&] { return service.recoveries() == 1; }));
+    CHECK(eventually([&] { return dish.target_az() == Approx(250) && service.idle(); }));
+    const auto p = service.position();
+    REQUIRE(p);
+    CHECK(p.value.az == Approx(250));
+    CHECK(service.describe().find("recovered 1 time") != std::string::npos);
+}
+
+TEST_CASE("service: a motor stall is reported once by position() and kept by last_error()") {
+    Dish dish;
+    RotatorService service(dish.open(), g2_options(), fast_timing());
+    REQUIRE(service.start());
+    dish.stall = 1;
+    REQUIRE(service.set_target({250, 40}));
+    REQUIRE(eventually([&] { return service.last_error().message.find("AZ MOTOR STALLED") != std::string::npos; }));
+    Result<AzEl> p = service.position();
+    CHECK(p.status.code == Errc::protocol);
+    CHECK(p.status.message.find("AZ MOTOR STALLED") != std::string::npos);
+    CHECK(service.position());  // once
+    CHECK(service.describe().find("AZ MOTOR STALLED") != std::string::npos);
+    CHECK(service.recoveries() == 0);  // a fault is reported, not "recovered" from
+    REQUIRE(service.set_target({250, 40}));
+    CHECK(eventually([&] { return dish.target_az() == Approx(250) && service.idle(); }));
+    CHECK(service.last_error());
+}

@@ -340,7 +340,7 @@ void RotatorService::run() {
 
         lock.lock();
         if (!fault.empty()) {
-            fault_ = Status{Errc::protocol, "the dish reported a fault: " + fault};
+            fault_ = Status{Errc::protocol, fault};   // "dish reported: AZ MOTOR STALLED"
             fault_report_ = fault_;
             fault_unreported_ = true;
         }

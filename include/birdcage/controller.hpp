@@ -40,9 +40,10 @@ public:
     // initialize() again after a reboot, hang-up or lost sync, waiting at most `boot_budget` for a
     // booting dish (bounded slices: the caller retries). Legs in flight are dropped.
     Status reinitialize(std::chrono::milliseconds boot_budget);
-    // True when the controller must be initialised (again): never initialised, or the dish printed
-    // boot output since.
-    bool needs_reinit() const { return !initialised_ || session_.reboot_seen(); }
+    // True when the controller must be initialised (again): never initialised, the dish printed
+    // boot output since, or the console answered from a menu other than the one initialize() left
+    // it in: the only sign of a reboot on firmware that prints no boot lines (Pro).
+    bool needs_reinit() const;
     // The firmware's fault line (`AZ MOTOR STALLED`) that ended the last leg, once; empty if none.
     std::string take_fault() { return std::exchange(leg_fault_, std::string()); }
     Result<AzEl> query_position();    // asks the dish now; updates last_position(); az in [0, 360)
@@ -111,6 +112,7 @@ private:
     unsigned move_count_ = 0;
     std::chrono::milliseconds boot_budget_{0};   // wait_for_boot()'s bound for this initialisation
     std::string leg_fault_;                      // see take_fault()
+    std::string motor_menu_;                     // the session's menu at the end of initialize()
 };
 
 }  // namespace birdcage

@@ -366,6 +366,7 @@ Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
     if (Status homing = check_homing(); !homing) {
         return homing;
     }
+    motor_menu_ = session_.menu();   // where every later reply must come from (needs_reinit())
     initialised_ = true;
     emit(options_.log, LogLevel::verbose, "initialised: " + describe());
     return Status::ok();
@@ -744,6 +745,13 @@ void Controller::cancel_pending() {
             finish_leg("aborted by stop");
         }
     }
+}
+
+bool Controller::needs_reinit() const {
+    if (!initialised_ || session_.reboot_seen()) {
+        return true;
+    }
+    return !motor_menu_.empty() && !session_.menu().empty() && session_.menu() != motor_menu_;
 }
 
 bool Controller::idle() const { return !in_flight_ && pending_.empty(); }

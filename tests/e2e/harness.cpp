@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 #include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -181,6 +182,35 @@ bool wait_until(const std::function<bool()>& predicate, std::chrono::millisecond
         std::this_thread::sleep_for(5ms);
     }
     return true;
+}
+
+birdcage::sim::Options dish_options(birdcage::sim::Variant variant, double az, double el, double time_scale) {
+    birdcage::sim::Options o;
+    o.variant = variant;
+    o.time_scale = time_scale;
+    o.start_az = az;
+    o.start_el = el;
+    return o;
+}
+
+double angle_between(double a, double b) {
+    const double d = std::fmod(std::fabs(a - b), 360.0);
+    return d > 180.0 ? 360.0 - d : d;
+}
+
+bool settled_at(birdcage::sim::Emulator& dish, double az, double el, double tolerance) {
+    const birdcage::sim::Pose p = dish.true_position();
+    return !dish.moving() && angle_between(p.az, az) <= tolerance && std::fabs(p.el - el) <= tolerance;
+}
+
+std::vector<double> numbers(const std::string& text) {
+    std::vector<double> out;
+    std::istringstream in(text);
+    double v = 0;
+    while (in >> v) {
+        out.push_back(v);
+    }
+    return out;
 }
 
 int free_tcp_port() {

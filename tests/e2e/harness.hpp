@@ -52,6 +52,16 @@ bool wait_until(const std::function<bool()>& predicate, std::chrono::millisecond
 
 int free_tcp_port();
 
+// An emulator at (az, el), running time_scale times faster than real time.
+birdcage::sim::Options dish_options(birdcage::sim::Variant variant, double az = 100.0, double el = 30.0,
+                                    double time_scale = 50.0);
+// Great-circle-free azimuth distance: |a - b| the short way round, in [0, 180].
+double angle_between(double a, double b);
+// The dish is at rest within `tolerance` degrees of (az, el).
+bool settled_at(birdcage::sim::Emulator& dish, double az, double el, double tolerance = 0.1);
+// Every number in a rotctl reply, in order.
+std::vector<double> numbers(const std::string& text);
+
 // A line-oriented rotctld client over one TCP connection (like Gpredict's).
 class RotctldConnection {
 public:

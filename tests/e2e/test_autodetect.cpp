@@ -23,11 +23,6 @@ struct AutoCase {
     std::vector<std::string> typed = {};  // left in a submenu before the backend opens the port
 };
 
-double angle_between(double a, double b) {
-    const double d = std::fmod(std::fabs(a - b), 360.0);
-    return d > 180.0 ? 360.0 - d : d;
-}
-
 void detect_and_drive(const AutoCase& c) {
     Options o;
     o.variant = c.variant;
@@ -55,7 +50,7 @@ void detect_and_drive(const AutoCase& c) {
     const bool settled = e2e::wait_until(
         [&] {
             const auto p = rig.dish().true_position();
-            return !rig.dish().moving() && angle_between(p.az, 150.0) <= 0.1 && std::fabs(p.el - 40.0) <= 0.1;
+            return !rig.dish().moving() && e2e::angle_between(p.az, 150.0) <= 0.1 && std::fabs(p.el - 40.0) <= 0.1;
         },
         30s);
     if (!settled) {

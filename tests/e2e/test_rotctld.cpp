@@ -29,35 +29,6 @@ const ModelUnderTest kModels[] = {
     {Variant::carryout_g2, 90105, "Carryout G2", 18.0, 65.0, 2.0},
 };
 
-birdcage::sim::Options dish_at(Variant v, double az, double el, double time_scale) {
-    birdcage::sim::Options o;
-    o.variant = v;
-    o.time_scale = time_scale;
-    o.start_az = az;
-    o.start_el = el;
-    return o;
-}
-
-double angle_between(double a, double b) {
-    const double d = std::fmod(std::fabs(a - b), 360.0);
-    return d > 180.0 ? 360.0 - d : d;
-}
-
-bool settled_at(birdcage::sim::Emulator& dish, double az, double el, double tolerance) {
-    const birdcage::sim::Pose p = dish.true_position();
-    return !dish.moving() && angle_between(p.az, az) <= tolerance && std::fabs(p.el - el) <= tolerance;
-}
-
-std::vector<double> numbers(const std::string& text) {
-    std::vector<double> out;
-    std::istringstream in(text);
-    double v = 0;
-    while (in >> v) {
-        out.push_back(v);
-    }
-    return out;
-}
-
 } // namespace
 
 TEST_CASE("rotctl -l lists the Winegard models only when the backend is preloaded", "[e2e][registration]") {
@@ -79,18 +50,18 @@ TEST_CASE("rotctl -l lists the Winegard models only when the backend is preloade
 TEST_CASE("stock rotctld drives the dish: P moves it, p reports it", "[e2e]") {
     for (const ModelUnderTest& m : kModels) {
         DYNAMIC_SECTION(m.name) {
-            e2e::Rig rig(dish_at(m.variant, 100.0, 30.0, 50.0), m.model, {"-C", "leapfrog=0"});
+            e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, 50.0), m.model, {"-C", "leapfrog=0"});
             const e2e::CommandResult set = rig.rotctl({"P", "180", "45"});
             INFO(set.out << set.err);
             REQUIRE(set.exit_code == 0);
 
-            REQUIRE(e2e::wait_until([&] { return settled_at(rig.dish(), 180.0, 45.0, 0.1); }, 30s));
+            REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 180.0, 45.0, 0.1); }, 30s));
 
             std::vector<double> reported;
             const bool reports = e2e::wait_until(
                 [&] {
-                    reported = numbers(rig.rotctl({"p"}).out);
-                    return reported.size() == 2 && angle_between(reported[0], 180.0) <= 0.1 &&
+                    reported = e2e::numbers(rig.rotctl({"p"}).out);
+                    return reported.size() == 2 && e2e::angle_between(reported[0], 180.0) <= 0.1 &&
                            std::fabs(reported[1] - 45.0) <= 0.1;
                 },
                 10s);
@@ -105,16 +76,16 @@ TEST_CASE("leapfrog (default on) leads each axis in its direction of travel", "[
     // From (100, 30) both axes lag by more than 2 degrees: each is led by 1 degree. Upstream's
     // bug would have put both nudges on azimuth (182, 45).
     const ModelUnderTest& m = kModels[4];
-    e2e::Rig rig(dish_at(m.variant, 100.0, 30.0, 50.0), m.model);
+    e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, 50.0), m.model);
     REQUIRE(rig.rotctl({"P", "180", "45"}).exit_code == 0);
-    REQUIRE(e2e::wait_until([&] { return settled_at(rig.dish(), 181.0, 46.0, 0.1); }, 30s));
+    REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 181.0, 46.0, 0.1); }, 30s));
     CHECK(rig.dish().hazards_received() == 0);
 }
 
 TEST_CASE("S stops the dish: the leg not yet sent is dropped", "[e2e][stop]") {
     for (const ModelUnderTest& m : kModels) {
         DYNAMIC_SECTION(m.name) {
-            e2e::Rig rig(dish_at(m.variant, 100.0, 30.0, m.watchable_time_scale), m.model, {"-C", "leapfrog=0"});
+            e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, m.watchable_time_scale), m.model, {"-C", "leapfrog=0"});
             // The first move sends azimuth first; elevation waits until azimuth has arrived.
             REQUIRE(rig.rotctl({"P", "280", "50"}).exit_code == 0);
             REQUIRE(e2e::wait_until([&] { return rig.dish().moving(); }, 10s));
@@ -135,12 +106,12 @@ TEST_CASE("S stops the dish: the leg not yet sent is dropped", "[e2e][stop]") {
 TEST_CASE("elevation is clamped to the variant's limits", "[e2e][limits]") {
     for (const ModelUnderTest& m : kModels) {
         DYNAMIC_SECTION(m.name) {
-            e2e::Rig rig(dish_at(m.variant, 100.0, 30.0, 50.0), m.model, {"-C", "leapfrog=0"});
+            e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, 50.0), m.model, {"-C", "leapfrog=0"});
             REQUIRE(rig.rotctl({"P", "120", "5"}).exit_code == 0);
-            CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 120.0, m.el_min, 0.1); }, 30s));
+            CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, m.el_min, 0.1); }, 30s));
             if (m.el_max < 90.0) {
                 REQUIRE(rig.rotctl({"P", "120", "89"}).exit_code == 0);
-                CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 120.0, m.el_max, 0.1); }, 30s));
+                CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, m.el_max, 0.1); }, 30s));
             }
             CHECK(rig.dish().hazards_received() == 0);
         }
@@ -149,11 +120,11 @@ TEST_CASE("elevation is clamped to the variant's limits", "[e2e][limits]") {
 
 TEST_CASE("rotctld wire replies: errors are RPRT codes, the session survives them", "[e2e][wire]") {
     const ModelUnderTest& m = kModels[4];
-    e2e::Rig rig(dish_at(m.variant, 100.0, 30.0, 50.0), m.model, {"-C", "leapfrog=0"});
+    e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, 50.0), m.model, {"-C", "leapfrog=0"});
     e2e::RotctldConnection client(rig.port());
 
     const std::string pos = client.ask("p", 2);
-    const std::vector<double> values = numbers(pos);
+    const std::vector<double> values = e2e::numbers(pos);
     REQUIRE(values.size() == 2);
     CHECK(std::fabs(values[0] - 100.0) < 0.1);
     CHECK(std::fabs(values[1] - 30.0) < 0.1);
@@ -162,6 +133,6 @@ TEST_CASE("rotctld wire replies: errors are RPRT codes, the session survives the
     CHECK(client.ask("P nan 45", 1) == "RPRT -1\n");  // passes Hamlib's check, refused by the backend
     CHECK(client.ask("P 120 40", 1) == "RPRT 0\n");
     CHECK(client.ask("_", 1).find("Winegard") != std::string::npos);
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 120.0, 40.0, 0.1); }, 30s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, 40.0, 0.1); }, 30s));
     CHECK(rig.dish().hazards_received() == 0);
 }

@@ -36,26 +36,6 @@ const VariantUnderTest kPro{Variant::travler_pro, 90103, "pro", 12.0, 75.0, {"od
 const VariantUnderTest kCarryout{Variant::carryout2003, 90104, "carryout2003", 22.0, 73.0, {"target"}};
 const VariantUnderTest kG2{Variant::carryout_g2, 90105, "g2", 18.0, 65.0, {"mot"}};
 
-double angle_between(double a, double b) {
-    const double d = std::fmod(std::fabs(a - b), 360.0);
-    return d > 180.0 ? 360.0 - d : d;
-}
-
-std::vector<double> numbers(const std::string& text) {
-    std::vector<double> out;
-    std::istringstream in(text);
-    double v = 0;
-    while (in >> v) {
-        out.push_back(v);
-    }
-    return out;
-}
-
-bool settled_at(birdcage::sim::Emulator& dish, double az, double el, double tolerance) {
-    const birdcage::sim::Pose p = dish.true_position();
-    return !dish.moving() && angle_between(p.az, az) <= tolerance && std::fabs(p.el - el) <= tolerance;
-}
-
 // init (rotctld open) + P + p + S through stock rotctld; no hazard may reach the dish.
 void init_move_report_stop(const VariantUnderTest& v, const Setting& s, double time_scale = 50.0) {
     Options o;
@@ -72,7 +52,7 @@ void init_move_report_stop(const VariantUnderTest& v, const Setting& s, double t
     const e2e::CommandResult set = rig.rotctl({"P", "150", "40"});
     INFO(set.out << set.err);
     REQUIRE(set.exit_code == 0);
-    const bool settled = e2e::wait_until([&] { return settled_at(rig.dish(), 150.0, 40.0, 0.1); }, 30s);
+    const bool settled = e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 150.0, 40.0, 0.1); }, 30s);
     INFO("dish at " << rig.dish().true_position().az << " " << rig.dish().true_position().el);
     if (!settled) {
         INFO(rig.rotctld_log_text());
@@ -81,8 +61,8 @@ void init_move_report_stop(const VariantUnderTest& v, const Setting& s, double t
     std::vector<double> reported;
     const bool reports = e2e::wait_until(
         [&] {
-            reported = numbers(rig.rotctl({"p"}).out);
-            return reported.size() == 2 && angle_between(reported[0], 150.0) <= 0.1 &&
+            reported = e2e::numbers(rig.rotctl({"p"}).out);
+            return reported.size() == 2 && e2e::angle_between(reported[0], 150.0) <= 0.1 &&
                    std::fabs(reported[1] - 40.0) <= 0.1;
         },
         10s);

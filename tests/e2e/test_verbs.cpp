@@ -13,25 +13,6 @@ using birdcage::sim::Variant;
 
 namespace {
 
-Options dish(Variant v, double az = 100.0, double el = 30.0) {
-    Options o;
-    o.variant = v;
-    o.time_scale = 50.0;
-    o.start_az = az;
-    o.start_el = el;
-    return o;
-}
-
-double angle_between(double a, double b) {
-    const double d = std::fmod(std::fabs(a - b), 360.0);
-    return d > 180.0 ? 360.0 - d : d;
-}
-
-bool settled_at(birdcage::sim::Emulator& d, double az, double el) {
-    const auto p = d.true_position();
-    return !d.moving() && angle_between(p.az, az) <= 0.1 && std::fabs(p.el - el) <= 0.1;
-}
-
 bool any_command_starting(const std::vector<std::string>& commands, const std::string& prefix) {
     return std::any_of(commands.begin(), commands.end(), [&](const std::string& c) { return c.rfind(prefix, 0) == 0; });
 }
@@ -52,9 +33,9 @@ TEST_CASE("K parks every variant with ordinary moves, never with stow", "[e2e][v
     };
     for (const ParkCase& c : cases) {
         DYNAMIC_SECTION(birdcage::sim::variant_name(c.variant)) {
-            e2e::Rig rig(dish(c.variant), c.model, {"-C", "leapfrog=0"});
+            e2e::Rig rig(e2e::dish_options(c.variant), c.model, {"-C", "leapfrog=0"});
             REQUIRE(rig.rotctl({"K"}).exit_code == 0);
-            CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), c.park_az, c.park_el); }, 30s));
+            CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), c.park_az, c.park_el); }, 30s));
             CHECK_FALSE(any_command_starting(rig.dish().received_commands(), "stow"));
             CHECK(rig.dish().hazards_received() == 0);
         }
@@ -63,16 +44,16 @@ TEST_CASE("K parks every variant with ordinary moves, never with stow", "[e2e][v
 
 TEST_CASE("R: homing on the G2; RPRT -11 (not available) where the firmware has none", "[e2e][verbs][reset]") {
     SECTION("Trav'ler HAL 2.05 has no homing command") {
-        e2e::Rig rig(dish(Variant::travler_hal205), 90102);
+        e2e::Rig rig(e2e::dish_options(Variant::travler_hal205), 90102);
         e2e::RotctldConnection client(rig.port());
         CHECK(client.ask("R 1", 1) == "RPRT -11\n");
         CHECK(client.ask("p", 2).find("RPRT") == std::string::npos);  // the session survives
         CHECK(rig.dish().hazards_received() == 0);
     }
     SECTION("G2: R 1 homes (h 1, h 0) and the dish ends at its home position") {
-        e2e::Rig rig(dish(Variant::carryout_g2, 100.0, 30.0), 90105);
+        e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 100.0, 30.0), 90105);
         REQUIRE(rig.rotctl({"R", "1"}).exit_code == 0);
-        CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 0.0, 65.0); }, 30s));
+        CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 0.0, 65.0); }, 30s));
         const auto commands = rig.dish().received_commands();
         CHECK(any_command_starting(commands, "h 1"));
         CHECK(any_command_starting(commands, "h 0"));
@@ -81,7 +62,7 @@ TEST_CASE("R: homing on the G2; RPRT -11 (not available) where the firmware has 
 }
 
 TEST_CASE("G2 with unhomed axes: moves refused with a clear error until R homes them", "[e2e][verbs][g2][homing]") {
-    Options o = dish(Variant::carryout_g2);
+    Options o = e2e::dish_options(Variant::carryout_g2);
     SECTION("booted unhomed") { o.g2_homed = false; }
     SECTION("boot skips homing (tracker disabled, g2_boot_homes off)") {
         o.already_booted = false;
@@ -98,14 +79,14 @@ TEST_CASE("G2 with unhomed axes: moves refused with a clear error until R homes 
 
     CHECK(client.ask("R 1", 1) == "RPRT 0\n");
     REQUIRE(e2e::wait_until([&] { return client.ask("s", 1).find("MOVING") == std::string::npos &&
-                                         settled_at(rig.dish(), 0.0, 65.0); }, 30s));
+                                         e2e::settled_at(rig.dish(), 0.0, 65.0); }, 30s));
     REQUIRE(e2e::wait_until([&] { return client.ask("P 150 40", 1) == "RPRT 0\n"; }, 10s));
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 150.0, 40.0); }, 30s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 150.0, 40.0); }, 30s));
     CHECK(rig.dish().hazards_received() == 0);
 }
 
 TEST_CASE("G2 with NVS 20 FALSE: a clear warning, and NVS is never written", "[e2e][verbs][g2][nvs]") {
-    Options o = dish(Variant::carryout_g2);
+    Options o = e2e::dish_options(Variant::carryout_g2);
     o.search_running = true;  // the emulator runs its search exactly when NVS 20 is FALSE
     e2e::Rig rig(o, 90105);
     e2e::RotctldConnection client(rig.port());
@@ -120,7 +101,7 @@ TEST_CASE("G2 with NVS 20 FALSE: a clear warning, and NVS is never written", "[e
 }
 
 TEST_CASE("s reports MOVING while a leg runs and nothing at rest", "[e2e][verbs][status]") {
-    Options o = dish(Variant::carryout_g2);
+    Options o = e2e::dish_options(Variant::carryout_g2);
     o.time_scale = 2.0;
     e2e::Rig rig(o, 90105, {"-C", "leapfrog=0"});
     e2e::RotctldConnection client(rig.port());
@@ -142,17 +123,17 @@ TEST_CASE("conf parameters: listed by rotctl -L, and they take effect", "[e2e][v
     CHECK(listed.out.find("75.00") != std::string::npos);  // the Pro's own elevation cap as the default
 
     SECTION("az_min/az_max clamp azimuth targets") {
-        e2e::Rig rig(dish(Variant::carryout_g2), 90105, {"-C", "leapfrog=0", "-C", "az_min=90", "-C", "az_max=270"});
+        e2e::Rig rig(e2e::dish_options(Variant::carryout_g2), 90105, {"-C", "leapfrog=0", "-C", "az_min=90", "-C", "az_max=270"});
         REQUIRE(rig.rotctl({"P", "300", "40"}).exit_code == 0);
-        CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 270.0, 40.0); }, 30s));
+        CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 270.0, 40.0); }, 30s));
     }
     SECTION("el_max narrows the elevation range") {
-        e2e::Rig rig(dish(Variant::travler_hal000), 90101, {"-C", "leapfrog=0", "-C", "el_max=50"});
+        e2e::Rig rig(e2e::dish_options(Variant::travler_hal000), 90101, {"-C", "leapfrog=0", "-C", "el_max=50"});
         REQUIRE(rig.rotctl({"P", "120", "80"}).exit_code == 0);
-        CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 120.0, 50.0); }, 30s));
+        CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, 50.0); }, 30s));
     }
     SECTION("variant=auto on a fixed model detects the real firmware") {
-        e2e::Rig rig(dish(Variant::carryout2003), 90105, {"-C", "variant=auto", "-C", "leapfrog=0"});
+        e2e::Rig rig(e2e::dish_options(Variant::carryout2003), 90105, {"-C", "variant=auto", "-C", "leapfrog=0"});
         e2e::RotctldConnection client(rig.port());
         CHECK(client.ask("_", 1).find("Carryout HAL 1.00.065 (auto-detected)") != std::string::npos);
         CHECK(rig.dish().hazards_received() == 0);

@@ -489,7 +489,10 @@ Status Controller::set_target(AzEl target) {
         if (commanded) {
             return axis_error(axis, *commanded, value) >= same_target_degrees;
         }
-        return !last_position_ || axis_error(axis, axis_value(*last_position_, axis), value) > profile_.arrival_tolerance;
+        // Nothing commanded on this axis yet: skip the leg only if the dish already reads the target
+        // (arrival_tolerance is for ending a leg in motion; skipping by it would leave up to that
+        // much pointing error, e.g. after a TV search stopped the dish near the target).
+        return !last_position_ || axis_error(axis, axis_value(*last_position_, axis), value) >= same_target_degrees;
     };
     Leg az_leg;
     az_leg.axis = Axis::azimuth;

@@ -23,29 +23,14 @@ constexpr double kG2ElMin = 18.0;
 constexpr double kG2ElMax = 65.0;
 
 birdcage::sim::Options g2_at(double az, double el, double time_scale = 50.0) {
-    birdcage::sim::Options o;
-    o.variant = Variant::carryout_g2;
-    o.time_scale = time_scale;
-    o.start_az = az;
-    o.start_el = el;
-    return o;
-}
-
-double angle_between(double a, double b) {
-    const double d = std::fmod(std::fabs(a - b), 360.0);
-    return d > 180.0 ? 360.0 - d : d;
-}
-
-bool settled_at(birdcage::sim::Emulator& dish, double az, double el, double tolerance = 0.1) {
-    const birdcage::sim::Pose p = dish.true_position();
-    return !dish.moving() && angle_between(p.az, az) <= tolerance && std::fabs(p.el - el) <= tolerance;
+    return e2e::dish_options(Variant::carryout_g2, az, el, time_scale);
 }
 
 // The position the backend reports matches the dish's true one (dish at rest).
 bool reports_true_position(e2e::RotctldConnection& client, birdcage::sim::Emulator& dish) {
     const auto p = client.get_position();
     const birdcage::sim::Pose truth = dish.true_position();
-    return p.ok && angle_between(p.az, truth.az) <= 0.1 && std::fabs(p.el - truth.el) <= 0.1;
+    return p.ok && e2e::angle_between(p.az, truth.az) <= 0.1 && std::fabs(p.el - truth.el) <= 0.1;
 }
 
 std::string temp_link(const char* what) {
@@ -86,13 +71,13 @@ TEST_CASE("faults: idle garbage and noise during tracking leave the position exa
     for (const auto& t : targets) {
         rig.dish().inject_garbage(64);
         REQUIRE(client.ask("P " + std::to_string(t[0]) + " " + std::to_string(t[1]), 1) == "RPRT 0\n");
-        REQUIRE(e2e::wait_until([&] { return settled_at(rig.dish(), t[0], t[1]); }, 8s));
+        REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), t[0], t[1]); }, 8s));
         REQUIRE(e2e::wait_until([&] { return reports_true_position(client, rig.dish()); }, 5s));
         // From then on every position reported at rest is the true one (errors allowed, garbage never).
         const auto until = Clock::now() + 1200ms;
         while (Clock::now() < until) {
             const auto p = client.get_position();
-            if (p.ok && (angle_between(p.az, t[0]) > 0.1 || std::fabs(p.el - t[1]) > 0.1)) {
+            if (p.ok && (e2e::angle_between(p.az, t[0]) > 0.1 || std::fabs(p.el - t[1]) > 0.1)) {
                 ++wrong_positions;
             }
             std::this_thread::sleep_for(100ms);
@@ -119,7 +104,7 @@ TEST_CASE("faults: inverted polarity makes p fail, restoring it recovers", "[e2e
             const auto p = client.get_position();
             // Never a position parsed from inverted bytes.
             if (p.ok) {
-                CHECK(angle_between(p.az, 100.0) <= 0.1);
+                CHECK(e2e::angle_between(p.az, 100.0) <= 0.1);
                 CHECK(std::fabs(p.el - 30.0) <= 0.1);
             }
             error = p.error;
@@ -135,7 +120,7 @@ TEST_CASE("faults: inverted polarity makes p fail, restoring it recovers", "[e2e
     WARN("inverted polarity: p errors after " << detect_s << " s; position back " << recover_s
                                               << " s after the pair is fixed");
     REQUIRE(client.ask("P 150 40", 1) == "RPRT 0\n");
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 150.0, 40.0); }, 8s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 150.0, 40.0); }, 8s));
     CHECK(rig.dish().hazards_received() == 0);
 }
 
@@ -155,7 +140,7 @@ TEST_CASE("faults: the dish reboots mid-move; the backend re-initialises and res
                 saw_error = true;
                 CHECK((p.error == "RPRT -5" || p.error == "RPRT -8"));
             }
-            return settled_at(rig.dish(), 300.0, 50.0);
+            return e2e::settled_at(rig.dish(), 300.0, 50.0);
         },
         9s);
     const double resume_s = seconds_since(t0);
@@ -168,7 +153,7 @@ TEST_CASE("faults: the dish reboots mid-move; the backend re-initialises and res
     CHECK(info.find("recovered 1 time") != std::string::npos);
     WARN("reboot mid-move: at the pending target again " << resume_s << " s after the power cycle (time scale 50)");
     REQUIRE(client.ask("P 200 40", 1) == "RPRT 0\n");
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 200.0, 40.0); }, 8s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 200.0, 40.0); }, 8s));
     CHECK(rig.dish().hazards_received() == 0);
 }
 
@@ -189,7 +174,7 @@ void reboot_mid_move_resumes(const RebootCase& v) {
     REQUIRE(e2e::wait_until([&] { return rig.dish().moving(); }, 5s));
     rig.dish().power_cycle();
     const auto t0 = Clock::now();
-    const bool resumed = e2e::wait_until([&] { return settled_at(rig.dish(), 200.0, 40.0, 0.6); }, 20s);
+    const bool resumed = e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 200.0, 40.0, 0.6); }, 20s);
     if (!resumed) {
         FAIL(rig.rotctld_log_text());
     }
@@ -252,7 +237,7 @@ TEST_CASE("faults: unplug and replug; rotctld and the client connection survive"
     WARN("unplug: p errors " << detect_s << " s after the hang-up; position back " << recover_s
                              << " s after the replug");
     REQUIRE(client.ask("P 150 40", 1) == "RPRT 0\n");
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 150.0, 40.0); }, 8s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 150.0, 40.0); }, 8s));
     CHECK(rig.rotctld_running());
     CHECK(rig.dish().hazards_received() == 0);
 }
@@ -266,13 +251,13 @@ TEST_CASE("faults: a motor stall is reported once with the firmware's message, t
     REQUIRE(e2e::wait_until([&] { return client.get_position().error == "RPRT -8"; }, 8s));
     const double report_s = seconds_since(t0);
     CHECK(rig.dish().fault_counters().motor_stalls == 1);
-    CHECK(angle_between(rig.dish().true_position().az, 200.0) > 10.0);  // stopped short
+    CHECK(e2e::angle_between(rig.dish().true_position().az, 200.0) > 10.0);  // stopped short
     CHECK(client.ask("_", 1).find("AZ MOTOR STALLED") != std::string::npos);
     // Reported once: the next p answers with the position again.
     CHECK(e2e::wait_until([&] { return reports_true_position(client, rig.dish()); }, 5s));
     // The same target again retries the move.
     REQUIRE(client.ask("P 200 30", 1) == "RPRT 0\n");
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 200.0, 30.0); }, 8s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 200.0, 30.0); }, 8s));
     WARN("motor stall: reported by p " << report_s << " s after the P");
     CHECK(rig.dish().hazards_received() == 0);
 }
@@ -291,7 +276,7 @@ TEST_CASE("faults: an output stall gives bounded errors, never a hang", "[e2e][f
         const auto p = client.get_position();
         slowest = std::max(slowest, seconds_since(asked));
         if (p.ok) {
-            CHECK(angle_between(p.az, 100.0) <= 0.1);
+            CHECK(e2e::angle_between(p.az, 100.0) <= 0.1);
         } else {
             if (!saw_error) {
                 first_error_s = seconds_since(t0);
@@ -312,7 +297,7 @@ TEST_CASE("faults: an output stall gives bounded errors, never a hang", "[e2e][f
         FAIL(rig.rotctld_log_text());
     }
     REQUIRE(client.ask("P 150 40", 1) == "RPRT 0\n");
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 150.0, 40.0); }, 8s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 150.0, 40.0); }, 8s));
     CHECK(rig.dish().hazards_received() == 0);
 }
 
@@ -321,7 +306,7 @@ TEST_CASE("faults: dropped bytes never produce a garbage position", "[e2e][fault
     e2e::RotctldConnection client(rig.port());
     rig.dish().set_drop_probability(0.03);
     REQUIRE(client.ask("P 130 40", 1) == "RPRT 0\n");
-    REQUIRE(e2e::wait_until([&] { return settled_at(rig.dish(), 130.0, 40.0); }, 9s));
+    REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 130.0, 40.0); }, 9s));
     REQUIRE(e2e::wait_until([&] { return reports_true_position(client, rig.dish()); }, 5s));
     int good = 0, errors = 0, wrong = 0;
     const auto until = Clock::now() + 2500ms;
@@ -329,7 +314,7 @@ TEST_CASE("faults: dropped bytes never produce a garbage position", "[e2e][fault
         const auto p = client.get_position();
         if (!p.ok) {
             ++errors;
-        } else if (angle_between(p.az, 130.0) <= 0.1 && std::fabs(p.el - 40.0) <= 0.1) {
+        } else if (e2e::angle_between(p.az, 130.0) <= 0.1 && std::fabs(p.el - 40.0) <= 0.1) {
             ++good;
         } else {
             ++wrong;
@@ -359,10 +344,10 @@ TEST_CASE("bad client input: refused or clamped, never a crash or a hazardous mo
     std::this_thread::sleep_for(200ms);
     REQUIRE(client.send_raw(" 40\n"));
     CHECK(client.read_lines(1) == "RPRT 0\n");
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 120.0, 40.0); }, 8s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, 40.0); }, 8s));
     // Elevation within the caps but beyond the G2's limit is clamped.
     CHECK(client.ask("P 120 89", 1) == "RPRT 0\n");
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 120.0, kG2ElMax); }, 8s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, kG2ElMax); }, 8s));
     CHECK(rig.rotctld_running());
     CHECK(elevation_stayed_in_limits(rig.dish()));
     CHECK(rig.dish().hazards_received() == 0);
@@ -388,7 +373,7 @@ TEST_CASE("bad client input: a flood of 1000 P on one connection", "[e2e][faults
         ok += line == "RPRT 0";
     }
     CHECK(ok == 1001);
-    CHECK(e2e::wait_until([&] { return settled_at(rig.dish(), 222.0, 33.0); }, 9s));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 222.0, 33.0); }, 9s));
     const long rss_after = rss_kib(rig.rotctld_pid());
     WARN("1001 P on one connection answered in " << answered_s << " s; rotctld RSS " << rss_before << " -> "
                                                  << rss_after << " KiB");

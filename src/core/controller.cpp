@@ -133,6 +133,17 @@ Status Controller::wait_for_boot() {
          "the console does not answer yet; waiting for the dish to finish booting (up to " +
              std::to_string(boot_budget_.count() / 1000) + " s)");
     auto next_progress = boot_progress_interval;
+    auto report_progress = [&] {
+        if (elapsed() < next_progress) {
+            return;
+        }
+        next_progress += boot_progress_interval;
+        emit(options_.log, LogLevel::verbose,
+             "still waiting for the dish to boot (" + elapsed_s() + " s" +
+                 (session_.last_boot_line().empty() ? std::string(", no boot output yet")
+                                                    : "; last boot output: " + session_.last_boot_line()) +
+                 ")");
+    };
     while (elapsed() < boot_budget_) {
         if (!session_.last_boot_line().empty() && is_boot_done(session_.last_boot_line())) {
             emit(options_.log, LogLevel::verbose, "boot finished (" + session_.last_boot_line() + ") after " +
@@ -154,14 +165,7 @@ Status Controller::wait_for_boot() {
         }
         if (!profile_.boot_complete_markers.empty()) {
             // The documented boot-complete line is the signal; nothing is sent to a booting dish.
-            if (elapsed() >= next_progress) {
-                next_progress += boot_progress_interval;
-                emit(options_.log, LogLevel::verbose,
-                     "still waiting for the dish to boot (" + elapsed_s() + " s" +
-                         (session_.last_boot_line().empty() ? std::string(", no boot output yet")
-                                                            : "; last boot output: " + session_.last_boot_line()) +
-                         ")");
-            }
+            report_progress();
             continue;
         }
         // No boot line is documented: offer a bare line ending and `?`, which a booted console answers.
@@ -175,14 +179,7 @@ Status Controller::wait_for_boot() {
         if (Status helped = answers_help(); helped || helped.code != Errc::timeout) {
             return helped;
         }
-        if (elapsed() >= next_progress) {
-            next_progress += boot_progress_interval;
-            emit(options_.log, LogLevel::verbose,
-                 "still waiting for the dish to boot (" + elapsed_s() + " s" +
-                     (session_.last_boot_line().empty() ? std::string(", no boot output yet")
-                                                        : "; last boot output: " + session_.last_boot_line()) +
-                     ")");
-        }
+        report_progress();
     }
     return Status{Errc::timeout, "the dish did not finish booting within " +
                                      std::to_string(boot_budget_.count() / 1000) +

@@ -55,11 +55,15 @@ bool contains(const Commands& commands, const std::string& command) {
 
 }  // namespace
 
-TEST_CASE("controller G2: initialise a booted dish at TRK> without ever sending q at the root") {
+// A fake G2 already wired to a controller on a fake clock: the set-up most G2 tests share.
+struct G2Bench {
     FakeG2 dish;
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeTransport wire{[this](const std::string& c) { return dish.respond(c); }};
     FakeClock clock;
-    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    Controller controller{wire, options_for(VariantId::carryout_g2, clock)};
+};
+
+TEST_CASE_METHOD(G2Bench, "controller G2: initialise a booted dish at TRK> without ever sending q at the root") {
     REQUIRE(controller.initialize());
     CHECK(wire.commands() == Commands{"", "mot", "a"});
     CHECK(controller.initialised());
@@ -125,11 +129,7 @@ TEST_CASE("controller: boot wait is bounded by boot_timeout") {
     CHECK_FALSE(controller.initialised());
 }
 
-TEST_CASE("controller G2: moves one axis at a time, alternating the first axis") {
-    FakeG2 dish;
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
-    FakeClock clock;
-    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+TEST_CASE_METHOD(G2Bench, "controller G2: moves one axis at a time, alternating the first axis") {
     REQUIRE(controller.initialize());
 
     std::size_t mark = wire.commands().size();
@@ -173,11 +173,7 @@ TEST_CASE("controller G2: leapfrog leads both axes against the last known positi
     CHECK(controller.current_target()->az == Approx(190));  // the target, not the led command
 }
 
-TEST_CASE("controller: target validation and clamping") {
-    FakeG2 dish;
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
-    FakeClock clock;
-    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+TEST_CASE_METHOD(G2Bench, "controller: target validation and clamping") {
     REQUIRE(controller.initialize());
     CHECK(controller.set_target({std::nan(""), 45}).code == Errc::invalid_argument);
     CHECK(controller.set_target({180, 1.0 / 0.0}).code == Errc::invalid_argument);
@@ -259,11 +255,7 @@ TEST_CASE("controller G2: a leg that keeps creeping is abandoned after 2 x estim
     CHECK(controller.idle());
 }
 
-TEST_CASE("controller: cancel_pending drops legs not yet sent; the leg in flight finishes") {
-    FakeG2 dish;
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
-    FakeClock clock;
-    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+TEST_CASE_METHOD(G2Bench, "controller: cancel_pending drops legs not yet sent; the leg in flight finishes") {
     REQUIRE(controller.initialize());
     const std::size_t mark = wire.commands().size();
     REQUIRE(controller.set_target({190, 50}));
@@ -291,11 +283,7 @@ TEST_CASE("controller G2: unhomed axes refuse moves and say so") {
     }
 }
 
-TEST_CASE("controller G2: a reboot seen during operation requires re-initialisation") {
-    FakeG2 dish;
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
-    FakeClock clock;
-    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+TEST_CASE_METHOD(G2Bench, "controller G2: a reboot seen during operation requires re-initialisation") {
     REQUIRE(controller.initialize());
     REQUIRE(controller.set_target({190, 50}));
     clock.now += 100ms;

@@ -13,6 +13,25 @@ namespace bench {
 
 using Clock = std::chrono::steady_clock;
 
+namespace {
+
+// How far a reported position is from where the dish truly was while the question was in flight:
+// the closest point of the true path between the two readings (a straight line in az/el over the
+// sub-millisecond round trip). Comparing against one reading taken after the reply would charge
+// the backend for the round trip times the time scale (at 5x and 65 deg/s, ~0.04 deg).
+double distance_to_path(Direction reported, Direction before, Direction after) {
+    constexpr int steps = 16;
+    const double daz = az_difference(after.az, before.az);
+    double best = angle_between(reported, before);
+    for (int i = 1; i <= steps; ++i) {
+        const double f = static_cast<double>(i) / steps;
+        best = std::min(best, angle_between(reported, {before.az + f * daz, before.el + f * (after.el - before.el)}));
+    }
+    return best;
+}
+
+} // namespace
+
 GpredictClient::GpredictClient(const Pass& pass, ClientSettings settings, const birdcage::sim::Emulator& dish,
                                double time_scale, int rotctld_port, double pass_clock_start)
     : pass_(pass), settings_(settings), dish_(dish), time_scale_(time_scale), port_(rotctld_port),
@@ -101,16 +120,18 @@ void GpredictClient::io_loop(double end) {
             }
         }
         sleep_sim(settings_.io_sleep_s);
+        const birdcage::sim::Pose truth_before = dish_.true_position();
         const auto asked_at = Clock::now();
         const std::string reply = connection.ask("p", 2);
         record_.p_round_trip_ms.push_back(elapsed_ms(asked_at));
-        const birdcage::sim::Pose truth = dish_.true_position();
+        const birdcage::sim::Pose truth_after = dish_.true_position();
         char* rest = nullptr;
         const double az = std::strtod(reply.c_str(), &rest);
         const bool parsed = rest != reply.c_str() && *rest == '\n';
         const double el = parsed ? std::strtod(rest + 1, nullptr) : 0.0;
         if (parsed && reply.rfind("RPRT", 0) != 0) {
-            record_.p_error_deg.push_back(angle_between({az, el}, {truth.az, truth.el}));
+            record_.p_error_deg.push_back(
+                distance_to_path({az, el}, {truth_before.az, truth_before.el}, {truth_after.az, truth_after.el}));
             std::lock_guard lock(mutex_);
             read_back_ = {az, el};
         } else {

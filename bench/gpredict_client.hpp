@@ -40,7 +40,8 @@ struct ClientRecord {
     std::vector<TimedDirection> sent_targets;   // every P
     std::vector<double> p_round_trip_ms;        // real time
     std::vector<double> set_round_trip_ms;      // real time
-    std::vector<double> p_error_deg;            // reported position against the dish's true one
+    std::vector<double> p_error_deg;            // reported position against the dish's true path
+                                                // during the round trip (see distance_to_path)
     unsigned failed_replies = 0;
 };
 

@@ -1,16 +1,22 @@
 // Tracking benchmark (issue 5): realistic LEO passes, a Gpredict-like client driving the stock
 // rotctld with the backend preloaded, the dish emulator's true position as ground truth.
-// Prints a table and writes CSV (summary + one trace per run) for bench/plot.py.
+// Prints a table and writes CSV (summary, pooled latency, one trace per run) for bench/plot.py.
 // Measures and reports; asserts nothing. See docs/benchmarks.md.
 //
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
-//                  [--modes none,leapfrog] [--thresholds 0.5,5] [--window SECONDS] [--out DIR]
+//                  [--modes none,leapfrog,predictive] [--thresholds 0.5,5] [--window SECONDS]
+//                  [--out DIR] [--passes-dir DIR]
+//
+// Every run passes `-C time_scale=K` to rotctld, so the backend's clock and polling periods run at
+// the emulator's pace and the time scale no longer distorts what the backend does; the program
+// checks first that the backend it preloads knows that parameter (and `pointing`).
 #include "gpredict_client.hpp"
 #include "harness.hpp"
 #include "pass.hpp"
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -42,12 +48,15 @@ struct VariantRow {
     int baud;
     double el_min, el_max;
     const char* position_exchange;  // bytes on the wire for one `a` query, both directions
+    // Mechanical azimuth window (README model table): decides whether one continuous branch could
+    // have held a pass, i.e. whether an unwind was avoidable.
+    double az_lo, az_hi;
 };
 const VariantRow variant_rows[] = {
     {"g2", Variant::carryout_g2, 90105, "Carryout G2", 115200, 18.0, 65.0,
-     "a\r" "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>"},
+     "a\r" "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>", -423.33, 23.33},
     {"hal205", Variant::travler_hal205, 90102, "Trav'ler HAL 2.05", 57600, 15.0, 90.0,
-     "a\r" "a\r\nAZ = 180.00 EL = 45.00 SK = 0.00\r\nMOTOR>"},
+     "a\r" "a\r\nAZ = 180.00 EL = 45.00 SK = 0.00\r\nMOTOR>", 0.0, 455.0},
 };
 
 double wire_floor_ms(const VariantRow& v) {
@@ -55,17 +64,20 @@ double wire_floor_ms(const VariantRow& v) {
     return bytes * 10.0 / v.baud * 1000.0;
 }
 
-// Pointing modes: one row per conf setting. The predictive mode of issue 5 becomes one more row,
-// e.g. {"predictive", "predictive", {"-C", "pointing=predictive"}}.
+// Pointing modes: one row per setting of the backend's `pointing` conf parameter.
 struct ModeRow {
     const char* key;
     const char* label;
     std::vector<std::string> rotctld_args;
 };
 const std::vector<ModeRow> mode_rows = {
-    {"none", "no compensation", {"-C", "leapfrog=0"}},
-    {"leapfrog", "leapfrog (seed thresholds, EL bug fixed)", {"-C", "leapfrog=1"}},
+    {"none", "no compensation", {"-C", "pointing=none"}},
+    {"leapfrog", "leapfrog (seed thresholds, EL bug fixed)", {"-C", "pointing=leapfrog"}},
+    {"predictive", "predictive (target motion from the P stream)", {"-C", "pointing=predictive"}},
 };
+
+// Re-acquired after the elevation cap: the first moment the error is back within this.
+constexpr double reacquire_within_deg = 1.0;
 
 struct Options {
     double scale = 10.0;
@@ -73,7 +85,7 @@ struct Options {
     std::vector<std::string> passes = {"iss-20", "iss-45", "iss-70", "iss-85",
                                        "sso-20", "sso-45", "sso-70", "sso-85"};
     std::vector<std::string> variants = {"g2", "hal205"};
-    std::vector<std::string> modes = {"none", "leapfrog"};
+    std::vector<std::string> modes = {"none", "leapfrog", "predictive"};
     std::vector<double> thresholds = {0.5, 5.0};
     double window_s = 0.0;  // > 0: only this many seconds around the TCA
     std::string out = "bench-out";
@@ -115,8 +127,18 @@ struct RunResult {
     double tracked_s = 0;    // seconds of the pass inside the limits
     std::size_t motor_commands = 0;
     std::size_t set_commands = 0;  // P sent by the client
-    double extra_az_travel = 0;    // dish azimuth travel beyond the satellite's, degrees
-    bool unwound = false;
+    // The tracked window: from the satellite rising to the dish's lowest elevation until it sets
+    // below it again (time above an elevation cap included: the dish still follows azimuth).
+    double prepass_az_travel = 0;  // dish azimuth travel before the window (pre-positioning), degrees
+    double extra_az_travel = 0;    // dish azimuth travel beyond the satellite's inside the window
+    bool unwound = false;          // a mid-pass unwind: extra_az_travel > 180 deg
+    bool one_branch = false;       // one branch of the mechanical AZ window holds the whole window
+    // Above the elevation cap: error minus the unavoidable (satellite el - cap), and the seconds
+    // from the satellite dropping back below the cap until the error is within 1 deg (NaN: the run
+    // has no such drop; -1: never re-acquired before the run ended).
+    double above_cap_s = 0;
+    Figures cap_excess;
+    double reacquire_s = std::nan("");
     std::vector<double> p_ms, set_ms, p_error_deg;
     unsigned failed_replies = 0;
     double wall_s = 0;
@@ -185,7 +207,8 @@ std::string run_name(const RunSpec& s) {
 }
 
 RunResult run_one(const RunSpec& spec, const Options& options) {
-    RunResult result{spec, {}, 0, 0, 0, 0, false, {}, {}, {}, 0, 0, {}};
+    RunResult result;
+    result.spec = spec;
     const auto wall_start = std::chrono::steady_clock::now();
     const bench::Pass& pass = *spec.pass;
     const VariantRow& v = *spec.variant;
@@ -208,9 +231,15 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
 
     // One rig comes up at a time: e2e::free_tcp_port() releases the port it found, so two rigs
     // starting together could be handed the same one.
+    // The backend's clock runs at the emulator's pace (conf time_scale), so its polling and leg
+    // chaining happen at the same simulated moments as they would at real time.
+    std::vector<std::string> rotctld_args = spec.mode->rotctld_args;
+    char scale_text[48];
+    std::snprintf(scale_text, sizeof scale_text, "time_scale=%g", options.scale);
+    rotctld_args.insert(rotctld_args.end(), {"-C", scale_text});
     static std::mutex rig_start_mutex;
     std::unique_lock start_lock(rig_start_mutex);
-    e2e::Rig rig(dish, v.model, spec.mode->rotctld_args);
+    e2e::Rig rig(dish, v.model, rotctld_args);
     start_lock.unlock();
     const std::size_t commands_before = rig.dish().received_commands().size();
 
@@ -245,39 +274,100 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
         return Direction{history[h].az, history[h].el};
     };
 
-    std::filesystem::create_directories(options.out + "/runs");
-    std::ofstream trace(options.out + "/runs/" + run_name(spec) + ".csv");
-    trace << "t,sat_az,sat_el,dish_az,dish_el,error_deg,in_limits\n";
-    std::vector<double> errors;
+    // The truth on a 0.1 s grid: an unwind (>= 65 deg/s, so <= 6.5 deg per step) is seen whole
+    // when azimuth steps are folded the short way.
+    struct GridPoint {
+        double t;
+        Direction sat, dish;
+        double error;
+    };
+    std::vector<GridPoint> grid;
     constexpr double grid_s = 0.1;
-    double dish_travel = 0, sat_travel = 0;
-    Direction previous_dish = dish_at(start), previous_sat = pass.at(start);
-    const double initial_offset = std::fabs(bench::az_difference(previous_dish.az, previous_sat.az));
-    int row = 0;
-    for (double t = start; t <= end; t += grid_s, ++row) {
-        const Direction sat = pass.at(t);
-        const Direction pointing = dish_at(t);
-        const double error = bench::angle_between(sat, pointing);
-        const bool inside = sat.el >= v.el_min && sat.el <= v.el_max;
-        if (inside) {
-            errors.push_back(error);
+    for (int i = 0; start + i * grid_s <= end; ++i) {
+        const double t = start + i * grid_s;
+        const Direction sat = pass.at(t), pointing = dish_at(t);
+        grid.push_back({t, sat, pointing, bench::angle_between(sat, pointing)});
+    }
+    auto inside = [&v](const GridPoint& g) { return g.sat.el >= v.el_min && g.sat.el <= v.el_max; };
+    auto risen = [&v](const GridPoint& g) { return g.sat.el >= v.el_min; };
+    auto above_cap = [&v](const GridPoint& g) { return g.sat.el > v.el_max; };
+
+    std::vector<double> errors, excess;
+    for (const GridPoint& g : grid) {
+        if (inside(g)) {
+            errors.push_back(g.error);
         }
-        dish_travel += std::fabs(bench::az_difference(pointing.az, previous_dish.az));
-        sat_travel += std::fabs(bench::az_difference(sat.az, previous_sat.az));
-        previous_dish = pointing;
-        previous_sat = sat;
-        if (row % 2 == 0) {  // 0.2 s in the file is plenty for plots
-            char line[160];
-            std::snprintf(line, sizeof line, "%.2f,%.3f,%.3f,%.3f,%.3f,%.4f,%d\n", t, sat.az, sat.el, pointing.az,
-                          pointing.el, error, inside ? 1 : 0);
-            trace << line;
+        if (above_cap(g)) {
+            excess.push_back(g.error - (g.sat.el - v.el_max));
         }
     }
-    // Dish travel counted on the 0.1 s grid: an unwind (≥ 65 °/s, so ≤ 6.5° per step) is seen whole.
-    result.extra_az_travel = dish_travel - sat_travel - initial_offset;
-    result.unwound = result.extra_az_travel > 180.0;
     result.error = figures_of(errors);
     result.tracked_s = static_cast<double>(errors.size()) * grid_s;
+    result.cap_excess = figures_of(excess);
+    result.above_cap_s = static_cast<double>(excess.size()) * grid_s;
+
+    // Azimuth travel: before the tracked window (pre-positioning, a branch change there costs no
+    // tracking) and inside it, where more than 180 deg beyond the satellite's own travel is a
+    // mid-pass unwind.
+    const auto first_risen = std::find_if(grid.begin(), grid.end(), risen);
+    const auto last_risen = std::find_if(grid.rbegin(), grid.rend(), risen);
+    if (first_risen != grid.end()) {
+        const std::size_t i0 = static_cast<std::size_t>(first_risen - grid.begin());
+        const std::size_t i1 = grid.size() - 1 - static_cast<std::size_t>(last_risen - grid.rbegin());
+        double dish_travel = 0, sat_travel = 0;
+        for (std::size_t i = 1; i < grid.size(); ++i) {
+            const double d_dish = std::fabs(bench::az_difference(grid[i].dish.az, grid[i - 1].dish.az));
+            if (i <= i0) {
+                result.prepass_az_travel += d_dish;
+            } else if (i <= i1) {
+                dish_travel += d_dish;
+                sat_travel += std::fabs(bench::az_difference(grid[i].sat.az, grid[i - 1].sat.az));
+            }
+        }
+        const double offset_at_rise = std::fabs(bench::az_difference(grid[i0].dish.az, grid[i0].sat.az));
+        result.extra_az_travel = dish_travel - sat_travel - offset_at_rise;
+        result.unwound = result.extra_az_travel > 180.0;
+        // The satellite's azimuth over the window, unwrapped: does any whole-turn shift of it fit
+        // inside the mechanical window?
+        double az = grid[i0].sat.az, lo = az, hi = az;
+        for (std::size_t i = i0 + 1; i <= i1; ++i) {
+            az += bench::az_difference(grid[i].sat.az, grid[i - 1].sat.az);
+            lo = std::min(lo, az);
+            hi = std::max(hi, az);
+        }
+        for (int n = -3; n <= 3 && !result.one_branch; ++n) {
+            result.one_branch = lo + 360.0 * n >= v.az_lo && hi + 360.0 * n <= v.az_hi;
+        }
+    }
+
+    // Re-acquisition after the cap: from the last moment the satellite drops back below it.
+    for (std::size_t i = grid.size(); i-- > 1;) {
+        if (above_cap(grid[i - 1]) && !above_cap(grid[i])) {
+            result.reacquire_s = -1.0;
+            for (std::size_t k = i; k < grid.size(); ++k) {
+                if (grid[k].error <= reacquire_within_deg) {
+                    result.reacquire_s = grid[k].t - grid[i].t;
+                    break;
+                }
+            }
+            break;
+        }
+    }
+
+    std::filesystem::create_directories(options.out + "/runs");
+    std::ofstream trace(options.out + "/runs/" + run_name(spec) + ".csv");
+    trace << "t,sat_az,sat_el,dish_az,dish_el,error_deg,in_limits,cap_excess_deg\n";
+    for (std::size_t i = 0; i < grid.size(); i += 2) {  // 0.2 s in the file is plenty for plots
+        const GridPoint& g = grid[i];
+        char line[192];
+        int n = std::snprintf(line, sizeof line, "%.2f,%.3f,%.3f,%.3f,%.3f,%.4f,%d,", g.t, g.sat.az, g.sat.el,
+                              g.dish.az, g.dish.el, g.error, inside(g) ? 1 : 0);
+        if (above_cap(g) && n > 0 && static_cast<std::size_t>(n) < sizeof line) {
+            std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), "%.4f",
+                          g.error - (g.sat.el - v.el_max));
+        }
+        trace << line << '\n';
+    }
 
     std::ofstream targets(options.out + "/runs/" + run_name(spec) + "_P.csv");
     targets << "t,az,el\n";
@@ -288,21 +378,95 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     return result;
 }
 
+std::string cap_text(const RunResult& r) {
+    if (r.cap_excess.n == 0) {
+        return "-";
+    }
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f", r.cap_excess.max);
+    return text;
+}
+
+std::string reacquire_text(const RunResult& r) {
+    if (std::isnan(r.reacquire_s)) {
+        return "-";
+    }
+    if (r.reacquire_s < 0) {
+        return "never";
+    }
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f", r.reacquire_s);
+    return text;
+}
+
 void print_header() {
-    std::printf("%-7s %-7s %-9s %4s | %6s %6s %6s | %5s %4s %7s | %6s %6s %6s | %6s %6s | %6s\n", "pass", "variant",
-                "mode", "thr", "RMS", "p95", "max", "motor", "P", "xtraAz", "p med", "p p99", "p max", "P med",
-                "P p99", "|p|p95");
-    std::printf("%-7s %-7s %-9s %4s | %6s %6s %6s | %5s %4s %7s | %6s %6s %6s | %6s %6s | %6s\n", "", "", "", "deg",
-                "deg", "deg", "deg", "cmds", "sent", "deg", "ms", "ms", "ms", "ms", "ms", "deg");
+    std::printf("%-7s %-7s %-10s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
+                "pass", "variant", "mode", "thr", "RMS", "p95", "max", "motor", "P", "preAz", "xtraAz", "U", "capExc",
+                "reacq", "p med", "p p99", "p max", "P med", "P p99", "|p|p95");
+    std::printf("%-7s %-7s %-10s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
+                "", "", "", "deg", "deg", "deg", "deg", "cmds", "sent", "deg", "deg", "", "max", "s", "ms", "ms", "ms",
+                "ms", "ms", "deg");
 }
 
 void print_row(const RunResult& r) {
     const Figures p = figures_of(r.p_ms), set = figures_of(r.set_ms), pe = figures_of(r.p_error_deg);
-    std::printf("%-7s %-7s %-9s %4g | %6.3f %6.3f %6.3f | %5zu %4zu %6.0f%s | %6.3f %6.3f %6.3f | %6.3f %6.3f | %6.3f\n",
+    std::printf("%-7s %-7s %-10s %4g | %6.3f %6.3f %6.3f | %5zu %4zu | %6.0f %7.0f %2s | %6s %5s | %6.3f %6.3f %6.3f | "
+                "%6.3f %6.3f | %6.3f\n",
                 r.spec.pass->name().c_str(), r.spec.variant->key, r.spec.mode->key, r.spec.threshold, r.error.rms,
-                r.error.p95, r.error.max, r.motor_commands, r.set_commands, r.extra_az_travel, r.unwound ? "U" : " ",
+                r.error.p95, r.error.max, r.motor_commands, r.set_commands, r.prepass_az_travel, r.extra_az_travel,
+                r.unwound ? (r.one_branch ? "UA" : "U") : "", cap_text(r).c_str(), reacquire_text(r).c_str(),
                 p.median, p.p99, p.max, set.median, set.p99, pe.p95);
     std::fflush(stdout);
+}
+
+// A failed rig start carries rotctld's whole -vvvv log; what matters is its first line and the
+// lines that say what went wrong.
+std::string short_error(const std::string& text) {
+    std::istringstream lines(text);
+    std::string line, out;
+    int kept = 0;
+    bool first = true;
+    while (std::getline(lines, line)) {
+        const bool telling = line.find("conf") != std::string::npos || line.find("rror") != std::string::npos ||
+                             line.find("nvalid") != std::string::npos || line.find("token") != std::string::npos;
+        if (first || (telling && kept < 6)) {
+            out += (first ? "" : "\n    ") + line;
+            kept += first ? 0 : 1;
+            first = false;
+        }
+    }
+    return out;
+}
+
+// The conf parameters every run relies on must exist in the backend that is preloaded: an older
+// build would make every rotctld refuse to start. `rotctl -L` lists them (it then fails to open
+// the port given, which is what we want).
+bool backend_has_conf(const std::vector<std::string>& keys, int model, std::string* missing) {
+    const e2e::CommandResult listing =
+        e2e::run({"/usr/bin/rotctl", "-m", std::to_string(model), "-r", "/nonexistent/birdcage-bench", "-L"},
+                 e2e::preload_environment(), std::chrono::seconds(30));
+    for (const std::string& key : keys) {
+        if (listing.out.find("\n" + key + ": ") == std::string::npos && listing.out.rfind(key + ": ", 0) != 0) {
+            *missing += (missing->empty() ? "" : ", ") + key;
+        }
+    }
+    return missing->empty();
+}
+
+struct Pooled {
+    Figures p, set, p_error;
+};
+
+Pooled pool(const std::vector<RunResult>& results, const VariantRow& v, const ModeRow& m) {
+    std::vector<double> p, set, pe;
+    for (const RunResult& r : results) {
+        if (r.error_text.empty() && r.spec.variant == &v && r.spec.mode == &m) {
+            p.insert(p.end(), r.p_ms.begin(), r.p_ms.end());
+            set.insert(set.end(), r.set_ms.begin(), r.set_ms.end());
+            pe.insert(pe.end(), r.p_error_deg.begin(), r.p_error_deg.end());
+        }
+    }
+    return {figures_of(p), figures_of(set), figures_of(pe)};
 }
 
 } // namespace
@@ -316,8 +480,13 @@ int main(int argc, char** argv) {
         return 2;
     }
     std::vector<bench::Pass> passes;
-    for (const std::string& name : options.passes) {
-        passes.push_back(bench::Pass::load(options.passes_dir + "/" + name + ".csv"));
+    try {
+        for (const std::string& name : options.passes) {
+            passes.push_back(bench::Pass::load(options.passes_dir + "/" + name + ".csv"));
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "tracking_bench: %s\n", e.what());
+        return 2;
     }
     std::vector<RunSpec> specs;
     for (const bench::Pass& pass : passes) {
@@ -341,11 +510,29 @@ int main(int argc, char** argv) {
             }
         }
     }
+    if (specs.empty()) {
+        std::fprintf(stderr, "tracking_bench: nothing to run\n");
+        return 2;
+    }
+    std::string missing;
+    if (!backend_has_conf({"pointing", "time_scale"}, specs.front().variant->model, &missing)) {
+        std::fprintf(stderr,
+                     "tracking_bench: the backend %s has no conf parameter %s; every rotctld would refuse to start.\n"
+                     "Rebuild it from a tree that has `pointing` and `time_scale`.\n",
+                     e2e::backend_library().c_str(), missing.c_str());
+        return 2;
+    }
 
-    std::printf("tracking benchmark: %zu runs, time scale %gx, %d in parallel%s\n", specs.size(), options.scale,
-                options.jobs, options.window_s > 0 ? (", window " + std::to_string(options.window_s) + " s around TCA").c_str() : "");
+    std::printf("tracking benchmark: %zu runs, time scale %gx (emulator and backend, -C time_scale=%g), %d in "
+                "parallel%s\n",
+                specs.size(), options.scale, options.scale, options.jobs,
+                options.window_s > 0 ? (", window " + std::to_string(options.window_s) + " s around TCA").c_str() : "");
     std::printf("error = great-circle angle satellite vs true dish direction while the satellite is inside the dish's\n"
-                "elevation limits; U = the dish azimuth unwound (travelled > 180 deg more than the satellite)\n");
+                "elevation limits; preAz = dish AZ travel before the satellite rose to the lowest elevation\n"
+                "(pre-positioning); xtraAz = dish AZ travel beyond the satellite's after that; U = mid-pass unwind\n"
+                "(xtraAz > 180), UA = avoidable one (one branch of the AZ window holds the pass); capExc = max of\n"
+                "error - (sat el - cap) above the EL cap; reacq = s from dropping below the cap to error <= %g deg\n",
+                reacquire_within_deg);
     print_header();
 
     std::vector<RunResult> results(specs.size());
@@ -363,7 +550,7 @@ int main(int argc, char** argv) {
                     results[i].error_text = "rotctld did not answer the client";
                 } catch (const std::exception& e) {
                     results[i].spec = specs[i];
-                    results[i].error_text = e.what();
+                    results[i].error_text = short_error(e.what());
                 }
             }
             std::lock_guard lock(print_mutex);
@@ -385,50 +572,73 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(options.out);
     std::ofstream summary(options.out + "/summary.csv");
     summary << "pass,peak_el,crosses_north,variant,mode,threshold,scale,window_s,tracked_s,rms,p95,max,motor_commands,"
-               "set_commands,extra_az_travel,unwound,p_median_ms,p_p95_ms,p_p99_ms,p_max_ms,P_median_ms,P_p95_ms,"
-               "P_p99_ms,P_max_ms,p_error_p95_deg,p_error_max_deg,wire_floor_ms,failed_replies,wall_s\n";
+               "set_commands,prepass_az_travel,extra_az_travel,unwound,one_branch,above_cap_s,cap_excess_p95,"
+               "cap_excess_max,reacquire_s,p_median_ms,p_p95_ms,p_p99_ms,p_max_ms,P_median_ms,P_p95_ms,P_p99_ms,"
+               "P_max_ms,p_error_p95_deg,p_error_p99_deg,p_error_max_deg,wire_floor_ms,failed_replies,wall_s\n";
     for (const RunResult& r : results) {
         if (!r.error_text.empty()) {
             continue;
         }
         const Figures p = figures_of(r.p_ms), set = figures_of(r.set_ms), pe = figures_of(r.p_error_deg);
-        char line[512];
+        // Empty fields: no time above the cap, or no drop below it inside the run.
+        char cap_p95[24] = "", cap_max[24] = "", reacquire[24] = "";
+        if (r.cap_excess.n > 0) {
+            std::snprintf(cap_p95, sizeof cap_p95, "%.4f", r.cap_excess.p95);
+            std::snprintf(cap_max, sizeof cap_max, "%.4f", r.cap_excess.max);
+        }
+        if (!std::isnan(r.reacquire_s)) {
+            std::snprintf(reacquire, sizeof reacquire, "%.1f", r.reacquire_s);
+        }
+        char line[768];
         std::snprintf(line, sizeof line,
-                      "%s,%.2f,%d,%s,%s,%g,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,"
-                      "%.4f,%.4f,%.4f,%.2f,%u,%.1f\n",
+                      "%s,%.2f,%d,%s,%s,%g,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%.1f,%d,%d,%.1f,%s,%s,%s,%.4f,%.4f,"
+                      "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%u,%.1f\n",
                       r.spec.pass->name().c_str(), r.spec.pass->peak_el(), r.spec.pass->crosses_north() ? 1 : 0,
                       r.spec.variant->key, r.spec.mode->key, r.spec.threshold, options.scale, options.window_s,
                       r.tracked_s, r.error.rms, r.error.p95, r.error.max, r.motor_commands, r.set_commands,
-                      r.extra_az_travel, r.unwound ? 1 : 0, p.median, p.p95, p.p99, p.max, set.median, set.p95,
-                      set.p99, set.max, pe.p95, pe.max, wire_floor_ms(*r.spec.variant), r.failed_replies, r.wall_s);
+                      r.prepass_az_travel, r.extra_az_travel, r.unwound ? 1 : 0, r.one_branch ? 1 : 0, r.above_cap_s,
+                      cap_p95, cap_max, reacquire, p.median, p.p95, p.p99, p.max, set.median, set.p95, set.p99,
+                      set.max, pe.p95, pe.p99, pe.max, wire_floor_ms(*r.spec.variant), r.failed_replies, r.wall_s);
         summary << line;
     }
 
-    // Latency over every run of a variant: the figures the goals are stated in.
-    std::printf("\nlatency through rotctld per variant (all runs pooled; wire floor = one `a` query at the baud rate)\n");
-    std::printf("%-18s %-3s %7s %7s %7s %7s %7s | %s\n", "variant", "cmd", "n", "median", "p95", "p99", "max",
-                "wire floor");
+    // Latency per variant and mode, every `p` and `P` of those runs pooled: the figures the goals
+    // are stated in.
+    std::ofstream latency(options.out + "/latency.csv");
+    latency << "variant,mode,scale,runs,p_n,p_median_ms,p_p95_ms,p_p99_ms,p_max_ms,P_n,P_median_ms,P_p95_ms,P_p99_ms,"
+               "P_max_ms,wire_floor_ms,p_error_median_deg,p_error_p95_deg,p_error_p99_deg,p_error_max_deg\n";
+    std::printf("\nlatency through rotctld per variant and mode (all runs pooled; wire floor = one `a` query at the "
+                "baud rate)\n");
+    std::printf("%-18s %-10s %-3s %7s %9s %9s %9s %9s | %s\n", "variant", "mode", "cmd", "n", "median", "p95", "p99",
+                "max", "wire floor");
     for (const VariantRow& v : variant_rows) {
-        std::vector<double> p, set, pe;
-        for (const RunResult& r : results) {
-            if (r.error_text.empty() && r.spec.variant == &v) {
-                p.insert(p.end(), r.p_ms.begin(), r.p_ms.end());
-                set.insert(set.end(), r.set_ms.begin(), r.set_ms.end());
-                pe.insert(pe.end(), r.p_error_deg.begin(), r.p_error_deg.end());
+        for (const ModeRow& m : mode_rows) {
+            const Pooled f = pool(results, v, m);
+            if (f.p.n == 0) {
+                continue;
             }
+            const auto runs = std::count_if(results.begin(), results.end(), [&](const RunResult& r) {
+                return r.error_text.empty() && r.spec.variant == &v && r.spec.mode == &m;
+            });
+            for (auto [label, data] : {std::pair{"p", &f.p}, std::pair{"P", &f.set}}) {
+                std::printf("%-18s %-10s %-3s %7zu %7.3fms %7.3fms %7.3fms %7.3fms | %.2f ms (%d baud)\n", v.label,
+                            m.key, label, data->n, data->median, data->p95, data->p99, data->max, wire_floor_ms(v),
+                            v.baud);
+            }
+            std::printf("%-18s %-10s %-3s %7zu reported-vs-true position: median %.3f, p95 %.3f, p99 %.3f, max %.3f "
+                        "deg\n",
+                        v.label, m.key, "p", f.p_error.n, f.p_error.median, f.p_error.p95, f.p_error.p99,
+                        f.p_error.max);
+            char line[512];
+            std::snprintf(line, sizeof line,
+                          "%s,%s,%g,%ld,%zu,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%.4f,%.4f,%.2f,%.4f,%.4f,%.4f,%.4f\n",
+                          v.key, m.key, options.scale, static_cast<long>(runs), f.p.n, f.p.median, f.p.p95, f.p.p99,
+                          f.p.max, f.set.n, f.set.median, f.set.p95, f.set.p99, f.set.max, wire_floor_ms(v),
+                          f.p_error.median, f.p_error.p95, f.p_error.p99, f.p_error.max);
+            latency << line;
         }
-        if (p.empty()) {
-            continue;
-        }
-        for (auto [label, data] : {std::pair{"p", &p}, std::pair{"P", &set}}) {
-            const Figures f = figures_of(*data);
-            std::printf("%-18s %-3s %7zu %6.3fms %6.3fms %6.3fms %6.3fms | %.2f ms (%d baud)\n", v.label, label, f.n,
-                        f.median, f.p95, f.p99, f.max, wire_floor_ms(v), v.baud);
-        }
-        const Figures f = figures_of(pe);
-        std::printf("%-18s %-3s %7zu reported-vs-true position: median %.3f deg, p95 %.3f deg, max %.3f deg\n", v.label,
-                    "p", f.n, f.median, f.p95, f.max);
     }
-    std::printf("\nCSV: %s/summary.csv, traces in %s/runs/\n", options.out.c_str(), options.out.c_str());
+    std::printf("\nCSV: %s/summary.csv, %s/latency.csv, traces in %s/runs/\n", options.out.c_str(),
+                options.out.c_str(), options.out.c_str());
     return 0;
 }

@@ -10,6 +10,7 @@
 #include "birdcage/controller.hpp"
 #include "birdcage/detect.hpp"
 #include "birdcage/errors.hpp"
+#include "birdcage/pointing.hpp"
 #include "birdcage/transport.hpp"
 
 #include <chrono>
@@ -42,6 +43,18 @@ struct ServiceTiming {
     std::chrono::milliseconds max_position_age{5000};
 };
 
+struct PointingOptions {
+    PointingMode mode = PointingMode::none;   // leapfrog is applied by the Controller (its option)
+    // Predictive mode: the largest on-sky error (degrees) allowed per axis before the dish is moved
+    // again. The dish is aimed this far ahead, so the error sweeps -deadband..+deadband instead of
+    // lagging; it is widened where the motor cannot step that finely at the satellite's rate.
+    double deadband_deg = 0.1;
+    // Time from deciding a move to the motor starting (worker period, command exchange), in the
+    // dish's seconds; the aim is taken this much (plus the move time) ahead.
+    double command_overhead_s = 0.1;
+    PredictorSettings predictor;
+};
+
 // Opens the device again after a hang-up (the glue opens the same path with FdTransport::open).
 using TransportFactory = std::function<Result<std::unique_ptr<Transport>>()>;
 
@@ -56,6 +69,11 @@ public:
     // Initialises the dish (blocking: boot wait, search stop, motor menu), reads the position
     // once, then starts the worker. Fails without starting anything if the dish cannot be reached.
     Status start();
+    // Before start(): how targets become moves (default: as sent).
+    void set_pointing(PointingOptions pointing) {
+        pointing_ = pointing;
+        predictor_ = TargetPredictor(pointing.predictor);
+    }
     // Stops the worker; the controller is left as it is (a leg in flight finishes on its own).
     void shutdown();
 
@@ -91,12 +109,19 @@ private:
     Status detect();
     void enter_recovery_locked(std::string reason);
     Status recover_once();
+    Clock::time_point controller_now() const;
+    Status accept_target(AzEl target);
+    Status steer();
 
     std::unique_ptr<Transport> transport_;
     ControllerOptions options_;
     std::unique_ptr<Controller> controller_;   // built at start() once the variant is known
     ServiceTiming timing_;
     TransportFactory reopen_;
+    PointingOptions pointing_;
+    // Worker-only predictive state: the estimator and what was last handed to the controller.
+    TargetPredictor predictor_;
+    std::optional<AzEl> aim_;
     // Worker-only recovery state.
     bool link_down_ = false;               // the transport hung up; reopen before anything else
     int consecutive_failures_ = 0;

@@ -258,6 +258,98 @@ Status RotatorService::recover_once() {
     return Status::ok();
 }
 
+Clock::time_point RotatorService::controller_now() const {
+    return options_.clock ? options_.clock() : Clock::now();
+}
+
+Status RotatorService::accept_target(AzEl target) {
+    if (pointing_.mode != PointingMode::predictive) {
+        return controller_->set_target(target);
+    }
+    predictor_.observe(controller_now(), target, controller_->last_position());
+    aim_.reset();
+    return steer();
+}
+
+// Predictive mode: aims each axis `deadband` ahead of where the satellite will be when the move
+// completes, and moves it again once the satellite is `deadband` past that aim, so the error
+// sweeps -deadband..+deadband around zero instead of trailing the satellite. Worker thread only.
+Status RotatorService::steer() {
+    if (pointing_.mode != PointingMode::predictive) {
+        return Status::ok();
+    }
+    const auto now = controller_now();
+    const auto current = predictor_.predict(now);
+    if (!current) {
+        return Status::ok();
+    }
+    const double el_min = controller_->el_min();
+    const double el_max = controller_->el_max();
+    auto clamp_el = [&](double el) { return std::clamp(el, el_min, el_max); };
+    if (!current->moving) {
+        const AzEl hold{current->position.az, clamp_el(current->position.el)};
+        if (aim_ && std::fabs(azimuth_difference(aim_->az, hold.az)) < 0.005 && std::fabs(aim_->el - hold.el) < 0.005) {
+            return Status::ok();
+        }
+        aim_ = hold;
+        return controller_->set_target(hold);
+    }
+    const FirmwareProfile& dish = controller_->profile();
+    const double overhead_s = pointing_.command_overhead_s;
+    auto step_time = [&](Axis axis, double degrees) {
+        return std::chrono::duration<double>(estimated_move_time(dish, axis, degrees)).count() + overhead_s;
+    };
+    // Azimuth error on the sky shrinks with cos(el): the same on-sky deadband allows a wider
+    // azimuth one, which spares the motor near the zenith.
+    const double cos_el = std::max(std::cos(clamp_el(current->position.el) * M_PI / 180.0), 0.1);
+    double deadband_el = pointing_.deadband_deg;
+    double deadband_az = pointing_.deadband_deg / cos_el;
+    const double az_rate = std::fabs(current->az_rate);
+    const double el_rate = current->position.el >= el_max || current->position.el <= el_min ? 0.0 : std::fabs(current->el_rate);
+    // One axis moves at a time: widen both deadbands until the steps need at most half the
+    // motor's time, so the dish keeps up instead of queueing (the Trav'ler's slow moves).
+    for (int widen = 0; widen < 30; ++widen) {
+        const double busy = step_time(Axis::azimuth, 2 * deadband_az) * az_rate / (2 * deadband_az) +
+                            step_time(Axis::elevation, 2 * deadband_el) * el_rate / (2 * deadband_el);
+        if (busy <= 0.5) {
+            break;
+        }
+        deadband_az *= 1.2;
+        deadband_el *= 1.2;
+    }
+    auto seconds = [](double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); };
+    const auto az_at = predictor_.predict(now + seconds(step_time(Axis::azimuth, 2 * deadband_az)));
+    const auto el_at = predictor_.predict(now + seconds(step_time(Axis::elevation, 2 * deadband_el)));
+    AzEl next = aim_.value_or(AzEl{controller_->last_position().value_or(current->position).az,
+                                   controller_->last_position().value_or(current->position).el});
+    bool changed = !aim_;
+    // Signed along-motion distance of the satellite past the aim; re-aim at +deadband, or when
+    // the estimate jumped so that the aim is far off either way.
+    auto re_aim = [&](double past, double rate, double deadband) {
+        if (rate < 1e-6) {
+            return std::fabs(past) > deadband;
+        }
+        return past >= deadband || past < -3.0 * deadband;
+    };
+    const double az_sign = current->az_rate >= 0 ? 1.0 : -1.0;
+    const double az_past = azimuth_difference(next.az, az_at->position.az) * az_sign;
+    if (changed || re_aim(az_past, az_rate, deadband_az)) {
+        next.az = normalize_azimuth(az_at->position.az + (az_rate < 1e-6 ? 0.0 : az_sign * deadband_az));
+        changed = true;
+    }
+    const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
+    const double el_past = (clamp_el(el_at->position.el) - next.el) * el_sign;
+    if (changed || re_aim(el_past, el_rate, deadband_el)) {
+        next.el = clamp_el(el_at->position.el + (el_rate < 1e-6 ? 0.0 : el_sign * deadband_el));
+        changed = true;
+    }
+    if (!changed) {
+        return Status::ok();
+    }
+    aim_ = next;
+    return controller_->set_target(next);
+}
+
 void RotatorService::run() {
     auto last_poll = Clock::now();
     std::unique_lock lock(mutex_);
@@ -283,20 +375,30 @@ void RotatorService::run() {
                      "recovered after " + std::to_string(attempts_) + " attempt(s)" +
                          (resume ? "; resuming the last target" : ""));
                 if (resume) {
-                    step = controller_->set_target(*resume);
+                    aim_.reset();   // the moves in flight were lost: steer again from the estimate
+                    step = pointing_.mode == PointingMode::predictive && predictor_.predict(controller_now())
+                               ? steer()
+                               : controller_->set_target(*resume);
                 }
             }
         } else {
             if (cancel) {
                 controller_->cancel_pending();
+                predictor_.reset();
+                aim_.reset();
             }
             if (target) {
-                step = controller_->set_target(*target);
+                step = accept_target(*target);
             }
             if (home) {
+                predictor_.reset();
+                aim_.reset();
                 step = controller_->home();
                 std::lock_guard done(mutex_);
                 home_requested_ = false;
+            }
+            if (step && !target && !home) {
+                step = steer();
             }
             talked = target || home || cancel || !controller_->idle();
             if (step) {
@@ -364,7 +466,9 @@ void RotatorService::run() {
             break;
         }
         std::chrono::milliseconds period = timing_.busy_period;
-        if (controller_->idle()) {
+        const bool steering = pointing_.mode == PointingMode::predictive && !recovering_ &&
+                              predictor_.predict(controller_now()).value_or(Prediction{}).moving;
+        if (controller_->idle() && !steering) {
             const auto until_poll =
                 std::chrono::duration_cast<std::chrono::milliseconds>(last_poll + timing_.idle_poll_period - Clock::now());
             period = std::clamp(until_poll, timing_.busy_period, timing_.idle_poll_period);

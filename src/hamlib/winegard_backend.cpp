@@ -49,8 +49,16 @@ constexpr float kCapsMinEl = 0.0f;
 constexpr float kCapsMaxEl = 90.0f;
 
 
+birdcage::PointingOptions default_pointing() {
+    birdcage::PointingOptions pointing;
+    pointing.mode = birdcage::PointingMode::leapfrog;
+    return pointing;
+}
+
 struct WinegardPriv {
     birdcage::ControllerOptions options;
+    birdcage::PointingOptions pointing = default_pointing();
+    double time_scale = 1.0;   // emulator runs only: the backend's clock runs this many times faster
     std::unique_ptr<birdcage::RotatorService> service;
     std::string info;
 };
@@ -188,8 +196,28 @@ extern "C" int winegard_rot_open(ROT* rot) {
         }
         return {std::move(opened.value), birdcage::Status::ok()};
     };
-    priv->service = std::make_unique<birdcage::RotatorService>(std::move(transport), priv->options,
-                                                               birdcage::ServiceTiming{}, std::move(reopen));
+    birdcage::ControllerOptions options = priv->options;
+    options.leapfrog = priv->pointing.mode == birdcage::PointingMode::leapfrog;
+    birdcage::ServiceTiming timing;
+    if (priv->time_scale != 1.0) {
+        // Against an emulator running k times faster: motion bookkeeping on a clock k times
+        // faster, worker periods k times shorter; I/O deadlines stay real (the pty is real).
+        const double scale = priv->time_scale;
+        const auto origin = birdcage::Clock::now();
+        options.clock = [origin, scale] {
+            const auto elapsed = std::chrono::duration<double>(birdcage::Clock::now() - origin) * scale;
+            return origin + std::chrono::duration_cast<birdcage::Clock::duration>(elapsed);
+        };
+        auto scaled = [scale](std::chrono::milliseconds period) {
+            return std::max(std::chrono::milliseconds{1},
+                            std::chrono::milliseconds(static_cast<long long>(period.count() / scale)));
+        };
+        timing.busy_period = scaled(timing.busy_period);
+        timing.idle_poll_period = scaled(timing.idle_poll_period);
+    }
+    priv->service = std::make_unique<birdcage::RotatorService>(std::move(transport), options, timing,
+                                                               std::move(reopen));
+    priv->service->set_pointing(priv->pointing);
     if (Status st = priv->service->start(); !st) {
         priv->service.reset();
         return report(__func__, st);
@@ -250,10 +278,19 @@ const ConfParam kConfParams[] = {
          return priv.options.detect ? std::string("auto") : std::string(variant_profile(priv).short_name);
      }},
     {2, "leapfrog", "Leapfrog",
-     "Lead a lagging axis by 0.5/1 degree in its direction of travel (seed behaviour, elevation bug fixed)",
+     "Same as pointing=leapfrog (1) or pointing=none (0); kept for older configurations",
      RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("1"); },
-     [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.options.leapfrog); },
-     [](const WinegardPriv& priv) { return std::string(priv.options.leapfrog ? "1" : "0"); }},
+     [](const char* text, WinegardPriv& priv) {
+         bool on = false;
+         if (!parse_bool(text, &on)) {
+             return false;
+         }
+         priv.pointing.mode = on ? birdcage::PointingMode::leapfrog : birdcage::PointingMode::none;
+         return true;
+     },
+     [](const WinegardPriv& priv) {
+         return std::string(priv.pointing.mode == birdcage::PointingMode::leapfrog ? "1" : "0");
+     }},
     {3, "boot_timeout", "Boot timeout", "Seconds to wait at open for a booting dish to finish homing",
      RIG_CONF_NUMERIC, 0, 3600, 1, [](const birdcage::FirmwareProfile&) { return std::string("900"); },
      [](const char* text, WinegardPriv& priv) {
@@ -286,6 +323,43 @@ const ConfParam kConfParams[] = {
      RIG_CONF_NUMERIC, 0, 360, 0.01f, [](const birdcage::FirmwareProfile&) { return std::string("360.00"); },
      [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.az_max); },
      [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(360.0)); }},
+    {9, "pointing", "Pointing mode",
+     "predictive (aim where the satellite will be, inferred from the targets), leapfrog (seed "
+     "overshoot of a lagging axis) or none (each target as sent)",
+     RIG_CONF_STRING, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("leapfrog"); },
+     [](const char* text, WinegardPriv& priv) {
+         const auto mode = birdcage::pointing_mode_from_name(text);
+         if (!mode) {
+             return false;
+         }
+         priv.pointing.mode = *mode;
+         return true;
+     },
+     [](const WinegardPriv& priv) { return std::string(birdcage::pointing_mode_name(priv.pointing.mode)); }},
+    {10, "deadband", "Deadband",
+     "Predictive mode: largest on-sky error (degrees) per axis before the dish moves again",
+     RIG_CONF_NUMERIC, 0.01f, 5, 0.01f, [](const birdcage::FirmwareProfile&) { return std::string("0.10"); },
+     [](const char* text, WinegardPriv& priv) {
+         double number = 0;
+         if (!parse_number(text, &number) || number < 0.01 || number > 5) {
+             return false;
+         }
+         priv.pointing.deadband_deg = number;
+         return true;
+     },
+     [](const WinegardPriv& priv) { return format_number(priv.pointing.deadband_deg); }},
+    {11, "time_scale", "Time scale",
+     "Emulator runs only: the dish's clock runs this many times faster than real time (birdcage-sim --time-scale)",
+     RIG_CONF_NUMERIC, 1, 1000, 0.1f, [](const birdcage::FirmwareProfile&) { return std::string("1.00"); },
+     [](const char* text, WinegardPriv& priv) {
+         double number = 0;
+         if (!parse_number(text, &number) || number < 1 || number > 1000) {
+             return false;
+         }
+         priv.time_scale = number;
+         return true;
+     },
+     [](const WinegardPriv& priv) { return format_number(priv.time_scale); }},
 };
 constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
 

@@ -80,7 +80,7 @@ const std::vector<ModeRow> mode_rows = {
 constexpr double reacquire_within_deg = 1.0;
 
 struct Options {
-    double scale = 10.0;
+    double scale = 5.0;  // as scripts/benchmark.sh runs the matrix
     int jobs = 2;
     std::vector<std::string> passes = {"iss-20", "iss-45", "iss-70", "iss-85",
                                        "sso-20", "sso-45", "sso-70", "sso-85"};

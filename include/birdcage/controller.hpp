@@ -14,6 +14,7 @@
 #include "birdcage/session.hpp"
 #include "birdcage/transport.hpp"
 #include "birdcage/variants.hpp"
+#include "birdcage/wrap.hpp"
 
 namespace birdcage {
 
@@ -47,7 +48,12 @@ public:
     // The firmware's fault line (`AZ MOTOR STALLED`) that ended the last leg, once; empty if none.
     std::string take_fault() { return std::exchange(leg_fault_, std::string()); }
     Result<AzEl> query_position();    // asks the dish now; updates last_position(); az in [0, 360)
-    Status set_target(AzEl target);   // validates, clamps, leap-frogs, queues legs. No I/O.
+    // Validates, clamps, picks the azimuth's cable-wrap branch, leap-frogs, queues legs. No I/O.
+    // `target.az` may be 0..360 or -180..180 (any finite value is taken modulo 360); the backend
+    // chooses the mechanical branch (see choose_azimuth_branch()). `az_rate_dps` is the caller's
+    // estimate of the target's azimuth rate (deg/s, sign = direction of motion; 0 = unknown or
+    // stationary): it lets a pass start on the branch with room for the whole pass.
+    Status set_target(AzEl target, double az_rate_dps = 0.0);
     Status service();                 // one pump step (~every 50 ms)
     void cancel_pending();            // drops legs not yet sent; aborts a running `g` where input aborts it
     Status home();                    // runs the variant's homing commands (blocking); unsupported if none
@@ -57,6 +63,11 @@ public:
     bool idle() const;
     std::optional<AzEl> last_position() const { return last_position_; }
     std::optional<AzEl> current_target() const { return current_target_; }
+    // The controller's estimate of the mechanical azimuth (cable-wrap turns included, in the
+    // variant's az_min..az_max coordinates); nullopt before the first reading.
+    std::optional<double> mechanical_azimuth() const { return mech_az_; }
+    // The mechanical azimuth current_target() was put on (before leapfrog); nullopt without a target.
+    std::optional<double> target_mechanical_azimuth() const { return target_mech_az_; }
     const FirmwareProfile& profile() const { return profile_; }
     std::string describe() const;
 
@@ -69,6 +80,11 @@ private:
         bool combined = false;         // `g az el` (both axes) instead of `a <axis> <deg>`
         Axis axis = Axis::azimuth;
         AzEl target;                   // the commanded value(s); for a single axis only its field counts
+        // Azimuth legs: the mechanical azimuth this leg commands (target.az is its display form)
+        // and the one the move ends at; they differ while waypoints lead there (wrap::next_waypoint).
+        double mech_az = 0.0;
+        double final_mech_az = 0.0;
+        int waypoints_left = 4;        // bounds the waypoint legs per target (3 span any window)
         Clock::time_point sent_at{};
         std::chrono::milliseconds budget{0};   // estimated time x 2 + margin
         std::optional<double> last_seen;       // the axis' position at the previous poll
@@ -85,12 +101,17 @@ private:
     Status check_tracker_disabled();
     Status send_leg(Leg& leg);
     Status service_axis_leg();
+    void plan_azimuth_leg(Leg& leg);
     Status service_combined_leg();
     void finish_leg(std::string_view how);
     void finish_combined_leg(std::string_view how);
     Result<AzEl> note_live_output(std::span<const std::string> lines);
     double leg_distance(const Leg& leg) const;
     Result<AzEl> ask_position(std::chrono::milliseconds timeout);
+    void note_azimuth_reading(double reported);
+    std::optional<double> branch_reference() const;
+    double choose_azimuth_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps);
+    void forget_target();
 
     const FirmwareProfile& profile_;
     ControllerOptions options_;
@@ -105,7 +126,18 @@ private:
     std::optional<AzEl> last_position_;
     std::optional<Clock::time_point> last_position_at_;
     std::optional<AzEl> current_target_;
-    std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight)
+    std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
+    // Cable wrap (wrap.hpp). The dish may report its azimuth as displayed (0..360) or mechanical
+    // (firmware.md §14 G2.4): the controller keeps its own mechanical estimate, unwrapping each
+    // reading to the branch nearest it.
+    wrap::Window az_window_;          // the variant's mechanical travel
+    wrap::Window az_usable_;          // less the limit margins: never commanded outside
+    std::optional<double> mech_az_;   // mechanical azimuth estimate (see mechanical_azimuth())
+    bool az_report_mechanical_ = false;   // readings outside 0..360 proved the dish reports mechanically
+    int beyond_display_readings_ = 0;     // consecutive readings outside 0..360 (2 prove it)
+    bool recheck_branch_ = false;         // after (re)initialisation: keep mech_az_ only if the dish still reads it
+    std::optional<double> target_mech_az_;   // mechanical azimuth of current_target_
+    std::optional<int> pass_direction_;      // azimuth direction of the pass being followed (+1/-1)
     std::deque<Leg> pending_;
     std::optional<Leg> in_flight_;
     Clock::time_point last_poll_{};

@@ -26,6 +26,12 @@ constexpr auto unknown_prompt_send_timeout = 1000ms;
 constexpr double stillness_degrees = 0.02;    // position changes smaller than this are noise
 constexpr double same_target_degrees = 0.005; // targets arrive with two decimals
 constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
+// A target this far (display azimuth) from the previous one is a new pass or another satellite.
+constexpr double new_pass_jump_degrees = 30.0;
+// A reading this far outside 0..360 cannot be a displayed azimuth ("-0.00" and "360.00" can).
+constexpr double beyond_display_degrees = 0.5;
+// After a re-initialisation the mechanical estimate is kept if the dish still reads within this.
+constexpr double same_branch_recheck_degrees = 1.0;
 
 std::string degrees_text(double value) { return format_degrees(value); }
 
@@ -42,7 +48,9 @@ Controller::Controller(Transport& transport, ControllerOptions options)
       options_(std::move(options)),
       session_(transport, profile_, options_.log),
       el_min_(profile_.el_min),
-      el_max_(profile_.el_max) {
+      el_max_(profile_.el_max),
+      az_window_{profile_.az_min, profile_.az_max},
+      az_usable_(wrap::usable_window(az_window_)) {
     auto override_limit = [this](const std::optional<double>& user, double& limit, const char* name) {
         if (!user) {
             return;
@@ -290,9 +298,11 @@ Status Controller::home() {
     }
     pending_.clear();
     in_flight_.reset();
-    current_target_.reset();
+    forget_target();
     commanded_az_.reset();
     commanded_el_.reset();
+    // Homing recalibrates the axes: the branch is the start assumption again (G2: AZ 0, 6.4).
+    mech_az_.reset();
     for (const auto command : profile_.home_commands) {
         emit(options_.log, LogLevel::verbose, "homing: " + std::string(command));
         const auto reply = session_.transact(command, home_timeout);
@@ -322,9 +332,12 @@ Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
     pending_.clear();
     in_flight_.reset();
     // Whatever was commanded before is void (a reboot stops the axes, a hang-up loses replies).
-    current_target_.reset();
+    forget_target();
     commanded_az_.reset();
     commanded_el_.reset();
+    // The mechanical estimate survives a hang-up or lost sync, not a reboot (which recalibrates
+    // and moves the dish): the first reading decides (note_azimuth_reading()).
+    recheck_branch_ = true;
     if (options_.skip_init) {
         emit(options_.log, LogLevel::verbose, "skip_init: assuming the dish is booted and in its motor menu");
         if (profile_.prompt_known()) {
@@ -392,6 +405,7 @@ Result<AzEl> Controller::ask_position(std::chrono::milliseconds timeout) {
     }
     unhomed_ = false;
     session_.set_axes_unhomed(false);
+    note_azimuth_reading(position.value.az);
     position.value.az = normalize_azimuth(position.value.az);
     last_position_ = position.value;
     last_position_at_ = now();
@@ -410,6 +424,7 @@ Result<AzEl> Controller::query_position() {
         return {{}, Status{Errc::unsupported, "this dish cannot report its position at rest and none has been commanded yet"}};
     }
     const auto before = last_position_;
+    const auto mech_before = mech_az_;
     auto position = ask_position(query_timeout);
     // At rest a reading far from the last one is either the dish moving on its own or a reply that
     // lost bytes on the line (`123.45` -> `13.45` still parses). Ask again: a real position repeats,
@@ -422,6 +437,7 @@ Result<AzEl> Controller::query_position() {
         if (!again || std::fabs(azimuth_difference(first.az, again.value.az)) > unexpected_motion_degrees ||
             std::fabs(first.el - again.value.el) > unexpected_motion_degrees) {
             last_position_ = before;
+            mech_az_ = mech_before;
             return {*before, Status{Errc::protocol, "inconsistent position readings (az " + degrees_text(first.az) +
                                                          " el " + degrees_text(first.el) +
                                                          ", then not repeated): line noise? keeping the last position"}};
@@ -441,13 +457,18 @@ Result<AzEl> Controller::query_position() {
     return position;
 }
 
-Status Controller::set_target(AzEl target) {
+Status Controller::set_target(AzEl target, double az_rate_dps) {
     if (!std::isfinite(target.az) || !std::isfinite(target.el)) {
         return Status{Errc::invalid_argument, "target must be finite"};
     }
     if (unhomed_) {
         return Status{Errc::not_homed, "the axes are not homed; moves are refused"};
     }
+    if (!std::isfinite(az_rate_dps)) {
+        az_rate_dps = 0.0;
+    }
+    // Gpredict's 0..360 and -180..180 modes (and Hamlib's -180..540) all reduce to a display
+    // azimuth; the cable-wrap branch is the backend's choice (choose_azimuth_branch()).
     AzEl wanted{normalize_azimuth(target.az), std::clamp(target.el, el_min_, el_max_)};
     if (options_.az_min && options_.az_max && *options_.az_min < *options_.az_max) {
         const double clamped = std::clamp(wanted.az, *options_.az_min, *options_.az_max);
@@ -465,6 +486,7 @@ Status Controller::set_target(AzEl target) {
         std::fabs(current_target_->el - wanted.el) < same_target_degrees) {
         return Status::ok();
     }
+    const std::optional<AzEl> previous = current_target_;
     current_target_ = wanted;
 
     AzEl command = wanted;
@@ -475,6 +497,7 @@ Status Controller::set_target(AzEl target) {
 
     pending_.clear();
     if (profile_.move_style == MoveStyle::combined_g) {
+        // `g az el` takes 0..360 only (Carryout 2003, whose travel is 0..360): no branch to choose.
         Leg leg;
         leg.combined = true;
         leg.target = command;
@@ -482,18 +505,31 @@ Status Controller::set_target(AzEl target) {
         ++move_count_;
         return Status::ok();
     }
-    auto needed = [this](const std::optional<double>& commanded, Axis axis, double value) {
+
+    // The mechanical azimuth: the target's branch, plus the leapfrog lead, inside the usable window.
+    target_mech_az_ = choose_azimuth_branch(wanted, previous, az_rate_dps);
+    const double command_mech = std::clamp(*target_mech_az_ + azimuth_difference(wanted.az, command.az),
+                                           az_usable_.min, az_usable_.max);
+    command.az = normalize_azimuth(command_mech);
+
+    auto needed = [this](Axis axis, double value) {
+        const auto& commanded = axis == Axis::azimuth ? commanded_az_ : commanded_el_;
         if (commanded) {
-            return axis_error(axis, *commanded, value) >= same_target_degrees;
+            return std::fabs(*commanded - value) >= same_target_degrees;
         }
         // Nothing commanded on this axis yet: skip the leg only if the dish already reads the target
         // (arrival_tolerance is for ending a leg in motion; skipping by it would leave up to that
         // much pointing error, e.g. after a TV search stopped the dish near the target).
-        return !last_position_ || axis_error(axis, axis_value(*last_position_, axis), value) >= same_target_degrees;
+        if (axis == Axis::azimuth) {
+            return !mech_az_ || std::fabs(*mech_az_ - value) >= same_target_degrees;
+        }
+        return !last_position_ || std::fabs(last_position_->el - value) >= same_target_degrees;
     };
     Leg az_leg;
     az_leg.axis = Axis::azimuth;
     az_leg.target = command;
+    az_leg.mech_az = command_mech;
+    az_leg.final_mech_az = command_mech;
     Leg el_leg;
     el_leg.axis = Axis::elevation;
     el_leg.target = command;
@@ -501,12 +537,124 @@ Status Controller::set_target(AzEl target) {
     const bool az_first = move_count_ % 2 == 0;
     ++move_count_;
     for (const Leg& leg : az_first ? std::array<Leg, 2>{az_leg, el_leg} : std::array<Leg, 2>{el_leg, az_leg}) {
-        const auto& commanded = leg.axis == Axis::azimuth ? commanded_az_ : commanded_el_;
-        if (needed(commanded, leg.axis, axis_value(command, leg.axis))) {
+        if (needed(leg.axis, leg.axis == Axis::azimuth ? leg.mech_az : leg.target.el)) {
             pending_.push_back(leg);
         }
     }
     return Status::ok();
+}
+
+// Where continuity is measured from: the branch of the previous target (not the dish's momentary
+// position, which may be half-way through a long slew to it), else where the azimuth leg in
+// flight ends, else the dish's estimated mechanical azimuth.
+std::optional<double> Controller::branch_reference() const {
+    if (target_mech_az_) {
+        return target_mech_az_;
+    }
+    if (in_flight_ && !in_flight_->combined && in_flight_->axis == Axis::azimuth) {
+        return in_flight_->final_mech_az;
+    }
+    if (mech_az_) {
+        return mech_az_;
+    }
+    return commanded_az_;
+}
+
+// The rule (tracking.md §2.3: no avoidable unwinds; unwind, when unavoidable, away from the
+// limit stops):
+//  - normally the target's branch nearest the previous target (continuity), if it lies inside
+//    the wrap window less the margins;
+//  - when a pass starts (the caller's rate hint is non-zero and the target is within
+//    pass_start_band_deg of el_min, rising), the branch nearest the previous target among those
+//    with room for a whole pass (pass_span_deg) ahead in the direction of motion, else the one
+//    with the most room ahead: the one unwind a pass that does not fit needs then happens at its
+//    end, as late and as low as possible, instead of near its culmination;
+//  - when the continuous branch lies outside the window (the limit is reached), the branch with
+//    the most room ahead in the direction of motion (the nearest without a rate hint).
+// A pass is started once: later targets of the same pass (same direction, no jump) keep
+// continuity, so the descent towards el_min at its end never triggers the pass-start rule.
+double Controller::choose_azimuth_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps) {
+    const int direction = az_rate_dps > 0.0 ? 1 : (az_rate_dps < 0.0 ? -1 : 0);
+    const bool jumped = previous && std::fabs(azimuth_difference(previous->az, wanted.az)) > new_pass_jump_degrees;
+    if (direction == 0 || jumped) {
+        pass_direction_.reset();
+    }
+    const bool new_pass = direction != 0 && pass_direction_ != direction;
+    const bool falling = previous && !jumped && wanted.el < previous->el - same_target_degrees;
+    const bool pass_starting = new_pass && !falling && wanted.el <= el_min_ + wrap::pass_start_band_deg;
+    if (direction != 0) {
+        pass_direction_ = direction;
+    }
+    // Nothing read or commanded yet: continuity from the start assumption (wrap::start_branch()).
+    const double reference = branch_reference().value_or(std::clamp(0.0, az_usable_.min, az_usable_.max));
+    const wrap::Choice choice = wrap::choose_branch(wanted.az, reference, direction, pass_starting, az_usable_);
+    if (choice.reason != wrap::Reason::continuous) {
+        std::string message = "azimuth " + degrees_text(wanted.az) + ": mechanical " +
+                              degrees_text(choice.mechanical) + " instead of " + degrees_text(choice.continuous) +
+                              " (" + std::string(wrap::reason_text(choice.reason));
+        if (direction != 0) {
+            message += "; " + degrees_text(wrap::room_ahead(choice.mechanical, direction, az_usable_)) +
+                       " deg of room ahead " + (direction > 0 ? "clockwise" : "anticlockwise");
+        }
+        message += "; window " + degrees_text(az_usable_.min) + ".." + degrees_text(az_usable_.max) + ")";
+        emit(options_.log, LogLevel::verbose, message);
+    }
+    return choice.mechanical;
+}
+
+void Controller::forget_target() {
+    current_target_.reset();
+    target_mech_az_.reset();
+    pass_direction_.reset();
+}
+
+// Keeps the mechanical azimuth estimate. The reply may carry the displayed 0..360 azimuth or the
+// mechanical one (firmware.md §14 G2.4; the Trav'ler README says `a` shows the wrap, 3.3): a
+// reading outside 0..360 (twice in a row, inside the travel) proves the latter, and readings are
+// then taken literally; otherwise each is unwrapped to the branch nearest the estimate, which
+// follows the dish as long as it turns less than 180 deg between readings (legs are at most
+// wrap::max_leg_deg). The first reading's branch is the start assumption (wrap::start_branch()).
+void Controller::note_azimuth_reading(double reported) {
+    const double display = normalize_azimuth(reported);
+    const bool beyond_display = reported < -beyond_display_degrees || reported >= 360.0 + beyond_display_degrees;
+    const bool inside_travel = reported >= az_window_.min - 1.0 && reported <= az_window_.max + 1.0;
+    if (beyond_display && inside_travel) {
+        // Only a mechanical report can read like this: it names the branch.
+        if (!az_report_mechanical_ && ++beyond_display_readings_ >= 2) {
+            az_report_mechanical_ = true;
+            emit(options_.log, LogLevel::verbose, "the dish reports its mechanical azimuth (read " +
+                                                      degrees_text(reported) + "): readings are taken literally");
+        }
+        mech_az_ = reported;
+        recheck_branch_ = false;
+        return;
+    }
+    if (!beyond_display) {
+        beyond_display_readings_ = 0;
+    }
+    if (az_report_mechanical_ && inside_travel) {
+        mech_az_ = reported;
+        recheck_branch_ = false;
+        return;
+    }
+    if (recheck_branch_ && mech_az_ &&
+        std::fabs(azimuth_difference(*mech_az_, display)) > same_branch_recheck_degrees) {
+        emit(options_.log, LogLevel::verbose,
+             "after (re)initialisation the dish reads azimuth " + degrees_text(display) + ", not " +
+                 degrees_text(normalize_azimuth(*mech_az_)) + ": it moved, its cable-wrap branch is assumed afresh");
+        mech_az_.reset();
+    }
+    recheck_branch_ = false;
+    if (!mech_az_) {
+        mech_az_ = wrap::start_branch(display, az_window_);
+        if (wrap::branches(display, az_window_).size() > 1) {
+            emit(options_.log, LogLevel::verbose,
+                 "azimuth " + degrees_text(display) + " has two cable-wrap branches; assuming mechanical " +
+                     degrees_text(*mech_az_) + " (the one nearest AZ 0)");
+        }
+        return;
+    }
+    mech_az_ = wrap::unwrap_reading(display, *mech_az_, az_window_);
 }
 
 double Controller::leg_distance(const Leg& leg) const {
@@ -517,10 +665,13 @@ double Controller::leg_distance(const Leg& leg) const {
         return std::max(std::fabs(azimuth_difference(last_position_->az, leg.target.az)),
                         std::fabs(leg.target.el - last_position_->el));
     }
-    if (!last_position_) {
-        return leg.axis == Axis::azimuth ? 180.0 : el_max_ - el_min_;
+    if (leg.axis == Axis::azimuth) {
+        return mech_az_ ? std::fabs(leg.mech_az - *mech_az_) : wrap::max_leg_deg;
     }
-    return axis_error(leg.axis, axis_value(*last_position_, leg.axis), axis_value(leg.target, leg.axis));
+    if (!last_position_) {
+        return el_max_ - el_min_;
+    }
+    return std::fabs(leg.target.el - last_position_->el);
 }
 
 Status Controller::send_leg(Leg& leg) {
@@ -558,8 +709,14 @@ Status Controller::send_leg(Leg& leg) {
         }
         if (!ack) {
             emit(options_.log, LogLevel::warning, "move not acknowledged: " + ack.status.message);
-        } else if (std::fabs(ack.value - axis_value(leg.target, leg.axis)) > 0.01) {
+        } else if (axis_error(leg.axis, ack.value, axis_value(leg.target, leg.axis)) > 0.01) {
             emit(options_.log, LogLevel::verbose, "dish acknowledged " + degrees_text(ack.value) + " for " + command);
+        } else if (leg.axis == Axis::azimuth && std::fabs(ack.value - leg.target.az) > 1.0 &&
+                   std::fabs(ack.value - leg.mech_az) > 1.0) {
+            // A mechanical acknowledgement (e.g. -60.00 for `a 0 300.00`) names the branch taken.
+            emit(options_.log, LogLevel::warning,
+                 "dish acknowledged " + degrees_text(ack.value) + " for " + command + ", not the intended mechanical " +
+                     degrees_text(leg.mech_az) + ": its wrap mapping differs from the backend's model");
         }
     }
     if (leg.combined) {
@@ -567,8 +724,10 @@ Status Controller::send_leg(Leg& leg) {
         commanded_el_ = leg.target.el;
         // Live output that arrived with the reply is the first position sample.
         note_live_output(reply.value.lines);
+    } else if (leg.axis == Axis::azimuth) {
+        commanded_az_ = leg.mech_az;
     } else {
-        (leg.axis == Axis::azimuth ? commanded_az_ : commanded_el_) = axis_value(leg.target, leg.axis);
+        commanded_el_ = leg.target.el;
     }
     leg.sent_at = now();
     leg.last_change = leg.sent_at;
@@ -616,19 +775,25 @@ Status Controller::service_axis_leg() {
             // The firmware dropped its queued moves (firmware.md 6.3): so do we. The target is
             // forgotten, so the client sending the same P again retries the move.
             pending_.clear();
-            current_target_.reset();
+            forget_target();
             commanded_az_.reset();
             commanded_el_.reset();
         }
         return position.status;
     }
-    const double seen = axis_value(position.value, leg.axis);
-    const double goal = axis_value(leg.target, leg.axis);
-    if (axis_error(leg.axis, seen, goal) <= profile_.arrival_tolerance) {
+    // Azimuth in mechanical degrees (ask_position() keeps mech_az_): arriving on the display
+    // azimuth of the wrong branch is not arriving.
+    const bool azimuth = leg.axis == Axis::azimuth && mech_az_;
+    const double seen = azimuth ? *mech_az_ : axis_value(position.value, leg.axis);
+    const double goal = azimuth ? leg.mech_az : axis_value(leg.target, leg.axis);
+    const auto error = [&](double from, double to) {
+        return azimuth ? std::fabs(to - from) : axis_error(leg.axis, from, to);
+    };
+    if (error(seen, goal) <= profile_.arrival_tolerance) {
         finish_leg("arrived");
         return Status::ok();
     }
-    if (!leg.last_seen || axis_error(leg.axis, *leg.last_seen, seen) > stillness_degrees) {
+    if (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees) {
         leg.last_seen = seen;
         leg.last_change = t;
     } else if (t - leg.last_change >= still_window && t - leg.sent_at >= still_window) {
@@ -703,14 +868,37 @@ Status Controller::service() {
     if (!pending_.empty()) {
         Leg leg = pending_.front();
         pending_.pop_front();
+        if (!leg.combined && leg.axis == Axis::azimuth) {
+            plan_azimuth_leg(leg);
+        }
         return send_leg(leg);
     }
     return Status::ok();
 }
 
+// An azimuth leg longer than wrap::max_leg_deg goes by waypoints (see wrap::next_waypoint() for
+// why), each planned from where the dish is when it is sent; the rest of the leg stays queued.
+void Controller::plan_azimuth_leg(Leg& leg) {
+    const double from = mech_az_ ? *mech_az_ : commanded_az_.value_or(leg.final_mech_az);
+    leg.mech_az = leg.waypoints_left > 0 ? wrap::next_waypoint(from, leg.final_mech_az) : leg.final_mech_az;
+    leg.target.az = normalize_azimuth(leg.mech_az);
+    if (leg.mech_az == leg.final_mech_az) {
+        return;
+    }
+    Leg rest = leg;
+    rest.mech_az = rest.final_mech_az;
+    rest.target.az = normalize_azimuth(rest.final_mech_az);
+    --rest.waypoints_left;
+    pending_.push_front(rest);
+    emit(options_.log, LogLevel::verbose,
+         "azimuth by waypoints: " + degrees_text(leg.target.az) + " (mechanical " + degrees_text(leg.mech_az) +
+             ") on the way from " + degrees_text(from) + " to mechanical " + degrees_text(leg.final_mech_az));
+}
+
 Result<AzEl> Controller::note_live_output(std::span<const std::string> lines) {
     auto sample = parse_carryout_live(lines);
     if (sample) {
+        note_azimuth_reading(sample.value.az);
         sample.value.az = normalize_azimuth(sample.value.az);
         last_position_ = sample.value;
         last_position_at_ = now();
@@ -731,7 +919,7 @@ void Controller::finish_combined_leg(std::string_view how) {
 
 void Controller::cancel_pending() {
     pending_.clear();
-    current_target_.reset();
+    forget_target();
     // A running `g` on firmware where any byte aborts it (firmware.md 2, 3.5): a bare line ending
     // is the documented way to stop it. Where the byte does not abort, it waits for the move to end.
     if (in_flight_ && in_flight_->combined && profile_.has(quirk_g_aborts_on_input)) {
@@ -781,8 +969,22 @@ std::string Controller::describe() const {
     } else {
         text += "; position unknown";
     }
+    if (az_window_.span() > 360.0) {
+        text += "; cable wrap " + degrees_text(az_window_.min) + ".." + degrees_text(az_window_.max) +
+                " (commanded within " + degrees_text(az_usable_.min) + ".." + degrees_text(az_usable_.max) + ")";
+        if (mech_az_) {
+            text += ", mechanical az " + degrees_text(*mech_az_) +
+                    (az_report_mechanical_
+                         ? " (reported by the dish)"
+                         : " (from 0..360 readings; the branch at start was assumed to be the one nearest AZ 0: "
+                           "where the G2 homes, the reading itself on a window starting at 0)");
+        }
+    }
     if (current_target_) {
         text += "; target az " + degrees_text(current_target_->az) + " el " + degrees_text(current_target_->el);
+        if (target_mech_az_) {
+            text += " (mechanical az " + degrees_text(*target_mech_az_) + ")";
+        }
     }
     text += "; el limits " + degrees_text(el_min_) + ".." + degrees_text(el_max_);
     text += options_.leapfrog ? "; leapfrog on" : "; leapfrog off";

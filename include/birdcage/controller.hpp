@@ -70,6 +70,10 @@ public:
     std::optional<double> target_mechanical_azimuth() const { return target_mech_az_; }
     const FirmwareProfile& profile() const { return profile_; }
     std::string describe() const;
+    // The cable-wrap state: travel, the mechanical azimuth estimate and how its branch is known
+    // (the start assumption), the target's branch. Not (yet) part of describe(), whose text the
+    // transcript golden files (sim/transcripts/*.chk) pin.
+    std::string describe_wrap() const;
 
     double el_min() const { return el_min_; }
     double el_max() const { return el_max_; }

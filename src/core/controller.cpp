@@ -969,25 +969,32 @@ std::string Controller::describe() const {
     } else {
         text += "; position unknown";
     }
-    if (az_window_.span() > 360.0) {
-        text += "; cable wrap " + degrees_text(az_window_.min) + ".." + degrees_text(az_window_.max) +
-                " (commanded within " + degrees_text(az_usable_.min) + ".." + degrees_text(az_usable_.max) + ")";
-        if (mech_az_) {
-            text += ", mechanical az " + degrees_text(*mech_az_) +
-                    (az_report_mechanical_
-                         ? " (reported by the dish)"
-                         : " (from 0..360 readings; the branch at start was assumed to be the one nearest AZ 0: "
-                           "where the G2 homes, the reading itself on a window starting at 0)");
-        }
-    }
     if (current_target_) {
         text += "; target az " + degrees_text(current_target_->az) + " el " + degrees_text(current_target_->el);
-        if (target_mech_az_) {
-            text += " (mechanical az " + degrees_text(*target_mech_az_) + ")";
-        }
     }
     text += "; el limits " + degrees_text(el_min_) + ".." + degrees_text(el_max_);
     text += options_.leapfrog ? "; leapfrog on" : "; leapfrog off";
+    return text;
+}
+
+std::string Controller::describe_wrap() const {
+    if (az_window_.span() <= 360.0) {
+        return "azimuth 0..360, no cable-wrap overlap";
+    }
+    std::string text = "cable wrap " + degrees_text(az_window_.min) + ".." + degrees_text(az_window_.max) +
+                       " (commanded within " + degrees_text(az_usable_.min) + ".." + degrees_text(az_usable_.max) + ")";
+    if (mech_az_) {
+        text += "; mechanical az " + degrees_text(*mech_az_) +
+                (az_report_mechanical_
+                     ? " (reported by the dish)"
+                     : " (from 0..360 readings; the branch at start was assumed to be the one nearest AZ 0: "
+                       "where the G2 homes, the reading itself on a window starting at 0)");
+    } else {
+        text += "; mechanical az unknown";
+    }
+    if (target_mech_az_) {
+        text += "; target mechanical az " + degrees_text(*target_mech_az_);
+    }
     return text;
 }
 

@@ -212,7 +212,7 @@ TEST_CASE("controller wrap: a clockwise pass across north on the G2 is followed 
     CHECK(bench.dish.mech == Approx(-300).margin(0.01));
     CHECK(largest_move(bench.dish, started) <= 4.0 + 0.01);   // one target step, never an unwind
     check_commands_safe(bench.dish);
-    CHECK(bench.controller->describe().find("mechanical az -300.00") != std::string::npos);
+    CHECK(bench.controller->describe_wrap().find("mechanical az -300.00") != std::string::npos);
 }
 
 TEST_CASE("controller wrap: an anticlockwise pass across north on the Trav'ler starts on 420") {

@@ -48,8 +48,8 @@ branch of the dish's mechanical AZ window (G2 −423.33…+23.33°, Trav'ler 0�
 tracked window, so an unwind there is the backend's choice, not the geometry's. *above cap s* =
 seconds the satellite is above the dish's EL cap (G2 65°); *cap excess* = the worst of
 (great-circle error) − (satellite el − cap) there, the error beyond the unavoidable deficit (goal
-≤ {cap}°); *re-acquire* = seconds from the satellite dropping back below the cap until the error is
-≤ 1° (goal ≤ {reacq} s; "never" = not within the run). "—" = the pass stays below the cap (or the
+≤ {cap}°); *re-acquire* = seconds from the satellite dropping back below the cap until the error is first
+≤ 1° again (goal ≤ {reacq} s; "never" = not within the run). "—" = the pass stays below the cap (or the
 run's window does not include the drop).""".format(cap=CAP_EXCESS_GOAL, reacq=REACQUIRE_GOAL)
 
 SUMMARY_NOTES = """\

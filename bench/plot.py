@@ -166,6 +166,7 @@ def plot_summary(summary, image_dir):
             ax.set_ylabel("RMS pointing error (°)")
             ax.set_yscale("log")
             ax.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+            ax.yaxis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
             ax.yaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
             if thr in RMS_GOAL:
                 ax.axhline(RMS_GOAL[thr], color="red", lw=0.8, ls="--", label=f"goal {RMS_GOAL[thr]}°")

@@ -37,6 +37,11 @@ std::string degrees_text(double value) { return format_degrees(value); }
 
 double axis_value(AzEl position, Axis axis) { return axis == Axis::azimuth ? position.az : position.el; }
 
+// The 0..360 value sent for a mechanical azimuth, rounded as the command prints it (two
+// decimals) before folding, so 359.996 goes out as 0.00 and never as 360.00, a value outside
+// 0..360 whose handling by the firmware is unknown.
+double command_azimuth(double mechanical) { return normalize_azimuth(std::round(mechanical * 100.0) / 100.0); }
+
 double axis_error(Axis axis, double from, double to) {
     return axis == Axis::azimuth ? std::fabs(azimuth_difference(from, to)) : std::fabs(to - from);
 }
@@ -510,7 +515,7 @@ Status Controller::set_target(AzEl target, double az_rate_dps) {
     target_mech_az_ = choose_azimuth_branch(wanted, previous, az_rate_dps);
     const double command_mech = std::clamp(*target_mech_az_ + azimuth_difference(wanted.az, command.az),
                                            az_usable_.min, az_usable_.max);
-    command.az = normalize_azimuth(command_mech);
+    command.az = command_azimuth(command_mech);
 
     auto needed = [this](Axis axis, double value) {
         const auto& commanded = axis == Axis::azimuth ? commanded_az_ : commanded_el_;
@@ -881,13 +886,13 @@ Status Controller::service() {
 void Controller::plan_azimuth_leg(Leg& leg) {
     const double from = mech_az_ ? *mech_az_ : commanded_az_.value_or(leg.final_mech_az);
     leg.mech_az = leg.waypoints_left > 0 ? wrap::next_waypoint(from, leg.final_mech_az) : leg.final_mech_az;
-    leg.target.az = normalize_azimuth(leg.mech_az);
+    leg.target.az = command_azimuth(leg.mech_az);
     if (leg.mech_az == leg.final_mech_az) {
         return;
     }
     Leg rest = leg;
     rest.mech_az = rest.final_mech_az;
-    rest.target.az = normalize_azimuth(rest.final_mech_az);
+    rest.target.az = command_azimuth(rest.final_mech_az);
     --rest.waypoints_left;
     pending_.push_front(rest);
     emit(options_.log, LogLevel::verbose,

@@ -321,3 +321,13 @@ TEST_CASE("controller wrap: the estimate survives a re-initialisation only if th
         CHECK(*bench.controller->mechanical_azimuth() == Approx(90).margin(0.01));
     }
 }
+
+TEST_CASE("controller wrap: an azimuth that prints as 360.00 is sent as 0.00") {
+    Bench bench(VariantId::travler_hal205, 350.0, 30.0, false);
+    REQUIRE(bench.controller->initialize());
+    bench.go(359.997, 30, 0.0);
+    REQUIRE(bench.dish.sent.size() == 1);
+    CHECK(bench.dish.sent.front() == 0.0);
+    CHECK(bench.dish.mech == Approx(360.0));   // the branch continuous with 350
+    CHECK(bench.controller->idle());
+}

@@ -66,6 +66,15 @@ public:
     // The controller's estimate of the mechanical azimuth (cable-wrap turns included, in the
     // variant's az_min..az_max coordinates); nullopt before the first reading.
     std::optional<double> mechanical_azimuth() const { return mech_az_; }
+    // The single-axis move in flight, for a position model between polls: the axis goes from
+    // `from` (its last reading, taken at `from_at`) to `to`, display degrees.
+    struct LegMotion {
+        Axis axis = Axis::azimuth;
+        double from = 0.0, to = 0.0;
+        Clock::time_point from_at{};
+        Clock::time_point sent_at{};
+    };
+    std::optional<LegMotion> leg_motion() const;
     // The mechanical azimuth current_target() was put on (before leapfrog); nullopt without a target.
     std::optional<double> target_mechanical_azimuth() const { return target_mech_az_; }
     const FirmwareProfile& profile() const { return profile_; }

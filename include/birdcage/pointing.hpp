@@ -47,7 +47,7 @@ struct PredictorSettings {
     // Least-squares window for the velocity (targets older than this are dropped from the fit,
     // but the last two are always kept). Long enough to average Gpredict's lead quantisation
     // (a quarter cycle, 0.25 s) over several samples.
-    double fit_window_s = 12.0;
+    double fit_window_s = 30.0;
     // A gap longer than this between targets restarts the estimate (the client stopped).
     double max_gap_s = 120.0;
     // How long past the last target the motion is extrapolated: this many times the last
@@ -102,9 +102,12 @@ private:
     Clock::time_point origin_{};
     bool has_origin_ = false;
     std::deque<Sample> samples_;
-    double az_rate_ = 0.0, el_rate_ = 0.0;
+    double az_rate_ = 0.0, el_rate_ = 0.0;     // at the anchor
+    double az_accel_ = 0.0, el_accel_ = 0.0;
     bool have_rate_ = false;
+    bool held_ = false;   // the last target repeated the one before: the client holds still
     std::optional<double> lead_threshold_;  // learned client threshold, degrees (per axis)
+    std::deque<double> lead_observations_;
     // The estimated satellite position at anchor_t_ (the last target minus the lead).
     double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;
     double last_interval_s_ = 0.0;

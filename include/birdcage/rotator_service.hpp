@@ -52,6 +52,8 @@ struct PointingOptions {
     // Time from deciding a move to the motor starting (worker period, command exchange), in the
     // dish's seconds; the aim is taken this much (plus the move time) ahead.
     double command_overhead_s = 0.1;
+    // How far the deadband may be widened for a slow mount.
+    double max_deadband_deg = 0.5;
     PredictorSettings predictor;
 };
 
@@ -112,6 +114,8 @@ private:
     Clock::time_point controller_now() const;
     Status accept_target(AzEl target);
     Status steer();
+    void note_step_finished();
+    AzEl modelled_position_locked() const;
 
     std::unique_ptr<Transport> transport_;
     ControllerOptions options_;
@@ -122,6 +126,13 @@ private:
     // Worker-only predictive state: the estimator and what was last handed to the controller.
     TargetPredictor predictor_;
     std::optional<AzEl> aim_;
+    struct TimedStep {
+        Clock::time_point started;
+        int legs = 0;
+        double motion_s = 0.0;   // estimated motor time of those legs
+    };
+    std::optional<TimedStep> timed_step_;
+    std::optional<double> measured_overhead_s_;   // per leg, beyond the motion (EMA)
     // Worker-only recovery state.
     bool link_down_ = false;               // the transport hung up; reopen before anything else
     int consecutive_failures_ = 0;
@@ -139,6 +150,7 @@ private:
     std::optional<AzEl> latest_target_;   // the client's last target (resumed after a recovery)
     // Snapshot from the worker to callers.
     std::optional<AzEl> position_;
+    std::optional<Controller::LegMotion> leg_motion_;   // the move in flight (position model)
     bool idle_ = true;
     Status last_error_;
     std::string description_;

@@ -949,6 +949,15 @@ bool Controller::needs_reinit() const {
 
 bool Controller::idle() const { return !in_flight_ && pending_.empty(); }
 
+std::optional<Controller::LegMotion> Controller::leg_motion() const {
+    if (!in_flight_ || in_flight_->combined || !last_position_ || !last_position_at_) {
+        return std::nullopt;
+    }
+    const Axis axis = in_flight_->axis;
+    return LegMotion{axis, axis_value(*last_position_, axis), axis_value(in_flight_->target, axis), *last_position_at_,
+                     in_flight_->sent_at};
+}
+
 std::string Controller::describe() const {
     std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +
                        std::string(profile_.short_name) + ", " +

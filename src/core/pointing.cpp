@@ -10,20 +10,29 @@ namespace {
 
 constexpr double same_target_degrees = 0.005;  // targets arrive with two decimals
 constexpr double max_lead_s = 30.0;            // a learned lead longer than this is not a lead
-constexpr double max_lead_threshold_deg = 20.0;
-constexpr double lead_learning_rate = 0.3;     // weight of a new lag observation
+constexpr double max_lead_threshold_deg = 10.0;
+constexpr std::size_t lead_observations_kept = 8;
 // An observation smaller than this fraction of the learned threshold is a "lead" event (the dish
 // ran ahead), which says nothing about the client's threshold.
 constexpr double lag_event_fraction = 0.5;
 // Quadratic fits need this many samples over this span; below, a straight line.
-constexpr std::size_t quadratic_min_samples = 4;
+constexpr std::size_t quadratic_min_samples = 3;
 constexpr double quadratic_min_span_s = 3.0;
 // Bounds on the fitted acceleration (the keyhole's azimuth needs ~1.6 deg/s² at 85°, tracking.md §2.1).
-constexpr double max_az_accel = 2.0;
-constexpr double max_el_accel = 0.2;
+constexpr double max_az_accel = 0.3;
+constexpr double max_el_accel = 0.05;
+// A target this soon after the previous one is Gpredict re-sending before it read the dish's new
+// position (its I/O loop is ~0.8 s): its gap to the dish says nothing about the lead.
+constexpr double resend_interval_s = 1.0;
+// How far ahead a fitted curvature is trusted (a pass's azimuth acceleration changes sign at the
+// culmination).
+constexpr double accel_horizon_s = 5.0;
+// Weight of a new target's anchor against the running estimate (an alpha filter on position).
+constexpr double anchor_gain = 0.5;
 
 struct Fit {
-    double rate = 0.0;   // slope at the newest sample
+    double rate = 0.0;    // slope at the newest sample
+    double accel = 0.0;   // curvature (0 for a straight line)
     bool ok = false;
 };
 
@@ -61,6 +70,7 @@ Fit slope_at_end(const Samples& samples, Get value, double accel_bound) {
         return {};
     }
     double rate = (st[0] * sy[1] - st[1] * sy[0]) / linear_det;
+    double accel = 0.0;
     if (n >= quadratic_min_samples && span >= quadratic_min_span_s) {
         // Normal equations for y = a + b t + c t^2 (Cramer's rule).
         const double m[3][3] = {{st[0], st[1], st[2]}, {st[1], st[2], st[3]}, {st[2], st[3], st[4]}};
@@ -76,10 +86,11 @@ Fit slope_at_end(const Samples& samples, Get value, double accel_bound) {
             const double c = det3(mc) / det;
             if (std::fabs(2.0 * c) <= accel_bound) {
                 rate = b;
+                accel = 2.0 * c;
             }
         }
     }
-    return {rate, true};
+    return {rate, accel, true};
 }
 
 }  // namespace
@@ -134,7 +145,9 @@ void TargetPredictor::restart(double t, AzEl target) {
 }
 
 void TargetPredictor::fit() {
-    while (samples_.size() > 2 && samples_.back().t - samples_.front().t > settings_.fit_window_s) {
+    // Keep at least fit_window of history: two targets sent a cycle apart (Gpredict re-sends
+    // before the dish has moved) carry mostly the lead's quantisation, not the rate.
+    while (samples_.size() > 2 && samples_.back().t - samples_[1].t >= settings_.fit_window_s) {
         samples_.pop_front();
     }
     const Fit az = slope_at_end(samples_, [](const Sample& s) { return s.az; }, max_az_accel);
@@ -142,6 +155,8 @@ void TargetPredictor::fit() {
     have_rate_ = az.ok && el.ok && std::hypot(az.rate, el.rate) >= settings_.stationary_dps;
     az_rate_ = have_rate_ ? az.rate : 0.0;
     el_rate_ = have_rate_ ? el.rate : 0.0;
+    az_accel_ = have_rate_ ? az.accel : 0.0;
+    el_accel_ = have_rate_ ? el.accel : 0.0;
 }
 
 void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional<AzEl> dish) {
@@ -160,9 +175,9 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     const Sample last = samples_.back();
     const double az = last.az + azimuth_difference(last.az, target.az);
     const bool repeated = std::fabs(az - last.az) < same_target_degrees && std::fabs(target.el - last.el) < same_target_degrees;
-    // A target after a stationary one cannot give a rate: the client only now started moving.
-    const bool after_stationary = samples_.size() == 1 && !have_rate_ && t - last.t > settings_.fit_window_s;
-    if (repeated || t - last.t > settings_.max_gap_s || t <= last.t || after_stationary) {
+    // A target after a held one cannot give a rate: the client only now started moving.
+    if (repeated || t - last.t > settings_.max_gap_s || t <= last.t || held_) {
+        held_ = repeated;
         restart(t, target);
         return;
     }
@@ -178,8 +193,12 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
             return;
         }
     }
+    held_ = false;
+    const std::optional<Prediction> before = have_rate_ ? predict(when) : std::nullopt;
     samples_.push_back({t, az, target.el});
-    last_interval_s_ = t - last.t;
+    if (t - last.t > resend_interval_s) {
+        last_interval_s_ = t - last.t;
+    }
     fit();
     if (!have_rate_) {
         anchor_t_ = t;
@@ -188,22 +207,60 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         return;
     }
     const double dominant_rate = std::max(std::fabs(az_rate_), std::fabs(el_rate_));
-    if (dish) {
+    if (dish && t - last.t > resend_interval_s) {
         // Along-track gap between this target and the dish the client compared it with.
         const double gap_az = azimuth_difference(dish->az, target.az);
         const double gap_el = target.el - dish->el;
         const double rate_sq = az_rate_ * az_rate_ + el_rate_ * el_rate_;
         const double lead_obs_s = (gap_az * az_rate_ + gap_el * el_rate_) / (2.0 * rate_sq);
-        const double threshold_obs = std::min(lead_obs_s * dominant_rate, max_lead_threshold_deg);
-        if (lead_obs_s > 0.0 && (!lead_threshold_ || threshold_obs >= lag_event_fraction * *lead_threshold_)) {
-            lead_threshold_ = lead_threshold_ ? (1.0 - lead_learning_rate) * *lead_threshold_ + lead_learning_rate * threshold_obs
-                                              : threshold_obs;
+        const double threshold_obs = lead_obs_s * dominant_rate;
+        // A gap wider than two of the largest plausible leads is the dish still slewing (a
+        // pre-pass unwind, an acquisition), not a threshold crossing.
+        const bool plausible = std::max(std::fabs(gap_az), std::fabs(gap_el)) <= 2.0 * max_lead_threshold_deg &&
+                               threshold_obs <= max_lead_threshold_deg;
+        if (plausible && lead_obs_s > 0.0 && (!lead_threshold_ || threshold_obs >= lag_event_fraction * *lead_threshold_)) {
+            // The smallest recent observation: a dish that trails for any other reason makes
+            // the gap larger than twice the lead, never smaller, and a lead learned too large
+            // would keep the dish trailing (the client then re-sends every cycle).
+            lead_observations_.push_back(threshold_obs);
+            if (lead_observations_.size() > lead_observations_kept) {
+                lead_observations_.pop_front();
+            }
+            lead_threshold_ = *std::min_element(lead_observations_.begin(), lead_observations_.end());
         }
     }
-    const double lead_s = lead_threshold_ ? std::min(*lead_threshold_ / dominant_rate, max_lead_s) : 0.0;
+    // Back along the fitted parabola by the lead: the target is where the satellite will be once
+    // it has moved `threshold` on its faster axis, so tau solves |v tau - a tau^2 / 2|inf = threshold
+    // (v, a at the target's time).
+    double lead_s = 0.0;
+    if (lead_threshold_) {
+        lead_s = std::min(*lead_threshold_ / dominant_rate, max_lead_s);
+        for (int refine = 0; refine < 3; ++refine) {
+            const double moved = std::max(std::fabs(az_rate_ - 0.5 * az_accel_ * lead_s), std::fabs(el_rate_ - 0.5 * el_accel_ * lead_s));
+            lead_s = moved > settings_.stationary_dps ? std::min(*lead_threshold_ / moved, max_lead_s) : lead_s;
+        }
+    }
+    double new_az = az - az_rate_ * lead_s + 0.5 * az_accel_ * lead_s * lead_s;
+    double new_el = target.el - el_rate_ * lead_s + 0.5 * el_accel_ * lead_s * lead_s;
+    if (before && lead_threshold_) {
+        // Gpredict's lead is quantised (a quarter cycle), so each anchor is noisy by ~0.25 s of
+        // motion: blend it with where the previous estimate put the satellite now, unless the
+        // two disagree by more than the lead itself (then the new target wins).
+        const double prior_az = before->position.az;
+        const double prior_el = before->position.el;
+        const double d_az = azimuth_difference(prior_az, normalize_azimuth(new_az));
+        const double d_el = new_el - prior_el;
+        if (std::max(std::fabs(d_az), std::fabs(d_el)) < *lead_threshold_) {
+            new_az = az + azimuth_difference(normalize_azimuth(az), normalize_azimuth(prior_az + anchor_gain * d_az));
+            new_el = prior_el + anchor_gain * d_el;
+        }
+    }
     anchor_t_ = t;
-    anchor_az_ = az - az_rate_ * lead_s;
-    anchor_el_ = target.el - el_rate_ * lead_s;
+    anchor_az_ = new_az;
+    anchor_el_ = new_el;
+    // The rates at the anchor's time, not the target's.
+    az_rate_ -= az_accel_ * lead_s;
+    el_rate_ -= el_accel_ * lead_s;
 }
 
 std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const {
@@ -218,15 +275,21 @@ std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const
     const double dt = std::max(0.0, seconds(when) - anchor_t_);
     const double horizon = std::clamp(settings_.extrapolate_intervals * last_interval_s_, settings_.min_extrapolation_s,
                                       settings_.max_extrapolation_s);
+    // Curvature is trusted for accel_horizon_s only, then the motion continues straight.
+    auto travel = [&](double rate, double accel, double dt_axis) {
+        const double curved = std::min(dt_axis, accel_horizon_s);
+        return rate * dt_axis + accel * curved * (0.5 * curved + (dt_axis - curved));
+    };
+    auto rate_at = [&](double rate, double accel, double dt_axis) { return rate + accel * std::min(dt_axis, accel_horizon_s); };
     const double dt_el = std::min(dt, horizon);
-    const double el = anchor_el_ + el_rate_ * dt_el;
+    const double el = anchor_el_ + travel(el_rate_, el_accel_, dt_el);
     const double az_horizon = std::max(anchor_el_, el) > settings_.zenith_guard_el
                                   ? std::min(horizon, settings_.zenith_extrapolation_s)
                                   : horizon;
     const double dt_az = std::min(dt, az_horizon);
-    out.position = {normalize_azimuth(anchor_az_ + az_rate_ * dt_az), el};
-    out.az_rate = dt < az_horizon ? az_rate_ : 0.0;
-    out.el_rate = dt < horizon ? el_rate_ : 0.0;
+    out.position = {normalize_azimuth(anchor_az_ + travel(az_rate_, az_accel_, dt_az)), el};
+    out.az_rate = dt < az_horizon ? rate_at(az_rate_, az_accel_, dt_az) : 0.0;
+    out.el_rate = dt < horizon ? rate_at(el_rate_, el_accel_, dt_el) : 0.0;
     out.moving = dt < horizon;
     return out;
 }

@@ -113,7 +113,37 @@ Result<AzEl> RotatorService::position() {
                                  : last_error_;
         return {AzEl{}, why};
     }
-    return {*position_, Status::ok()};
+    return {modelled_position_locked(), Status::ok()};
+}
+
+// Between polls the dish is where the move in flight has taken it: the axis runs from its last
+// reading to the leg's target over the variant's estimated move time, with a symmetric
+// accelerate/brake profile, so `p` tracks a moving dish instead of repeating the last poll.
+AzEl RotatorService::modelled_position_locked() const {
+    AzEl at = *position_;
+    if (!leg_motion_ || !controller_) {
+        return at;
+    }
+    const Controller::LegMotion& leg = *leg_motion_;
+    const bool azimuth = leg.axis == Axis::azimuth;
+    const double distance = azimuth ? azimuth_difference(leg.from, leg.to) : leg.to - leg.from;
+    const double move_s =
+        std::chrono::duration<double>(estimated_move_time(controller_->profile(), leg.axis, distance)).count();
+    const auto now = controller_now();
+    const auto started = std::max(leg.from_at, leg.sent_at);
+    const double elapsed = std::chrono::duration<double>(now - started).count();
+    if (move_s <= 0.0 || elapsed <= 0.0) {
+        return at;
+    }
+    // From the last reading: a reading taken mid-move leaves the remaining distance to cover.
+    const double u = std::clamp(elapsed / move_s, 0.0, 1.0);
+    const double travelled = distance * u * u * (3.0 - 2.0 * u);
+    if (azimuth) {
+        at.az = normalize_azimuth(leg.from + travelled);
+    } else {
+        at.el = leg.from + travelled;
+    }
+    return at;
 }
 
 Status RotatorService::stop() {
@@ -206,6 +236,7 @@ void RotatorService::publish_locked(const Controller& controller, const Status& 
     if (auto pos = controller.last_position()) {
         position_ = pos;
     }
+    leg_motion_ = controller.leg_motion();
     // A target posted while the worker was busy keeps the service non-idle until it is taken.
     idle_ = controller.idle() && !posted_target_ && !home_requested_;
     unhomed_ = controller.unhomed();
@@ -263,10 +294,14 @@ Clock::time_point RotatorService::controller_now() const {
 }
 
 Status RotatorService::accept_target(AzEl target) {
-    if (pointing_.mode != PointingMode::predictive) {
-        return controller_->set_target(target);
-    }
+    // Every mode feeds the estimator: its azimuth rate tells the controller which way a pass
+    // turns, so it can choose a cable-wrap branch with room for the whole pass.
     predictor_.observe(controller_now(), target, controller_->last_position());
+    if (pointing_.mode != PointingMode::predictive) {
+        const auto motion = predictor_.predict(controller_now());
+        return controller_->set_target(target, motion ? motion->az_rate : 0.0);
+    }
+    emit(options_.log, LogLevel::verbose, predictor_.describe());
     aim_.reset();
     return steer();
 }
@@ -292,10 +327,10 @@ Status RotatorService::steer() {
             return Status::ok();
         }
         aim_ = hold;
-        return controller_->set_target(hold);
+        return controller_->set_target(hold, 0.0);
     }
     const FirmwareProfile& dish = controller_->profile();
-    const double overhead_s = pointing_.command_overhead_s;
+    const double overhead_s = std::max(pointing_.command_overhead_s, measured_overhead_s_.value_or(0.0));
     auto step_time = [&](Axis axis, double degrees) {
         return std::chrono::duration<double>(estimated_move_time(dish, axis, degrees)).count() + overhead_s;
     };
@@ -311,7 +346,9 @@ Status RotatorService::steer() {
     for (int widen = 0; widen < 30; ++widen) {
         const double busy = step_time(Axis::azimuth, 2 * deadband_az) * az_rate / (2 * deadband_az) +
                             step_time(Axis::elevation, 2 * deadband_el) * el_rate / (2 * deadband_el);
-        if (busy <= 0.5) {
+        // Beyond max_deadband_deg the aim would run so far ahead that the client sees the dish
+        // off by more than its threshold and re-sends: a slow mount then just trails.
+        if (busy <= 0.5 || deadband_el * 1.2 > std::max(pointing_.deadband_deg, pointing_.max_deadband_deg)) {
             break;
         }
         deadband_az *= 1.2;
@@ -346,8 +383,28 @@ Status RotatorService::steer() {
     if (!changed) {
         return Status::ok();
     }
+    if (controller_->idle() && aim_) {
+        // Time this step: what a leg costs beyond its motion (exchange, polling) is measured, not assumed.
+        const double az_move = std::fabs(azimuth_difference(aim_->az, next.az));
+        const double el_move = std::fabs(next.el - aim_->el);
+        timed_step_ = TimedStep{now, (az_move > 0.005 ? 1 : 0) + (el_move > 0.005 ? 1 : 0),
+                                step_time(Axis::azimuth, az_move) + step_time(Axis::elevation, el_move) - 2 * overhead_s};
+    }
     aim_ = next;
-    return controller_->set_target(next);
+    return controller_->set_target(next, current->az_rate);
+}
+
+void RotatorService::note_step_finished() {
+    if (!timed_step_ || !controller_->idle()) {
+        return;
+    }
+    const TimedStep step = *std::exchange(timed_step_, std::nullopt);
+    if (step.legs == 0) {
+        return;
+    }
+    const double busy = std::chrono::duration<double>(controller_now() - step.started).count();
+    const double overhead = std::max(0.0, (busy - step.motion_s) / step.legs);
+    measured_overhead_s_ = measured_overhead_s_ ? 0.8 * *measured_overhead_s_ + 0.2 * overhead : overhead;
 }
 
 void RotatorService::run() {
@@ -404,6 +461,7 @@ void RotatorService::run() {
             if (step) {
                 step = controller_->service();
             }
+            note_step_finished();
             const bool idle_now = controller_->idle();
             if (step && idle_now && Clock::now() - last_poll >= timing_.idle_poll_period) {
                 talked = true;

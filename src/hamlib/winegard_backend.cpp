@@ -51,7 +51,7 @@ constexpr float kCapsMaxEl = 90.0f;
 
 birdcage::PointingOptions default_pointing() {
     birdcage::PointingOptions pointing;
-    pointing.mode = birdcage::PointingMode::leapfrog;
+    pointing.mode = birdcage::PointingMode::predictive;
     return pointing;
 }
 
@@ -279,7 +279,7 @@ const ConfParam kConfParams[] = {
      }},
     {2, "leapfrog", "Leapfrog",
      "Same as pointing=leapfrog (1) or pointing=none (0); kept for older configurations",
-     RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("1"); },
+     RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("0"); },
      [](const char* text, WinegardPriv& priv) {
          bool on = false;
          if (!parse_bool(text, &on)) {
@@ -326,7 +326,7 @@ const ConfParam kConfParams[] = {
     {9, "pointing", "Pointing mode",
      "predictive (aim where the satellite will be, inferred from the targets), leapfrog (seed "
      "overshoot of a lagging axis) or none (each target as sent)",
-     RIG_CONF_STRING, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("leapfrog"); },
+     RIG_CONF_STRING, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("predictive"); },
      [](const char* text, WinegardPriv& priv) {
          const auto mode = birdcage::pointing_mode_from_name(text);
          if (!mode) {

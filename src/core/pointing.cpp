@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 namespace birdcage {
 namespace {
@@ -23,7 +24,7 @@ constexpr double max_az_accel = 0.3;
 constexpr double max_el_accel = 0.05;
 // A target this soon after the previous one is Gpredict re-sending before it read the dish's new
 // position (its I/O loop is ~0.8 s): its gap to the dish says nothing about the lead.
-constexpr double resend_interval_s = 1.0;
+constexpr double resend_interval_s = 2.0;
 // How far ahead a fitted curvature is trusted (a pass's azimuth acceleration changes sign at the
 // culmination).
 constexpr double accel_horizon_s = 5.0;
@@ -127,6 +128,11 @@ double TargetPredictor::seconds(Clock::time_point t) const {
 }
 
 void TargetPredictor::reset() {
+    // Everything, the learned lead too: after a stop or a homing the next client may be another
+    // program with another threshold (or none).
+    lead_threshold_.reset();
+    lead_observations_.clear();
+    held_ = false;
     samples_.clear();
     have_rate_ = false;
     az_rate_ = el_rate_ = 0.0;
@@ -219,14 +225,18 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         const bool plausible = std::max(std::fabs(gap_az), std::fabs(gap_el)) <= 2.0 * max_lead_threshold_deg &&
                                threshold_obs <= max_lead_threshold_deg;
         if (plausible && lead_obs_s > 0.0 && (!lead_threshold_ || threshold_obs >= lag_event_fraction * *lead_threshold_)) {
-            // The smallest recent observation: a dish that trails for any other reason makes
-            // the gap larger than twice the lead, never smaller, and a lead learned too large
-            // would keep the dish trailing (the client then re-sends every cycle).
+            // Low recent observations: a dish that trails for any other reason makes the gap
+            // larger than twice the lead, never smaller, and a lead learned too large would keep
+            // the dish trailing (the client then re-sends every cycle).
             lead_observations_.push_back(threshold_obs);
             if (lead_observations_.size() > lead_observations_kept) {
                 lead_observations_.pop_front();
             }
-            lead_threshold_ = *std::min_element(lead_observations_.begin(), lead_observations_.end());
+            // A low quantile rather than the minimum: the minimum of noisy observations is
+            // biased low, which would aim the dish ahead of the satellite.
+            std::vector<double> sorted(lead_observations_.begin(), lead_observations_.end());
+            std::sort(sorted.begin(), sorted.end());
+            lead_threshold_ = sorted[(sorted.size() - 1) / 2];
         }
     }
     // Back along the fitted parabola by the lead: the target is where the satellite will be once

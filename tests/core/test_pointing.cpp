@@ -511,9 +511,9 @@ TEST_CASE("pointing: reset() forgets the stream") {
     CHECK(p.position.az == Approx(other.at(23).az).margin(0.01));
 }
 
-TEST_CASE("pointing: reset() forgets the learned lead and a held stop", "[!mayfail]") {
-    // See the report: reset() clears the samples and rates but not lead_threshold_,
-    // lead_observations_ or held_ (src/core/pointing.cpp, TargetPredictor::reset()).
+TEST_CASE("pointing: reset() forgets the learned lead and a held stop") {
+    // Regression: reset() once cleared the samples and rates but kept the learned lead and the
+    // held flag, so a lead-free client after a stop was tracked a whole lead behind.
     TargetPredictor predictor;
     SECTION("the learned lead") {
         const Linear sat{100.0, 15.0, 0.5, 0.15};

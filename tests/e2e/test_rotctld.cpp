@@ -3,7 +3,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <utility>
 #include <sstream>
 
 using namespace std::chrono_literals;
@@ -72,13 +75,27 @@ TEST_CASE("stock rotctld drives the dish: P moves it, p reports it", "[e2e]") {
     }
 }
 
-TEST_CASE("leapfrog (default on) leads each axis in its direction of travel", "[e2e][leapfrog]") {
+TEST_CASE("pointing=leapfrog leads each axis in its direction of travel", "[e2e][leapfrog]") {
     // From (100, 30) both axes lag by more than 2 degrees: each is led by 1 degree. Upstream's
-    // bug would have put both nudges on azimuth (182, 45).
+    // bug would have put both nudges on azimuth (182, 45). leapfrog=1 is the older spelling.
+    const ModelUnderTest& m = kModels[4];
+    for (const char* setting : {"pointing=leapfrog", "leapfrog=1"}) {
+        DYNAMIC_SECTION(setting) {
+            e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, 50.0), m.model, {"-C", setting});
+            REQUIRE(rig.rotctl({"P", "180", "45"}).exit_code == 0);
+            REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 181.0, 46.0, 0.1); }, 30s));
+            CHECK(rig.dish().hazards_received() == 0);
+        }
+    }
+}
+
+TEST_CASE("the default (predictive) pointing goes to a single target exactly, with no overshoot", "[e2e][pointing]") {
+    // One target is no motion to extrapolate: the dish must stop on it, not beyond it.
     const ModelUnderTest& m = kModels[4];
     e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, 50.0), m.model);
     REQUIRE(rig.rotctl({"P", "180", "45"}).exit_code == 0);
-    REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 181.0, 46.0, 0.1); }, 30s));
+    REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 180.0, 45.0, 0.02); }, 30s));
+    CHECK_FALSE(e2e::wait_until([&] { return rig.dish().moving(); }, 1500ms));
     CHECK(rig.dish().hazards_received() == 0);
 }
 
@@ -134,5 +151,48 @@ TEST_CASE("rotctld wire replies: errors are RPRT codes, the session survives the
     CHECK(client.ask("P 120 40", 1) == "RPRT 0\n");
     CHECK(client.ask("_", 1).find("Winegard") != std::string::npos);
     CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, 40.0, 0.1); }, 30s));
+    CHECK(rig.dish().hazards_received() == 0);
+}
+
+TEST_CASE("predictive pointing follows a moving target stream and stops where the stream stops", "[e2e][pointing]") {
+    // A lead-free client (SatDump-like) sends a target every simulated second moving at
+    // +0.5 deg/s in azimuth and +0.2 deg/s in elevation. The dish must be on the moving target
+    // (not a second behind it, as a dish that only goes to each target is), and once the stream
+    // stops it must come to rest within the extrapolation horizon, not wander on.
+    const ModelUnderTest& m = kModels[4];
+    const double scale = 10.0;
+    e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, scale), m.model,
+                 {"-C", "pointing=predictive", "-C", "time_scale=10"});
+    e2e::RotctldConnection client(rig.port());
+    auto target_at = [](double t) { return std::pair{100.0 + 0.5 * t, 30.0 + 0.2 * t}; };
+    auto sky_angle = [](double az1, double el1, double az2, double el2) {   // great circle, degrees
+        const double r = M_PI / 180.0;
+        const double c = std::sin(el1 * r) * std::sin(el2 * r) + std::cos(el1 * r) * std::cos(el2 * r) * std::cos((az1 - az2) * r);
+        return std::acos(std::clamp(c, -1.0, 1.0)) / r;
+    };
+    const double start = rig.dish().sim_time();
+    double worst_late = 0.0;
+    for (int second = 0; second <= 30; ++second) {
+        const auto [az, el] = target_at(second);
+        char command[64];
+        std::snprintf(command, sizeof command, "P %.2f %.2f", az, el);
+        REQUIRE(client.ask(command, 1).rfind("RPRT 0", 0) == 0);
+        // Just before the next target the satellite is most of a second past the last one.
+        REQUIRE(e2e::wait_until([&] { return rig.dish().sim_time() - start >= second + 0.9; }, 10s));
+        if (second >= 10) {
+            const birdcage::sim::Pose dish = rig.dish().true_position();
+            const auto [sat_az, sat_el] = target_at(rig.dish().sim_time() - start);
+            worst_late = std::max(worst_late, sky_angle(dish.az, dish.el, sat_az, sat_el));
+        }
+        REQUIRE(e2e::wait_until([&] { return rig.dish().sim_time() - start >= second + 1.0; }, 10s));
+    }
+    // A dish that goes to each target and waits is 0.9 s (~0.48 deg) behind at that moment.
+    CHECK(worst_late < 0.3);
+    const double stopped_at = rig.dish().sim_time();
+    REQUIRE(e2e::wait_until([&] { return !rig.dish().moving() && rig.dish().sim_time() - stopped_at > 15.0; }, 20s));
+    const birdcage::sim::Pose rest = rig.dish().true_position();
+    CHECK_FALSE(e2e::wait_until([&] { return rig.dish().moving(); }, 1s));
+    // It may have run on by at most the horizon (10 s at 0.54 deg/s), and not beyond.
+    CHECK(sky_angle(rest.az, rest.el, target_at(30).first, target_at(30).second) < 6.0);
     CHECK(rig.dish().hazards_received() == 0);
 }

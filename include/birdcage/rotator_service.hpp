@@ -113,6 +113,7 @@ private:
     Status recover_once();
     Clock::time_point controller_now() const;
     Status accept_target(AzEl target);
+    double azimuth_direction_hint(AzEl target) const;
     Status steer();
     void note_step_finished();
     AzEl modelled_position_locked() const;
@@ -126,6 +127,7 @@ private:
     // Worker-only predictive state: the estimator and what was last handed to the controller.
     TargetPredictor predictor_;
     std::optional<AzEl> aim_;
+    std::optional<AzEl> client_target_;   // the last target the client sent, as sent
     struct TimedStep {
         Clock::time_point started;
         int legs = 0;

@@ -293,13 +293,33 @@ Clock::time_point RotatorService::controller_now() const {
     return options_.clock ? options_.clock() : Clock::now();
 }
 
+// The azimuth direction a pass is taking, for the controller's cable-wrap choice: the estimated
+// rate once two targets are known. Before that, one case is already clear: a client holding a
+// satellite that is still below the dish's lowest elevation (target clamped to el_min) moves the
+// dish a small step along the satellite's azimuth track, as Gpredict does from the AOS point; the
+// direction of that step is the pass's, and knowing it now lets the one unwind a pass may need
+// happen while the satellite is still out of reach rather than as it rises into the beam.
+double RotatorService::azimuth_direction_hint(AzEl target) const {
+    if (const auto motion = predictor_.predict(controller_now()); motion && motion->az_rate != 0.0) {
+        return motion->az_rate;
+    }
+    const auto dish = controller_->last_position();
+    if (!dish || target.el > controller_->el_min() + 0.01) {
+        return 0.0;
+    }
+    const double step = azimuth_difference(dish->az, target.az);
+    constexpr double tracking_step_max = 2.0;   // degrees: a client's step, not a new pointing
+    constexpr double tiny_rate = 1e-3;          // a direction, not a speed
+    return std::fabs(step) > 0.005 && std::fabs(step) <= tracking_step_max ? std::copysign(tiny_rate, step) : 0.0;
+}
+
 Status RotatorService::accept_target(AzEl target) {
     // Every mode feeds the estimator: its azimuth rate tells the controller which way a pass
     // turns, so it can choose a cable-wrap branch with room for the whole pass.
     predictor_.observe(controller_now(), target, controller_->last_position());
+    client_target_ = target;
     if (pointing_.mode != PointingMode::predictive) {
-        const auto motion = predictor_.predict(controller_now());
-        return controller_->set_target(target, motion ? motion->az_rate : 0.0);
+        return controller_->set_target(target, azimuth_direction_hint(target));
     }
     emit(options_.log, LogLevel::verbose, predictor_.describe());
     aim_.reset();
@@ -327,7 +347,7 @@ Status RotatorService::steer() {
             return Status::ok();
         }
         aim_ = hold;
-        return controller_->set_target(hold, 0.0);
+        return controller_->set_target(hold, azimuth_direction_hint(hold));
     }
     const FirmwareProfile& dish = controller_->profile();
     const double overhead_s = std::max(pointing_.command_overhead_s, measured_overhead_s_.value_or(0.0));
@@ -340,7 +360,13 @@ Status RotatorService::steer() {
     double deadband_el = pointing_.deadband_deg;
     double deadband_az = pointing_.deadband_deg / cos_el;
     const double az_rate = std::fabs(current->az_rate);
-    const double el_rate = current->position.el >= el_max || current->position.el <= el_min ? 0.0 : std::fabs(current->el_rate);
+    // Above the elevation cap (the client's target at or over it) the dish holds the cap and
+    // follows only the azimuth (tracking.md §2.2), until a target comes back below the cap: the
+    // fitted elevation would otherwise start descending before the satellite does.
+    const bool above_cap = client_target_ && client_target_->el >= el_max - 0.005;
+    const double el_rate = above_cap || current->position.el >= el_max || current->position.el <= el_min
+                               ? 0.0
+                               : std::fabs(current->el_rate);
     // One axis moves at a time: widen both deadbands until the steps need at most half the
     // motor's time, so the dish keeps up instead of queueing (the Trav'ler's slow moves).
     for (int widen = 0; widen < 30; ++widen) {
@@ -375,9 +401,10 @@ Status RotatorService::steer() {
         changed = true;
     }
     const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
-    const double el_past = (clamp_el(el_at->position.el) - next.el) * el_sign;
+    const double el_wanted = above_cap ? el_max : clamp_el(el_at->position.el);
+    const double el_past = (el_wanted - next.el) * el_sign;
     if (changed || re_aim(el_past, el_rate, deadband_el)) {
-        next.el = clamp_el(el_at->position.el + (el_rate < 1e-6 ? 0.0 : el_sign * deadband_el));
+        next.el = clamp_el(el_wanted + (el_rate < 1e-6 ? 0.0 : el_sign * deadband_el));
         changed = true;
     }
     if (!changed) {
@@ -391,7 +418,7 @@ Status RotatorService::steer() {
                                 step_time(Axis::azimuth, az_move) + step_time(Axis::elevation, el_move) - 2 * overhead_s};
     }
     aim_ = next;
-    return controller_->set_target(next, current->az_rate);
+    return controller_->set_target(next, current->az_rate != 0.0 ? current->az_rate : azimuth_direction_hint(next));
 }
 
 void RotatorService::note_step_finished() {
@@ -443,6 +470,7 @@ void RotatorService::run() {
                 controller_->cancel_pending();
                 predictor_.reset();
                 aim_.reset();
+                client_target_.reset();
             }
             if (target) {
                 step = accept_target(*target);

@@ -44,7 +44,9 @@ struct ServiceTiming {
 };
 
 struct PointingOptions {
-    PointingMode mode = PointingMode::none;   // leapfrog is applied by the Controller (its option)
+    // Unset: the variant's default (FirmwareProfile::predictive_by_default), resolved at start()
+    // once the variant is known. Leapfrog is applied by the Controller (its option).
+    std::optional<PointingMode> mode;
     // Predictive mode: the largest on-sky error (degrees) allowed per axis before the dish is moved
     // again. The dish is aimed this far ahead, so the error sweeps -deadband..+deadband instead of
     // lagging; it is widened where the motor cannot step that finely at the satellite's rate.

@@ -108,6 +108,12 @@ struct FirmwareProfile {
     // (root menus per firmware.md 3.3, 4.3, 5.3, 6.3, 8.3). Rows are tried in detection_order().
     std::span<const std::string_view> help_signature;
 
+    // Default pointing mode: predictive where the motors step fast enough to follow an aim a
+    // deadband ahead (G2: the tracking benchmark, docs/benchmarks.md); elsewhere each target as
+    // sent, because a dish that needs ~1 s per small move (Trav'ler, firmware.md 3.4) only
+    // trails an extrapolated aim and the client's corrections then fight it.
+    bool predictive_by_default;
+
     bool has(Quirk quirk) const { return (quirks & quirk) != 0; }
     bool prompt_known() const { return !motor_prompt.empty(); }
 };

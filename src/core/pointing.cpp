@@ -305,14 +305,18 @@ std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const
 }
 
 std::string TargetPredictor::describe() const {
-    char text[160];
-    if (!have_rate_) {
-        std::snprintf(text, sizeof text, "predictive: holding the last target");
-    } else {
-        std::snprintf(text, sizeof text, "predictive: az rate %.3f deg/s, el rate %.3f deg/s, client lead %s",
-                      az_rate_, el_rate_,
-                      lead_threshold_ ? (std::to_string(*lead_threshold_).substr(0, 5) + " deg").c_str() : "unknown");
+    if (samples_.empty()) {
+        return "no target yet";
     }
+    if (!have_rate_) {
+        return "holding the last target";
+    }
+    char text[160];
+    char lead[32] = "unknown";
+    if (lead_threshold_) {
+        std::snprintf(lead, sizeof lead, "%.2f deg", *lead_threshold_);
+    }
+    std::snprintf(text, sizeof text, "az rate %.3f deg/s, el rate %.3f deg/s, client lead %s", az_rate_, el_rate_, lead);
     return text;
 }
 

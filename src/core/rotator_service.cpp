@@ -38,6 +38,9 @@ Status RotatorService::start() {
             return st;
         }
     }
+    if (!pointing_.mode) {
+        pointing_.mode = controller_->profile().predictive_by_default ? PointingMode::predictive : PointingMode::none;
+    }
     if (Status st = controller_->initialize(); !st) {
         return st;
     }
@@ -241,7 +244,11 @@ void RotatorService::publish_locked(const Controller& controller, const Status& 
     idle_ = controller.idle() && !posted_target_ && !home_requested_;
     unhomed_ = controller.unhomed();
     last_error_ = step;
-    description_ = controller.describe();
+    description_ = controller.describe() + "; " + controller.describe_wrap() + "; pointing " +
+                   std::string(pointing_mode_name(pointing_.mode.value_or(PointingMode::none)));
+    if (pointing_.mode == PointingMode::predictive) {
+        description_ += " (" + predictor_.describe() + ")";
+    }
 }
 
 void RotatorService::enter_recovery_locked(std::string reason) {
@@ -294,21 +301,26 @@ Clock::time_point RotatorService::controller_now() const {
 }
 
 // The azimuth direction a pass is taking, for the controller's cable-wrap choice: the estimated
-// rate once two targets are known. Before that, one case is already clear: a client holding a
-// satellite that is still below the dish's lowest elevation (target clamped to el_min) moves the
-// dish a small step along the satellite's azimuth track, as Gpredict does from the AOS point; the
+// rate once two targets are known. Before that, one case is already clear: a client following a
+// satellite that is still below or near the dish's lowest elevation moves the dish, waiting there,
+// a small step along the satellite's azimuth track, as Gpredict does from the AOS point; the
 // direction of that step is the pass's, and knowing it now lets the one unwind a pass may need
 // happen while the satellite is still out of reach rather than as it rises into the beam.
 double RotatorService::azimuth_direction_hint(AzEl target) const {
     if (const auto motion = predictor_.predict(controller_now()); motion && motion->az_rate != 0.0) {
         return motion->az_rate;
     }
+    // The dish waits at the lowest elevation (where Gpredict parks it before AOS) and the target
+    // is still low: Gpredict's first target may lie up to one threshold ahead of the satellite.
     const auto dish = controller_->last_position();
-    if (!dish || target.el > controller_->el_min() + 0.01) {
+    constexpr double low_target_band = 10.0;   // degrees above el_min
+    if (!dish || dish->el > controller_->el_min() + 1.0 || target.el > controller_->el_min() + low_target_band) {
         return 0.0;
     }
     const double step = azimuth_difference(dish->az, target.az);
-    constexpr double tracking_step_max = 2.0;   // degrees: a client's step, not a new pointing
+    // Degrees: a client's step along the track (Gpredict's default 5 deg threshold, its lead of up
+    // to one more threshold, and the satellite's motion since), not a new pointing.
+    constexpr double tracking_step_max = 20.0;
     constexpr double tiny_rate = 1e-3;          // a direction, not a speed
     return std::fabs(step) > 0.005 && std::fabs(step) <= tracking_step_max ? std::copysign(tiny_rate, step) : 0.0;
 }
@@ -321,7 +333,7 @@ Status RotatorService::accept_target(AzEl target) {
     if (pointing_.mode != PointingMode::predictive) {
         return controller_->set_target(target, azimuth_direction_hint(target));
     }
-    emit(options_.log, LogLevel::verbose, predictor_.describe());
+    emit(options_.log, LogLevel::verbose, "predictive: " + predictor_.describe());
     aim_.reset();
     return steer();
 }

@@ -94,6 +94,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
         .help_signature = hal000_help,
+        .predictive_by_default = false,
     },
     {
         .id = VariantId::travler_hal205,
@@ -124,6 +125,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
         .help_signature = hal205_help,
+        .predictive_by_default = false,
     },
     {
         .id = VariantId::travler_pro,
@@ -154,6 +156,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
         .help_signature = pro_help,
+        .predictive_by_default = false,
     },
     {
         .id = VariantId::carryout2003,
@@ -185,6 +188,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
         .help_signature = carryout_help,
+        .predictive_by_default = false,
     },
     {
         .id = VariantId::carryout_g2,
@@ -215,6 +219,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .home_commands = g2_home,
         .tracker_disable_nvs_index = 20,
         .help_signature = g2_help,
+        .predictive_by_default = true,
     },
 }};
 
@@ -266,6 +271,7 @@ constexpr FirmwareProfile probe{
     .home_commands = {},
     .tracker_disable_nvs_index = -1,
     .help_signature = {},
+    .predictive_by_default = false,
 };
 
 bool contains(std::span<const std::string> words, std::string_view word) {

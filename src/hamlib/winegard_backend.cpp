@@ -49,15 +49,9 @@ constexpr float kCapsMinEl = 0.0f;
 constexpr float kCapsMaxEl = 90.0f;
 
 
-birdcage::PointingOptions default_pointing() {
-    birdcage::PointingOptions pointing;
-    pointing.mode = birdcage::PointingMode::predictive;
-    return pointing;
-}
-
 struct WinegardPriv {
     birdcage::ControllerOptions options;
-    birdcage::PointingOptions pointing = default_pointing();
+    birdcage::PointingOptions pointing;   // mode unset: the variant's default
     double time_scale = 1.0;   // emulator runs only: the backend's clock runs this many times faster
     std::unique_ptr<birdcage::RotatorService> service;
     std::string info;
@@ -325,8 +319,10 @@ const ConfParam kConfParams[] = {
      [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(360.0)); }},
     {9, "pointing", "Pointing mode",
      "predictive (aim where the satellite will be, inferred from the targets), leapfrog (seed "
-     "overshoot of a lagging axis) or none (each target as sent)",
-     RIG_CONF_STRING, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("predictive"); },
+     "overshoot of a lagging axis) or none (each target as sent); default: predictive on the G2, none on "
+     "the slower Trav'ler/Carryout mounts",
+     RIG_CONF_STRING, 0, 0, 0,
+     [](const birdcage::FirmwareProfile& p) { return std::string(p.predictive_by_default ? "predictive" : "none"); },
      [](const char* text, WinegardPriv& priv) {
          const auto mode = birdcage::pointing_mode_from_name(text);
          if (!mode) {
@@ -335,7 +331,11 @@ const ConfParam kConfParams[] = {
          priv.pointing.mode = *mode;
          return true;
      },
-     [](const WinegardPriv& priv) { return std::string(birdcage::pointing_mode_name(priv.pointing.mode)); }},
+     [](const WinegardPriv& priv) {
+         const bool predictive = variant_profile(priv).predictive_by_default;
+         return std::string(birdcage::pointing_mode_name(
+             priv.pointing.mode.value_or(predictive ? birdcage::PointingMode::predictive : birdcage::PointingMode::none)));
+     }},
     {10, "deadband", "Deadband",
      "Predictive mode: largest on-sky error (degrees) per axis before the dish moves again",
      RIG_CONF_NUMERIC, 0.01f, 5, 0.01f, [](const birdcage::FirmwareProfile&) { return std::string("0.10"); },

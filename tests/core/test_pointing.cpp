@@ -496,7 +496,7 @@ TEST_CASE("pointing: reset() forgets the stream") {
     predictor.reset();
     CHECK_FALSE(predictor.predict(at(11)).has_value());
     CHECK_FALSE(predictor.predict(at(1000)).has_value());
-    CHECK(predictor.describe() == "predictive: holding the last target");
+    CHECK(predictor.describe() == "no target yet");
 
     // A new stream elsewhere: the first target holds, the second gives a rate of its own.
     const Linear other{300.0, 50.0, -0.25, -0.1};

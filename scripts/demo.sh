@@ -68,7 +68,7 @@ for v in "${variants[@]}"; do
     echo "info:     $(rc _ | tr '\n' ' ')"
     p0=$(pos)
     echo "position: ${p0:-unknown (this dish reports its position only while it moves)}"
-    echo "command:  P 180 45   (leapfrog is on by default: each lagging axis is led by up to 1 degree)"
+    echo "command:  P 180 45   (one target: the dish goes there and stops, whatever the pointing mode)"
     rc P 180 45
     last=""
     for _ in $(seq 1 60); do

@@ -61,6 +61,9 @@ struct PredictorSettings {
     // at most zenith_extrapolation_s past the last target.
     double zenith_guard_el = 75.0;
     double zenith_extrapolation_s = 2.0;
+    // Above this on-sky rate two targets are two pointings, not a satellite (LEO: <= 1.2 deg/s,
+    // notes/tracking.md §2.1).
+    double max_sky_rate_dps = 3.0;
     // Below this on-sky rate the target counts as stationary.
     double stationary_dps = 0.002;
 };

@@ -187,6 +187,14 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         restart(t, target);
         return;
     }
+    // Faster than any satellite on the sky, or a jump as large as the restart gate: the client
+    // re-pointed the dish (a manual P, park, another satellite), it is not tracking one.
+    const double sky_step = std::hypot(azimuth_difference(last.az, target.az) * std::cos(target.el * M_PI / 180.0),
+                                       target.el - last.el);
+    if (!have_rate_ && (sky_step > settings_.restart_gate_deg || sky_step / (t - last.t) > settings_.max_sky_rate_dps)) {
+        restart(t, target);
+        return;
+    }
     if (have_rate_) {
         // Where the client's next target was expected (the satellite plus the learned lead).
         const auto expected = predict(when);

@@ -565,3 +565,24 @@ TEST_CASE("pointing: mode names round-trip and unknown names are rejected") {
         CHECK_FALSE(pointing_mode_from_name(bad).has_value());
     }
 }
+
+TEST_CASE("pointing: two manual pointings a few seconds apart are not a satellite") {
+    // Regression (the demo): P 180 45, then P 230 25 2.5 s later gave a "rate" of 20 deg/s and
+    // the dish overshot the second target in elevation.
+    TargetPredictor predictor;
+    const auto t0 = Clock::time_point{} + std::chrono::seconds(100);
+    predictor.observe(t0, {180.0, 45.0}, AzEl{180.0, 45.0});
+    predictor.observe(t0 + std::chrono::milliseconds(2500), {230.0, 25.0}, AzEl{180.0, 45.0});
+    for (int s : {3, 5, 20}) {
+        const auto p = predictor.predict(t0 + std::chrono::seconds(s));
+        REQUIRE(p.has_value());
+        CHECK_FALSE(p->moving);
+        CHECK(p->position.az == Approx(230.0).margin(1e-9));
+        CHECK(p->position.el == Approx(25.0).margin(1e-9));
+    }
+    // A small manual nudge is not caught by the gate, but is too fast for a satellite.
+    predictor.observe(t0 + std::chrono::seconds(4), {236.0, 25.0}, AzEl{230.0, 25.0});   // 5.4 deg in 1.5 s
+    const auto nudged = predictor.predict(t0 + std::chrono::seconds(10));
+    CHECK_FALSE(nudged->moving);
+    CHECK(nudged->position.az == Approx(236.0).margin(1e-9));
+}

@@ -10,6 +10,10 @@ struct AzEl {
 
 enum class Axis { azimuth = 0, elevation = 1 };  // the firmware's motor ids
 
+// Targets and commands carry two decimals (rotctl's %.2f, the firmware's readback): angles closer
+// than this are the same angle.
+inline constexpr double same_angle_degrees = 0.005;
+
 // Maps any finite azimuth into [0, 360).
 double normalize_azimuth(double az);
 

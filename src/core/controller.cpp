@@ -24,7 +24,6 @@ constexpr auto still_window = 2000ms;         // an axis unchanged this long has
 constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
 constexpr auto unknown_prompt_send_timeout = 1000ms;
 constexpr double stillness_degrees = 0.02;    // position changes smaller than this are noise
-constexpr double same_target_degrees = 0.005; // targets arrive with two decimals
 constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
 // A target this far (display azimuth) from the previous one is a new pass or another satellite.
 constexpr double new_pass_jump_degrees = 30.0;
@@ -487,8 +486,8 @@ Status Controller::set_target(AzEl target, double az_rate_dps) {
         emit(options_.log, LogLevel::verbose, "elevation " + degrees_text(target.el) + " clamped to " +
                                                   degrees_text(wanted.el));
     }
-    if (current_target_ && std::fabs(azimuth_difference(current_target_->az, wanted.az)) < same_target_degrees &&
-        std::fabs(current_target_->el - wanted.el) < same_target_degrees) {
+    if (current_target_ && std::fabs(azimuth_difference(current_target_->az, wanted.az)) < same_angle_degrees &&
+        std::fabs(current_target_->el - wanted.el) < same_angle_degrees) {
         return Status::ok();
     }
     const std::optional<AzEl> previous = current_target_;
@@ -520,15 +519,15 @@ Status Controller::set_target(AzEl target, double az_rate_dps) {
     auto needed = [this](Axis axis, double value) {
         const auto& commanded = axis == Axis::azimuth ? commanded_az_ : commanded_el_;
         if (commanded) {
-            return std::fabs(*commanded - value) >= same_target_degrees;
+            return std::fabs(*commanded - value) >= same_angle_degrees;
         }
         // Nothing commanded on this axis yet: skip the leg only if the dish already reads the target
         // (arrival_tolerance is for ending a leg in motion; skipping by it would leave up to that
         // much pointing error, e.g. after a TV search stopped the dish near the target).
         if (axis == Axis::azimuth) {
-            return !mech_az_ || std::fabs(*mech_az_ - value) >= same_target_degrees;
+            return !mech_az_ || std::fabs(*mech_az_ - value) >= same_angle_degrees;
         }
-        return !last_position_ || std::fabs(last_position_->el - value) >= same_target_degrees;
+        return !last_position_ || std::fabs(last_position_->el - value) >= same_angle_degrees;
     };
     Leg az_leg;
     az_leg.axis = Axis::azimuth;
@@ -585,7 +584,7 @@ double Controller::choose_azimuth_branch(AzEl wanted, const std::optional<AzEl>&
         pass_direction_.reset();
     }
     const bool new_pass = direction != 0 && pass_direction_ != direction;
-    const bool falling = previous && !jumped && wanted.el < previous->el - same_target_degrees;
+    const bool falling = previous && !jumped && wanted.el < previous->el - same_angle_degrees;
     const bool pass_starting = new_pass && !falling && wanted.el <= el_min_ + wrap::pass_start_band_deg;
     if (direction != 0) {
         pass_direction_ = direction;

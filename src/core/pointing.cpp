@@ -9,7 +9,6 @@
 namespace birdcage {
 namespace {
 
-constexpr double same_target_degrees = 0.005;  // targets arrive with two decimals
 constexpr double max_lead_s = 30.0;            // a learned lead longer than this is not a lead
 constexpr double max_lead_threshold_deg = 10.0;
 constexpr std::size_t lead_observations_kept = 8;
@@ -180,7 +179,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     }
     const Sample last = samples_.back();
     const double az = last.az + azimuth_difference(last.az, target.az);
-    const bool repeated = std::fabs(az - last.az) < same_target_degrees && std::fabs(target.el - last.el) < same_target_degrees;
+    const bool repeated = std::fabs(az - last.az) < same_angle_degrees && std::fabs(target.el - last.el) < same_angle_degrees;
     // A target after a held one cannot give a rate: the client only now started moving.
     if (repeated || t - last.t > settings_.max_gap_s || t <= last.t || held_) {
         held_ = repeated;

@@ -1,4 +1,5 @@
 #include "birdcage/rotator_service.hpp"
+#include "birdcage/wrap.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -313,8 +314,7 @@ double RotatorService::azimuth_direction_hint(AzEl target) const {
     // The dish waits at the lowest elevation (where Gpredict parks it before AOS) and the target
     // is still low: Gpredict's first target may lie up to one threshold ahead of the satellite.
     const auto dish = controller_->last_position();
-    constexpr double low_target_band = 10.0;   // degrees above el_min
-    if (!dish || dish->el > controller_->el_min() + 1.0 || target.el > controller_->el_min() + low_target_band) {
+    if (!dish || dish->el > controller_->el_min() + 1.0 || target.el > controller_->el_min() + wrap::pass_start_band_deg) {
         return 0.0;
     }
     const double step = azimuth_difference(dish->az, target.az);
@@ -322,7 +322,7 @@ double RotatorService::azimuth_direction_hint(AzEl target) const {
     // to one more threshold, and the satellite's motion since), not a new pointing.
     constexpr double tracking_step_max = 20.0;
     constexpr double tiny_rate = 1e-3;          // a direction, not a speed
-    return std::fabs(step) > 0.005 && std::fabs(step) <= tracking_step_max ? std::copysign(tiny_rate, step) : 0.0;
+    return std::fabs(step) > same_angle_degrees && std::fabs(step) <= tracking_step_max ? std::copysign(tiny_rate, step) : 0.0;
 }
 
 Status RotatorService::accept_target(AzEl target) {
@@ -355,7 +355,8 @@ Status RotatorService::steer() {
     auto clamp_el = [&](double el) { return std::clamp(el, el_min, el_max); };
     if (!current->moving) {
         const AzEl hold{current->position.az, clamp_el(current->position.el)};
-        if (aim_ && std::fabs(azimuth_difference(aim_->az, hold.az)) < 0.005 && std::fabs(aim_->el - hold.el) < 0.005) {
+        if (aim_ && std::fabs(azimuth_difference(aim_->az, hold.az)) < same_angle_degrees &&
+            std::fabs(aim_->el - hold.el) < same_angle_degrees) {
             return Status::ok();
         }
         aim_ = hold;
@@ -363,9 +364,10 @@ Status RotatorService::steer() {
     }
     const FirmwareProfile& dish = controller_->profile();
     const double overhead_s = std::max(pointing_.command_overhead_s, measured_overhead_s_.value_or(0.0));
-    auto step_time = [&](Axis axis, double degrees) {
-        return std::chrono::duration<double>(estimated_move_time(dish, axis, degrees)).count() + overhead_s;
+    auto move_time = [&](Axis axis, double degrees) {
+        return std::chrono::duration<double>(estimated_move_time(dish, axis, degrees)).count();
     };
+    auto step_time = [&](Axis axis, double degrees) { return move_time(axis, degrees) + overhead_s; };
     // Azimuth error on the sky shrinks with cos(el): the same on-sky deadband allows a wider
     // azimuth one, which spares the motor near the zenith.
     const double cos_el = std::max(std::cos(clamp_el(current->position.el) * M_PI / 180.0), 0.1);
@@ -375,7 +377,7 @@ Status RotatorService::steer() {
     // Above the elevation cap (the client's target at or over it) the dish holds the cap and
     // follows only the azimuth (tracking.md §2.2), until a target comes back below the cap: the
     // fitted elevation would otherwise start descending before the satellite does.
-    const bool above_cap = client_target_ && client_target_->el >= el_max - 0.005;
+    const bool above_cap = client_target_ && client_target_->el >= el_max - same_angle_degrees;
     const double el_rate = above_cap || current->position.el >= el_max || current->position.el <= el_min
                                ? 0.0
                                : std::fabs(current->el_rate);
@@ -395,8 +397,7 @@ Status RotatorService::steer() {
     auto seconds = [](double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); };
     const auto az_at = predictor_.predict(now + seconds(step_time(Axis::azimuth, 2 * deadband_az)));
     const auto el_at = predictor_.predict(now + seconds(step_time(Axis::elevation, 2 * deadband_el)));
-    AzEl next = aim_.value_or(AzEl{controller_->last_position().value_or(current->position).az,
-                                   controller_->last_position().value_or(current->position).el});
+    AzEl next = aim_.value_or(controller_->last_position().value_or(current->position));
     bool changed = !aim_;
     // Signed along-motion distance of the satellite past the aim; re-aim at +deadband, or when
     // the estimate jumped so that the aim is far off either way.
@@ -426,8 +427,8 @@ Status RotatorService::steer() {
         // Time this step: what a leg costs beyond its motion (exchange, polling) is measured, not assumed.
         const double az_move = std::fabs(azimuth_difference(aim_->az, next.az));
         const double el_move = std::fabs(next.el - aim_->el);
-        timed_step_ = TimedStep{now, (az_move > 0.005 ? 1 : 0) + (el_move > 0.005 ? 1 : 0),
-                                step_time(Axis::azimuth, az_move) + step_time(Axis::elevation, el_move) - 2 * overhead_s};
+        timed_step_ = TimedStep{now, (az_move > same_angle_degrees ? 1 : 0) + (el_move > same_angle_degrees ? 1 : 0),
+                                move_time(Axis::azimuth, az_move) + move_time(Axis::elevation, el_move)};
     }
     aim_ = next;
     return controller_->set_target(next, current->az_rate != 0.0 ? current->az_rate : azimuth_direction_hint(next));

@@ -1,17 +1,16 @@
 #include "pass.hpp"
 
+#include "harness.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
 namespace bench {
 
 namespace {
-
-constexpr double deg = std::numbers::pi / 180.0;
 
 // Reads `key value` pairs from the generator's "# peak_el ... crosses_north ..." header line.
 double header_value(const std::string& line, const std::string& key) {
@@ -34,13 +33,7 @@ double az_difference(double a, double b) {
     return d;
 }
 
-double angle_between(Direction a, Direction b) {
-    // The haversine form stays accurate for the small angles that matter here.
-    const double s_el = std::sin((a.el - b.el) * deg / 2.0);
-    const double s_az = std::sin(az_difference(a.az, b.az) * deg / 2.0);
-    const double h = s_el * s_el + std::cos(a.el * deg) * std::cos(b.el * deg) * s_az * s_az;
-    return 2.0 * std::asin(std::min(1.0, std::sqrt(h))) / deg;
-}
+double angle_between(Direction a, Direction b) { return e2e::sky_angle(a.az, a.el, b.az, b.el); }
 
 Pass Pass::load(const std::string& path) {
     std::ifstream in(path);

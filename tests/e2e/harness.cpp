@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 #include <cerrno>
 #include <cmath>
+#include <numbers>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -196,6 +197,15 @@ birdcage::sim::Options dish_options(birdcage::sim::Variant variant, double az, d
 double angle_between(double a, double b) {
     const double d = std::fmod(std::fabs(a - b), 360.0);
     return d > 180.0 ? 360.0 - d : d;
+}
+
+double sky_angle(double az1, double el1, double az2, double el2) {
+    // The haversine form stays accurate for the small angles that matter here.
+    constexpr double deg = std::numbers::pi / 180.0;
+    const double s_el = std::sin((el1 - el2) * deg / 2.0);
+    const double s_az = std::sin((az1 - az2) * deg / 2.0);
+    const double h = s_el * s_el + std::cos(el1 * deg) * std::cos(el2 * deg) * s_az * s_az;
+    return 2.0 * std::asin(std::min(1.0, std::sqrt(h))) / deg;
 }
 
 bool settled_at(birdcage::sim::Emulator& dish, double az, double el, double tolerance) {

@@ -57,6 +57,8 @@ birdcage::sim::Options dish_options(birdcage::sim::Variant variant, double az = 
                                     double time_scale = 50.0);
 // Great-circle-free azimuth distance: |a - b| the short way round, in [0, 180].
 double angle_between(double a, double b);
+// Great-circle angle between two directions on the sky (az/el degrees), in degrees.
+double sky_angle(double az1, double el1, double az2, double el2);
 // The dish is at rest within `tolerance` degrees of (az, el).
 bool settled_at(birdcage::sim::Emulator& dish, double az, double el, double tolerance = 0.1);
 // Every number in a rotctl reply, in order.

@@ -165,11 +165,6 @@ TEST_CASE("predictive pointing follows a moving target stream and stops where th
                  {"-C", "pointing=predictive", "-C", "time_scale=10"});
     e2e::RotctldConnection client(rig.port());
     auto target_at = [](double t) { return std::pair{100.0 + 0.5 * t, 30.0 + 0.2 * t}; };
-    auto sky_angle = [](double az1, double el1, double az2, double el2) {   // great circle, degrees
-        const double r = M_PI / 180.0;
-        const double c = std::sin(el1 * r) * std::sin(el2 * r) + std::cos(el1 * r) * std::cos(el2 * r) * std::cos((az1 - az2) * r);
-        return std::acos(std::clamp(c, -1.0, 1.0)) / r;
-    };
     const double start = rig.dish().sim_time();
     double worst_late = 0.0;
     for (int second = 0; second <= 30; ++second) {
@@ -182,7 +177,7 @@ TEST_CASE("predictive pointing follows a moving target stream and stops where th
         if (second >= 10) {
             const birdcage::sim::Pose dish = rig.dish().true_position();
             const auto [sat_az, sat_el] = target_at(rig.dish().sim_time() - start);
-            worst_late = std::max(worst_late, sky_angle(dish.az, dish.el, sat_az, sat_el));
+            worst_late = std::max(worst_late, e2e::sky_angle(dish.az, dish.el, sat_az, sat_el));
         }
         REQUIRE(e2e::wait_until([&] { return rig.dish().sim_time() - start >= second + 1.0; }, 10s));
     }
@@ -193,6 +188,6 @@ TEST_CASE("predictive pointing follows a moving target stream and stops where th
     const birdcage::sim::Pose rest = rig.dish().true_position();
     CHECK_FALSE(e2e::wait_until([&] { return rig.dish().moving(); }, 1s));
     // It may have run on by at most the horizon (10 s at 0.54 deg/s), and not beyond.
-    CHECK(sky_angle(rest.az, rest.el, target_at(30).first, target_at(30).second) < 6.0);
+    CHECK(e2e::sky_angle(rest.az, rest.el, target_at(30).first, target_at(30).second) < 6.0);
     CHECK(rig.dish().hazards_received() == 0);
 }

@@ -79,11 +79,25 @@ std::optional<double> resolve_target(Engine& e, std::size_t axis, double value, 
     if (axis == axis_az) {
         const double min = e.profile.az.min;
         const double max = e.profile.az.max;
-        if (relative) {
-            const double target = base + value;
-            if (target < min || target > max) return out_of_range(std::clamp(target, min, max));
+        const auto within = [&](double target) -> std::optional<double> {
+            if (target < min - 1e-9 || target > max + 1e-9) return out_of_range(std::clamp(target, min, max));
             return target;
+        };
+        switch (e.options.az_mapping) {
+        case AzMapping::wrap_manager:
+            // Relative moves too: the manager never lets the axis through the wrap point.
+            return within(wrap_manager_target(relative ? base + value : value, e.options.az_wrap_point,
+                                              motor.position(), min, max));
+        case AzMapping::literal:
+            if (relative || (value >= min && value <= max)) return within(relative ? base + value : value);
+            // No negative absolute numbers exist on a console where '-' means relative (G2): there
+            // a number names the angle 360 below it (see AzMapping).
+            if (e.profile.relative_moves && value - 360.0 >= min && value - 360.0 <= max) return value - 360.0;
+            return within(value);
+        case AzMapping::nearest:
+            break;
         }
+        if (relative) return within(base + value);
         // A 0..360 target goes to the branch of the wrap window nearest to where the dish is
         // (§2 "refuses to wind past its wrap limit", tracking.md §2.3); an explicit
         // mechanical angle inside the window (Trav'ler 360..455) is taken literally.

@@ -1,5 +1,6 @@
 // birdcage-sim: run one emulated dish on a pty until SIGINT/SIGTERM.
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
@@ -22,7 +23,8 @@ void usage()
                  "                    [--time-scale X] [--booting] [--search] [--az A --el E] [--trace]\n"
                  "                    [--replay TRANSCRIPT [--lenient]]   (--variant defaults to the transcript's)\n"
                  "                    [--idle-noise BPS] [--invert] [--ignore-input] [--drop P] [--pace BAUD]\n"
-                 "                    [--seed N]   (line faults; BPS and BAUD in real time)\n";
+                 "                    [--seed N]   (line faults; BPS and BAUD in real time)\n"
+                 "                    [--az-mapping nearest|literal|wrap_manager] [--az-wrap-point DEG]\n";
 }
 
 std::optional<double> number(const char* text)
@@ -71,6 +73,20 @@ int main(int argc, char** argv)
             if (arg == "--drop") options.line_faults.drop_probability = *value;
             if (arg == "--pace") options.line_faults.pace_baud = static_cast<int>(std::min(*value, 1e9));
             if (arg == "--seed") options.seed = static_cast<std::uint32_t>(*value);
+        } else if (arg == "--az-mapping" && has_value) {
+            const auto mapping = birdcage::sim::parse_az_mapping(argv[++i]);
+            if (!mapping) {
+                usage();
+                return 2;
+            }
+            options.az_mapping = *mapping;
+        } else if (arg == "--az-wrap-point" && has_value) {
+            const auto value = number(argv[++i]);
+            if (!value || !std::isfinite(*value)) {
+                usage();
+                return 2;
+            }
+            options.az_wrap_point = *value;
         } else if (arg == "--invert") {
             options.line_faults.inverted_polarity = true;
         } else if (arg == "--ignore-input") {

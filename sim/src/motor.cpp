@@ -39,6 +39,31 @@ double nearest_wrap_branch(double az, double current, double min, double max)
     return best;
 }
 
+double wrap_sector_start(double wrap_point, double min, double max)
+{
+    const double first = normalize_360(wrap_point) + 360.0 * std::floor((min - normalize_360(wrap_point)) / 360.0);
+    double best = first;
+    double best_overlap = -1.0;
+    for (double start = first; start < max; start += 360.0) {
+        const double overlap = std::min(max, start + 360.0) - std::max(min, start);
+        if (overlap > best_overlap + 1e-9) {
+            best = start;
+            best_overlap = overlap;
+        }
+    }
+    return best;
+}
+
+double wrap_manager_target(double az, double wrap_point, double current, double min, double max)
+{
+    const double start = wrap_sector_start(wrap_point, min, max);
+    const double offset = normalize_360(az - wrap_point);
+    if (offset < 1e-9 || offset > 360.0 - 1e-9) {
+        return std::abs(current - start) <= std::abs(current - (start + 360.0)) ? start : start + 360.0;
+    }
+    return start + offset;
+}
+
 Axis::Axis(AxisParams params, double position)
     : params_(params), position_(position), target_(position)
 {

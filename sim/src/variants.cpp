@@ -261,4 +261,12 @@ std::optional<Variant> parse_variant(std::string_view name)
 
 const char* variant_name(Variant variant) { return profile_for(variant).name; }
 
+std::optional<AzMapping> parse_az_mapping(std::string_view name)
+{
+    if (name == "nearest") return AzMapping::nearest;
+    if (name == "literal") return AzMapping::literal;
+    if (name == "wrap_manager") return AzMapping::wrap_manager;
+    return std::nullopt;
+}
+
 }  // namespace birdcage::sim

@@ -27,6 +27,20 @@ enum class OutOfRange { clamp, reject };     // §14 HAL0.4, G2.6; §3.4 "unreli
 enum class MoveAck { immediate, after_motion };  // §14 G2.3
 enum class PromptStyle { named, bare };      // Trav'ler/Carryout 2003 prompts, §14 HAL0.1, CO.2
 enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete line, §4.2
+// How an absolute azimuth target maps onto the mechanical travel (§14 G2.4; §2, §3.4, §3.5):
+//  nearest       0..360 to the wrap branch nearest the axis; an in-travel value beyond 0..360 as is;
+//  literal       the number is a mechanical angle; outside the travel: the out-of-range behaviour.
+//                Where the travel is mostly negative (G2, §6.4) and a leading '-' makes a relative
+//                move (§6.3), a number outside the travel names number - 360: one fixed branch per
+//                value (0..23.33 itself, 23.33..360 -> -336.67..0), the only way a console that has
+//                no negative absolute numbers can take numbers literally;
+//  wrap_manager  the firmware keeps the axis inside the 360-degree sector that does not pass
+//                through az_wrap_point: every target (any number, relative moves too) is taken
+//                modulo 360 into that sector, so a target across the wrap point is reached the long
+//                way round (§2 "reverses to reach the target from the other side", §3.5 "with wrap
+//                position at 0 the dish stops and reverses mid-track", §6.3 `w`/`sw`).
+enum class AzMapping { nearest, literal, wrap_manager };
+std::optional<AzMapping> parse_az_mapping(std::string_view name);   // "nearest", "literal", "wrap_manager"
 // Transcript replay (docs/transcripts.md): strict stops at the first unexpected command and reports
 // it through Emulator::replay_failure(); lenient hands the session over to the model console.
 enum class ReplayMode { off, strict, lenient };
@@ -94,6 +108,12 @@ struct Options {
     // (calibration + search take 10-15 min). Simulated seconds of wandering.
     double carryout_search_seconds = 600.0;
     double rssi_floor = 401.0;  // §11.2 (Davidson ~400 with lnbdc odu; birdcage ~500, §14 G2.14)
+    // Azimuth target mapping (see AzMapping). Default nearest: the only reading under which the
+    // travel beyond 360 (Trav'ler 0..455, G2 446.66, §1, §6.4) is of use to the 0..360 targets
+    // every upstream client sends; §2 describes the wrap point at 0 as something that
+    // "sometimes" happens, i.e. a fault, and §3.4 as "usually 360 or 455".
+    AzMapping az_mapping = AzMapping::nearest;
+    double az_wrap_point = 0.0;  // wrap_manager: display azimuth of the wrap point (0 = north)
 
     // --- transcript replay ------------------------------------------------------------------
     // With a mode other than off, the dish answers from this transcript (recorded timing divided

@@ -29,6 +29,14 @@ double nearest_wrap_branch(double az, double current, double min, double max);
 // Folds an angle into [0, 360).
 double normalize_360(double deg);
 
+// A firmware wrap manager with its wrap point at display azimuth `wrap_point` (emulator.hpp
+// AzMapping::wrap_manager): the lower end of the 360-degree sector between two mechanical angles
+// equal to the wrap point modulo 360 that overlaps [min, max] most (ties: the lower sector).
+double wrap_sector_start(double wrap_point, double min, double max);
+// The mechanical angle in that sector equal to `az` modulo 360; a value on the wrap point itself
+// goes to the sector end nearer `current`. May lie outside [min, max] where the sector does.
+double wrap_manager_target(double az, double wrap_point, double current, double min, double max);
+
 class Axis {
 public:
     Axis(AxisParams params, double position);

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "birdcage/az_mapping.hpp"
 #include "birdcage/azel.hpp"
 #include "birdcage/errors.hpp"
 #include "birdcage/log.hpp"
@@ -23,6 +24,9 @@ struct ControllerOptions {
     bool leapfrog = true;
     std::optional<double> el_min, el_max;          // user overrides, never beyond the variant's mechanical/firmware limits
     std::optional<double> az_min, az_max;          // user azimuth range (0..360 display degrees): targets are clamped into it
+    // How the firmware maps an azimuth command onto its travel (az_mapping.hpp), as the user states
+    // it; nullopt (auto): learnt from where the dish goes.
+    std::optional<azmap::Mapping> az_mapping;
     std::chrono::milliseconds boot_timeout{15 * 60 * 1000};
     bool skip_init = false;                         // user says the dish is ready (already in the motor menu)
     bool detect = false;                            // RotatorService: identify the variant at start (auto)
@@ -78,6 +82,8 @@ public:
     // The mechanical azimuth current_target() was put on (before leapfrog); nullopt without a target.
     std::optional<double> target_mechanical_azimuth() const { return target_mech_az_; }
     const FirmwareProfile& profile() const { return profile_; }
+    // What is known of the firmware's azimuth mapping (stated, learnt, still possible).
+    const azmap::Learner& az_mapping() const { return az_learner_; }
     std::string describe() const;
     // The cable-wrap state: travel, the mechanical azimuth estimate and how its branch is known
     // (the start assumption), the target's branch. Not (yet) part of describe(), whose text the
@@ -98,6 +104,11 @@ private:
         double mech_az = 0.0;
         double final_mech_az = 0.0;
         int waypoints_left = 4;        // bounds the waypoint legs per target (3 span any window)
+        // Azimuth legs, for learning the mapping: where the axis started and the range its readings
+        // swept; path_known while the readings came close enough together to follow it.
+        double from_mech = 0.0, lowest = 0.0, highest = 0.0;
+        bool path_known = false;
+        std::optional<double> expected_end;   // where the learnt mapping now says it goes (if not mech_az)
         Clock::time_point sent_at{};
         std::chrono::milliseconds budget{0};   // estimated time x 2 + margin
         std::optional<double> last_seen;       // the axis' position at the previous poll
@@ -122,6 +133,9 @@ private:
     double leg_distance(const Leg& leg) const;
     Result<AzEl> ask_position(std::chrono::milliseconds timeout);
     void note_azimuth_reading(double reported);
+    void update_mechanical_azimuth(double reported);
+    void observe_azimuth_leg(Leg& leg, bool at_rest);
+    void replan_after_surprise();
     std::optional<double> branch_reference() const;
     double choose_azimuth_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps);
     void forget_target();
@@ -145,7 +159,10 @@ private:
     // reading to the branch nearest it.
     wrap::Window az_window_;          // the variant's mechanical travel
     wrap::Window az_usable_;          // less the limit margins: never commanded outside
+    azmap::Travel az_travel_;         // az_window_ and how numbers are sent for it
+    azmap::Learner az_learner_;
     std::optional<double> mech_az_;   // mechanical azimuth estimate (see mechanical_azimuth())
+    std::optional<Clock::time_point> mech_az_at_;   // when mech_az_ was last read
     bool az_report_mechanical_ = false;   // readings outside 0..360 proved the dish reports mechanically
     int beyond_display_readings_ = 0;     // consecutive readings outside 0..360 (2 prove it)
     bool recheck_branch_ = false;         // after (re)initialisation: keep mech_az_ only if the dish still reads it

@@ -36,10 +36,9 @@ std::string degrees_text(double value) { return format_degrees(value); }
 
 double axis_value(AzEl position, Axis axis) { return axis == Axis::azimuth ? position.az : position.el; }
 
-// The 0..360 value sent for a mechanical azimuth, rounded as the command prints it (two
-// decimals) before folding, so 359.996 goes out as 0.00 and never as 360.00, a value outside
-// 0..360 whose handling by the firmware is unknown.
-double command_azimuth(double mechanical) { return normalize_azimuth(std::round(mechanical * 100.0) / 100.0); }
+// Consecutive readings further apart than this were not one continuous path (the estimate's branch
+// was wrong, or the readings too sparse to follow the axis): the leg teaches nothing about the mapping.
+constexpr double path_jump_degrees = 90.0;
 
 double axis_error(Axis axis, double from, double to) {
     return axis == Axis::azimuth ? std::fabs(azimuth_difference(from, to)) : std::fabs(to - from);
@@ -54,7 +53,10 @@ Controller::Controller(Transport& transport, ControllerOptions options)
       el_min_(profile_.el_min),
       el_max_(profile_.el_max),
       az_window_{profile_.az_min, profile_.az_max},
-      az_usable_(wrap::usable_window(az_window_)) {
+      az_usable_(wrap::usable_window(az_window_)),
+      // A travel with negative angles (G2) has no negative absolute numbers: '-' is a relative move (§6.3).
+      az_travel_{az_window_, az_window_.min < 0.0},
+      az_learner_(az_travel_, options_.az_mapping) {
     auto override_limit = [this](const std::optional<double>& user, double& limit, const char* name) {
         if (!user) {
             return;
@@ -512,9 +514,10 @@ Status Controller::set_target(AzEl target, double az_rate_dps) {
 
     // The mechanical azimuth: the target's branch, plus the leapfrog lead, inside the usable window.
     target_mech_az_ = choose_azimuth_branch(wanted, previous, az_rate_dps);
-    const double command_mech = std::clamp(*target_mech_az_ + azimuth_difference(wanted.az, command.az),
-                                           az_usable_.min, az_usable_.max);
-    command.az = command_azimuth(command_mech);
+    const wrap::Window plan = az_learner_.plan_window(az_usable_);
+    const double command_mech =
+        std::clamp(*target_mech_az_ + azimuth_difference(wanted.az, command.az), plan.min, plan.max);
+    command.az = azmap::command_value(command_mech, az_travel_);
 
     auto needed = [this](Axis axis, double value) {
         const auto& commanded = axis == Axis::azimuth ? commanded_az_ : commanded_el_;
@@ -590,17 +593,19 @@ double Controller::choose_azimuth_branch(AzEl wanted, const std::optional<AzEl>&
         pass_direction_ = direction;
     }
     // Nothing read or commanded yet: continuity from the start assumption (wrap::start_branch()).
-    const double reference = branch_reference().value_or(std::clamp(0.0, az_usable_.min, az_usable_.max));
-    const wrap::Choice choice = wrap::choose_branch(wanted.az, reference, direction, pass_starting, az_usable_);
+    // The window the firmware's mapping (as far as it is known) lets absolute commands reach.
+    const wrap::Window plan = az_learner_.plan_window(az_usable_);
+    const double reference = branch_reference().value_or(std::clamp(0.0, plan.min, plan.max));
+    const wrap::Choice choice = wrap::choose_branch(wanted.az, reference, direction, pass_starting, plan);
     if (choice.reason != wrap::Reason::continuous) {
         std::string message = "azimuth " + degrees_text(wanted.az) + ": mechanical " +
                               degrees_text(choice.mechanical) + " instead of " + degrees_text(choice.continuous) +
                               " (" + std::string(wrap::reason_text(choice.reason));
         if (direction != 0) {
-            message += "; " + degrees_text(wrap::room_ahead(choice.mechanical, direction, az_usable_)) +
+            message += "; " + degrees_text(wrap::room_ahead(choice.mechanical, direction, plan)) +
                        " deg of room ahead " + (direction > 0 ? "clockwise" : "anticlockwise");
         }
-        message += "; window " + degrees_text(az_usable_.min) + ".." + degrees_text(az_usable_.max) + ")";
+        message += "; window " + degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")";
         emit(options_.log, LogLevel::verbose, message);
     }
     return choice.mechanical;
@@ -619,6 +624,27 @@ void Controller::forget_target() {
 // follows the dish as long as it turns less than 180 deg between readings (legs are at most
 // wrap::max_leg_deg). The first reading's branch is the start assumption (wrap::start_branch()).
 void Controller::note_azimuth_reading(double reported) {
+    const std::optional<double> before = mech_az_;
+    const std::optional<Clock::time_point> before_at = mech_az_at_;
+    update_mechanical_azimuth(reported);
+    const auto t = now();
+    mech_az_at_ = t;
+    if (!in_flight_ || in_flight_->combined || in_flight_->axis != Axis::azimuth || !mech_az_) {
+        return;
+    }
+    Leg& leg = *in_flight_;
+    // Readings that report the branch follow the axis whatever the gap; displayed ones only while
+    // the axis cannot have turned half a circle in between.
+    const double gap_s = before_at ? std::chrono::duration<double>(t - *before_at).count() : 0.0;
+    const bool followed = az_report_mechanical_ || gap_s * profile_.az_speed_dps < path_jump_degrees;
+    if (!before || std::fabs(*mech_az_ - *before) > path_jump_degrees || !followed) {
+        leg.path_known = false;
+    }
+    leg.lowest = std::min(leg.lowest, *mech_az_);
+    leg.highest = std::max(leg.highest, *mech_az_);
+}
+
+void Controller::update_mechanical_azimuth(double reported) {
     const double display = normalize_azimuth(reported);
     const bool beyond_display = reported < -beyond_display_degrees || reported >= 360.0 + beyond_display_degrees;
     const bool inside_travel = reported >= az_window_.min - 1.0 && reported <= az_window_.max + 1.0;
@@ -730,6 +756,9 @@ Status Controller::send_leg(Leg& leg) {
         note_live_output(reply.value.lines);
     } else if (leg.axis == Axis::azimuth) {
         commanded_az_ = leg.mech_az;
+        leg.path_known = mech_az_.has_value();
+        leg.from_mech = leg.lowest = leg.highest = mech_az_.value_or(leg.mech_az);
+        leg.expected_end.reset();
     } else {
         commanded_el_ = leg.target.el;
     }
@@ -788,13 +817,28 @@ Status Controller::service_axis_leg() {
     // Azimuth in mechanical degrees (ask_position() keeps mech_az_): arriving on the display
     // azimuth of the wrong branch is not arriving.
     const bool azimuth = leg.axis == Axis::azimuth && mech_az_;
+    if (azimuth) {
+        observe_azimuth_leg(leg, false);
+    }
     const double seen = azimuth ? *mech_az_ : axis_value(position.value, leg.axis);
-    const double goal = azimuth ? leg.mech_az : axis_value(leg.target, leg.axis);
+    const double goal = azimuth ? leg.expected_end.value_or(leg.mech_az) : axis_value(leg.target, leg.axis);
     const auto error = [&](double from, double to) {
         return azimuth ? std::fabs(to - from) : axis_error(leg.axis, from, to);
     };
+    const auto end_azimuth_leg = [&](std::string_view how) {
+        observe_azimuth_leg(leg, true);
+        const bool elsewhere = std::fabs(*mech_az_ - leg.mech_az) > path_jump_degrees;
+        finish_leg(how);
+        if (elsewhere) {
+            replan_after_surprise();
+        }
+    };
     if (error(seen, goal) <= profile_.arrival_tolerance) {
-        finish_leg("arrived");
+        if (azimuth) {
+            end_azimuth_leg("arrived");
+        } else {
+            finish_leg("arrived");
+        }
         return Status::ok();
     }
     if (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees) {
@@ -803,10 +847,14 @@ Status Controller::service_axis_leg() {
     } else if (t - leg.last_change >= still_window && t - leg.sent_at >= still_window) {
         emit(options_.log, LogLevel::warning, "axis " + std::to_string(static_cast<int>(leg.axis)) + " stopped at " +
                                                   degrees_text(seen) + ", short of " + degrees_text(goal));
-        finish_leg("stopped");
+        if (azimuth) {
+            end_azimuth_leg("stopped");
+        } else {
+            finish_leg("stopped");
+        }
         return Status::ok();
     }
-    if (over_budget) {
+    if (t - leg.sent_at > leg.budget) {   // the budget may have grown with what this poll taught
         finish_leg("timed out");
         return Status{Errc::timeout, "axis " + std::to_string(static_cast<int>(leg.axis)) + " did not reach " +
                                          degrees_text(goal) + " in " + std::to_string(leg.budget.count()) + " ms"};
@@ -880,18 +928,64 @@ Status Controller::service() {
     return Status::ok();
 }
 
+// Feeds the mapping learner with an azimuth leg (whole or so far). When the evidence changes, the
+// leg's end is where the reading now planned with takes it, and the budget allows for the long way
+// round the firmware may be taking.
+void Controller::observe_azimuth_leg(Leg& leg, bool at_rest) {
+    if (!leg.path_known || !mech_az_) {
+        return;
+    }
+    const auto learnt = az_learner_.observe({leg.target.az, leg.from_mech, leg.lowest, leg.highest,
+                                             at_rest ? std::optional<double>(*mech_az_) : std::nullopt});
+    if (!learnt) {
+        return;
+    }
+    emit(options_.log, LogLevel::verbose, *learnt);
+    const auto point = az_learner_.wrap_point();
+    leg.expected_end = azmap::predict(az_learner_.planning(), leg.target.az, leg.from_mech, az_travel_, point.value_or(0.0));
+    const auto whole_travel = estimated_move_time(profile_, Axis::azimuth, az_window_.span());
+    leg.budget = std::max(leg.budget, std::chrono::duration_cast<std::chrono::milliseconds>(now() - leg.sent_at) +
+                                          whole_travel * 2 + leg_margin);
+}
+
+// The dish ended an azimuth leg on another branch than planned (the mapping was not the one planned
+// with): the legs queued under that plan are dropped and the current target is put on a branch of
+// what is now known, from where the dish is.
+void Controller::replan_after_surprise() {
+    std::erase_if(pending_, [](const Leg& leg) { return !leg.combined && leg.axis == Axis::azimuth; });
+    if (!current_target_ || !mech_az_) {
+        target_mech_az_.reset();
+        return;
+    }
+    const wrap::Window plan = az_learner_.plan_window(az_usable_);
+    const double mechanical = wrap::choose_branch(current_target_->az, *mech_az_, 0, false, plan).mechanical;
+    target_mech_az_ = mechanical;
+    emit(options_.log, LogLevel::verbose, "azimuth " + degrees_text(current_target_->az) + " re-planned on mechanical " +
+                                              degrees_text(mechanical) + " from " + degrees_text(*mech_az_) +
+                                              " (window " + degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")");
+    if (std::fabs(mechanical - *mech_az_) < same_angle_degrees) {
+        return;
+    }
+    Leg leg;
+    leg.axis = Axis::azimuth;
+    leg.target = *current_target_;
+    leg.mech_az = leg.final_mech_az = mechanical;
+    leg.target.az = azmap::command_value(mechanical, az_travel_);
+    pending_.push_front(leg);
+}
+
 // An azimuth leg longer than wrap::max_leg_deg goes by waypoints (see wrap::next_waypoint() for
 // why), each planned from where the dish is when it is sent; the rest of the leg stays queued.
 void Controller::plan_azimuth_leg(Leg& leg) {
     const double from = mech_az_ ? *mech_az_ : commanded_az_.value_or(leg.final_mech_az);
     leg.mech_az = leg.waypoints_left > 0 ? wrap::next_waypoint(from, leg.final_mech_az) : leg.final_mech_az;
-    leg.target.az = command_azimuth(leg.mech_az);
+    leg.target.az = azmap::command_value(leg.mech_az, az_travel_);
     if (leg.mech_az == leg.final_mech_az) {
         return;
     }
     Leg rest = leg;
     rest.mech_az = rest.final_mech_az;
-    rest.target.az = command_azimuth(rest.final_mech_az);
+    rest.target.az = azmap::command_value(rest.final_mech_az, az_travel_);
     --rest.waypoints_left;
     pending_.push_front(rest);
     emit(options_.log, LogLevel::verbose,
@@ -953,8 +1047,9 @@ std::optional<Controller::LegMotion> Controller::leg_motion() const {
         return std::nullopt;
     }
     const Axis axis = in_flight_->axis;
-    return LegMotion{axis, axis_value(*last_position_, axis), axis_value(in_flight_->target, axis), *last_position_at_,
-                     in_flight_->sent_at};
+    // Display degrees: an azimuth leg may command a number beyond 360 (az_mapping.hpp).
+    const double to = axis == Axis::azimuth ? normalize_azimuth(in_flight_->target.az) : in_flight_->target.el;
+    return LegMotion{axis, axis_value(*last_position_, axis), to, *last_position_at_, in_flight_->sent_at};
 }
 
 std::string Controller::describe() const {
@@ -992,7 +1087,7 @@ std::string Controller::describe() const {
 
 std::string Controller::describe_wrap() const {
     if (az_window_.span() <= 360.0) {
-        return "azimuth 0..360, no cable-wrap overlap";
+        return "azimuth 0..360, no cable-wrap overlap; azimuth mapping " + az_learner_.describe();
     }
     std::string text = "cable wrap " + degrees_text(az_window_.min) + ".." + degrees_text(az_window_.max) +
                        " (commanded within " + degrees_text(az_usable_.min) + ".." + degrees_text(az_usable_.max) + ")";
@@ -1008,6 +1103,7 @@ std::string Controller::describe_wrap() const {
     if (target_mech_az_) {
         text += "; target mechanical az " + degrees_text(*target_mech_az_);
     }
+    text += "; azimuth mapping " + az_learner_.describe();
     return text;
 }
 

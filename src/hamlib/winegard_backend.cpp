@@ -360,6 +360,27 @@ const ConfParam kConfParams[] = {
          return true;
      },
      [](const WinegardPriv& priv) { return format_number(priv.time_scale); }},
+    {12, "az_mapping", "Azimuth mapping",
+     "How the firmware maps an azimuth command onto its travel: auto (learn it from where the dish goes), "
+     "nearest (the branch nearest the dish), literal (the number is the mechanical angle) or wrap_manager "
+     "(never through a wrap point, e.g. north: the long way round instead)",
+     RIG_CONF_STRING, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("auto"); },
+     [](const char* text, WinegardPriv& priv) {
+         if (std::strcmp(text, "auto") == 0) {
+             priv.options.az_mapping.reset();
+             return true;
+         }
+         const auto mapping = birdcage::azmap::mapping_from_name(text);
+         if (!mapping) {
+             return false;
+         }
+         priv.options.az_mapping = *mapping;
+         return true;
+     },
+     [](const WinegardPriv& priv) {
+         return priv.options.az_mapping ? std::string(birdcage::azmap::mapping_name(*priv.options.az_mapping))
+                                        : std::string("auto");
+     }},
 };
 constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
 

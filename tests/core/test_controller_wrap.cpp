@@ -165,12 +165,13 @@ std::vector<PassPoint> pass(double az0, double span, double el_min, double el_pe
     return out;
 }
 
-// Every azimuth command was a 0..360 value that resolved inside the usable window.
+// Every azimuth command resolved inside the usable window, and was a number the console has for
+// an absolute move: 0..360 where '-' means relative (G2), else the mechanical angle in the travel.
 void check_commands_safe(const WrapDish& dish) {
     const wrap::Window usable = wrap::usable_window(dish.window);
     for (double value : dish.sent) {
         CHECK(value >= 0.0);
-        CHECK(value < 360.0);
+        CHECK(value < (dish.g2 ? 360.0 : usable.max + 0.01));
     }
     for (double mech : dish.resolved) {
         CHECK(mech >= usable.min - 0.01);
@@ -322,12 +323,24 @@ TEST_CASE("controller wrap: the estimate survives a re-initialisation only if th
     }
 }
 
-TEST_CASE("controller wrap: an azimuth that prints as 360.00 is sent as 0.00") {
-    Bench bench(VariantId::travler_hal205, 350.0, 30.0, false);
+TEST_CASE("controller wrap: an azimuth that prints as 360.00 is sent as 0.00 where 360 is no angle of the travel") {
+    Bench bench(VariantId::carryout_g2, -10.0, 30.0, false);
     REQUIRE(bench.controller->initialize());
     bench.go(359.997, 30, 0.0);
     REQUIRE(bench.dish.sent.size() == 1);
     CHECK(bench.dish.sent.front() == 0.0);
-    CHECK(bench.dish.mech == Approx(360.0));   // the branch continuous with 350
+    CHECK(bench.dish.mech == Approx(0.0));   // the branch continuous with -10
     CHECK(bench.controller->idle());
+}
+
+TEST_CASE("controller wrap: on the Trav'ler the mechanical angle itself is sent, 360.00 included") {
+    Bench bench(VariantId::travler_hal205, 350.0, 30.0, false);
+    REQUIRE(bench.controller->initialize());
+    bench.go(359.997, 30, 0.0);
+    REQUIRE(bench.dish.sent.size() == 1);
+    CHECK(bench.dish.sent.front() == 360.0);
+    CHECK(bench.dish.mech == Approx(360.0));   // the branch continuous with 350
+    bench.go(43.0, 30, 0.0);
+    CHECK(bench.dish.sent.back() == 403.0);
+    CHECK(bench.dish.mech == Approx(403.0));
 }

@@ -137,8 +137,11 @@ std::optional<std::string> Learner::observe(const Observation& seen) {
         const bool fits = *stated_ == Mapping::wrap_manager ? candidates.any() : now[index];
         if (fits) {
             if (*stated_ == Mapping::wrap_manager && candidates != wrap_candidates_) {
+                const bool was_pinned = wrap_point().has_value();
                 wrap_candidates_ = candidates;
-                return "azimuth mapping wrap_manager (stated): " + move + "; " + describe();
+                if (!was_pinned && wrap_point()) {
+                    return "azimuth mapping: " + move + "; " + describe();
+                }
             }
             return std::nullopt;
         }
@@ -156,8 +159,15 @@ std::optional<std::string> Learner::observe(const Observation& seen) {
         return "azimuth mapping: " + move + ", which no known reading explains; every reading is possible again";
     }
     const Mapping before = planning();
+    const bool was_pinned = wrap_point().has_value();
+    const bool readings_changed = now != possible_;
     possible_ = now;
     wrap_candidates_ = candidates;
+    // Every move that does not pass the wrap point narrows where it can be: worth a line only once
+    // that is known well enough to plan with.
+    if (!readings_changed && (was_pinned || !wrap_point())) {
+        return std::nullopt;
+    }
     std::string text = "azimuth mapping: " + move + ": " + describe();
     if (planning() != before) {
         text += " (was planning as " + std::string(mapping_name(before)) + ")";

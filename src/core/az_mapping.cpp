@@ -114,6 +114,15 @@ bool Learner::consistent(Mapping mapping, const Observation& seen, double wrap_p
     if (seen.lowest < low || seen.highest > high) {
         return false;   // it went where this reading would not take it
     }
+    if (mapping == Mapping::wrap_manager) {
+        // A wrap manager never lets the axis through its point: one the dish swept past is not it.
+        const double inner_low = seen.lowest + consistency_tolerance_deg;
+        const double inner_high = seen.highest - consistency_tolerance_deg;
+        const double first = wrap_point + 360.0 * std::ceil((inner_low - wrap_point) / 360.0);
+        if (inner_low < inner_high && first < inner_high) {
+            return false;
+        }
+    }
     return !seen.end || std::fabs(*seen.end - expected) <= consistency_tolerance_deg;
 }
 

@@ -115,11 +115,16 @@ bool Learner::consistent(Mapping mapping, const Observation& seen, double wrap_p
         return false;   // it went where this reading would not take it
     }
     if (mapping == Mapping::wrap_manager) {
-        // A wrap manager never lets the axis through its point: one the dish swept past is not it.
+        // A wrap manager never lets the axis through its point: one the dish swept past is not it
+        // (unless the axis started outside the manager's sector, as a dish may at power-on: the
+        // way in may cross it).
+        const wrap::Window sector = wrap_sector(wrap_point, travel_);
+        const bool started_inside = seen.from >= sector.min - consistency_tolerance_deg &&
+                                    seen.from <= sector.max + consistency_tolerance_deg;
         const double inner_low = seen.lowest + consistency_tolerance_deg;
         const double inner_high = seen.highest - consistency_tolerance_deg;
         const double first = wrap_point + 360.0 * std::ceil((inner_low - wrap_point) / 360.0);
-        if (inner_low < inner_high && first < inner_high) {
+        if (started_inside && inner_low < inner_high && first < inner_high) {
             return false;
         }
     }

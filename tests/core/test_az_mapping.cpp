@@ -64,7 +64,10 @@ TEST_CASE("az mapping learner: moves every reading explains teach nothing; plann
 
 TEST_CASE("az mapping learner: a long way round at north is a wrap manager with its point there") {
     azmap::Learner learner(travler);
-    // 360.5 sent at 359.5: the dish turned back through 180 and stopped at 0.5.
+    // A pass growing from 248 (every reading agrees) ...
+    CHECK_FALSE(learner.observe({300, 248, 248, 300, 300}));
+    CHECK_FALSE(learner.observe({359.5, 300, 300, 359.5, 359.5}));
+    // ... then 360.5 sent at 359.5: the dish turned back through 180 and stopped at 0.5.
     const auto moving = learner.observe({360.5, 359.5, 200.0, 359.5, std::nullopt});
     REQUIRE(moving);
     CHECK_FALSE(learner.possible(Mapping::nearest));

@@ -108,7 +108,6 @@ private:
     Status run_steps(std::span<const ConsoleStep> steps, std::string_view purpose);
     Status initialize_within(std::chrono::milliseconds boot_budget);
     Status wait_for_boot();
-    Status answers_help();
     Status leave_submenus();
     Status check_homing();
     Status check_tracker_disabled();

@@ -40,7 +40,9 @@ constexpr std::array<ConsoleStep, 1> carryout_motor_entry{{{"target", 0ms}}};
 
 // ---- Carryout G2 02.02.48 (firmware.md 6) ----
 constexpr std::array<ConsoleStep, 1> g2_motor_entry{{{"mot", 0ms}}};
-constexpr std::array<std::string_view, 1> g2_boot_complete{"Boot Complete"};
+// `Boot Complete` then `Loc Startup: IDU NOT Present`: the boot-complete pair (6.2 item 13); the
+// second may arrive after the first has been answered, so either ends the boot.
+constexpr std::array<std::string_view, 2> g2_boot_complete{"Boot Complete", "Loc Startup:"};
 constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -",
                                                     "Boot Complete", "Loc Startup:"};
 
@@ -60,6 +62,8 @@ constexpr std::array<std::string_view, 8> g2_only_root{"a3981", "adc", "dipswitc
 constexpr std::array<VariantId, 5> detection_order{VariantId::carryout_g2, VariantId::travler_pro,
                                                    VariantId::carryout2003, VariantId::travler_hal205,
                                                    VariantId::travler_hal000};
+constexpr std::array<std::string_view, 4> any_boot_complete{"NoGPS", "No LNB Voltage", "Boot Complete",
+                                                            "Loc Startup:"};
 constexpr std::array<std::string_view, 8> any_boot_marker{"NoGPS", "No LNB Voltage", "Boot Complete",
                                                           "Bootloader v", "Motor init:", "Ant ID -",
                                                           "Loc Startup:", "Antenna Facing"};
@@ -254,7 +258,7 @@ constexpr FirmwareProfile probe{
     .quiet_gap = 150ms,
     .motor_menu_entry = {},
     .search_kill = {},
-    .boot_complete_markers = {},
+    .boot_complete_markers = any_boot_complete,
     .reboot_markers = any_boot_marker,
     .position_query = "",
     .position_format = PositionFormat::travler_az_el_sk,

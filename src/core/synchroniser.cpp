@@ -242,11 +242,14 @@ void ConsoleSynchroniser::report_progress(const ConsoleSnapshot& snapshot, Clock
     if (elapsed < next_progress_) {
         return;
     }
+    // The milestone crossed (30 s, 60 s, ...): the rounds between reports are not aligned to it.
+    std::chrono::milliseconds milestone{0};
     while (next_progress_ <= elapsed) {
+        milestone = next_progress_;
         next_progress_ += settings_.progress_interval;
     }
     emit(log_, LogLevel::warning,
-         "still waiting for the dish to boot: " + seconds_text(elapsed) +
+         "still waiting for the dish to boot: " + seconds_text(milestone) +
              (snapshot.last_boot_line.empty() ? std::string(", no boot output yet")
                                               : "; last boot output \"" + escape_bytes(snapshot.last_boot_line) + "\""));
 }

@@ -855,7 +855,10 @@ std::optional<Controller::LegMotion> Controller::leg_motion() const {
 std::string Controller::describe() const {
     std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +
                        std::string(profile_.short_name) + ", " +
-                       std::to_string(profile_.baud) + " baud";
+                       std::to_string(options_.line_baud > 0 ? options_.line_baud : profile_.baud) + " baud";
+    if (options_.line_baud > 0 && options_.line_baud != profile_.baud) {
+        text += " (this firmware usually runs at " + std::to_string(profile_.baud) + ")";
+    }
     if (!session_.last_prompt().empty()) {
         text += ", prompt " + session_.last_prompt();
     }

@@ -3,9 +3,10 @@
 // positively recognised: a prompt confirmed on two consecutive pokes, the `?` reply ending on that
 // same prompt, not the G2 root shape `TRK>`, and a listing that names no root command of any variant.
 // One deliberate exception keeps the Trav'ler Pro recognisable: a listing positively recognised as
-// the HAL 0.0.00 root (which a Pro's ODU console also shows) with no trace of the G2 anywhere, not
-// in the listing, not in its descriptions, not in boot output, gets one `q` to see whether it leads
-// to the Pro's IDU console.
+// the HAL 0.0.00 root (which a Pro's ODU console also shows) at a confirmed prompt other than `TRK>`,
+// with no trace of the G2 anywhere (listing, descriptions, boot output), gets one `q` to see whether
+// it leads to the Pro's IDU console. At `TRK>` it gets none: the Pro's 75 deg cap is kept instead.
+// Before any `q` the console must have stayed quiet: output arriving then voids what was recognised.
 #include "birdcage/detect.hpp"
 
 #include <algorithm>
@@ -239,6 +240,11 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
     };
     // `q`, then the console must come into sync again before anything is concluded.
     auto leave_menu = [&]() -> Status {
+        if (auto heard = session.listen(probe_profile().quiet_gap); !heard.value.lines.empty() || !heard.value.prompt.empty()) {
+            return Status{Errc::protocol, "auto-detect: the console printed more (\"" +
+                                              escape_bytes(heard.value.lines.empty() ? heard.value.prompt : heard.value.lines.back()) +
+                                              "\") while its menu was being left; not sending q"};
+        }
         session.set_menu("submenu");   // recognised by the caller (see the rules at the top)
         if (auto q = session.transact("q", help_timeout); !q && q.status.code != Errc::timeout) {
             return q.status;
@@ -269,9 +275,9 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
             Detection d;
             d.variant = winner->variant;
             d.evidence = "auto-detected: " + summary({*winner});
-            const bool no_trace_of_g2 = score_of(ranking, VariantId::carryout_g2) <= (is_g2_root_shape(evidence.prompt) ? 1 : 0);
+            const bool no_trace_of_g2 = score_of(ranking, VariantId::carryout_g2) == 0;
             if (winner->variant == VariantId::travler_hal000) {
-                if (no_trace_of_g2 && !evidence.prompt.empty() && reply_on_same_prompt) {
+                if (no_trace_of_g2 && !evidence.prompt.empty() && !is_g2_root_shape(evidence.prompt) && reply_on_same_prompt) {
                     if (Status left = leave_menu(); !left) {
                         return {{}, left};
                     }

@@ -209,8 +209,9 @@ TEST_CASE("detect: a Trav'ler HAL 2.05 with bare > prompts, left in its motor me
 TEST_CASE("detect: a HAL 0.0.00 root keeps the Pro's elevation cap unless q reveals the IDU") {
     const bool q_reaches_idu = GENERATE(true, false);
     MenuConsole dish;
-    dish.root = "TRK";
-    dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\n";
+    dish.root = "ODU";
+    dish.menu = "ODU";
+    dish.listing["ODU"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\n";
     FakeTransport wire;
     bool on_idu = false;
     wire.set_responder([&](const std::string& c) -> Commands {
@@ -232,6 +233,17 @@ TEST_CASE("detect: a HAL 0.0.00 root keeps the Pro's elevation cap unless q reve
         CHECK(found.value.variant == VariantId::travler_hal000);
         CHECK(found.value.maybe_pro_odu);
     }
+}
+
+TEST_CASE("detect: a HAL 0.0.00 listing at TRK> gets no q: the Pro's cap is kept instead") {
+    MenuConsole dish;
+    dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\n";
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    const auto found = detect_variant(wire, {}, 60s);
+    REQUIRE(found);
+    CHECK(found.value.variant == VariantId::travler_hal000);
+    CHECK(found.value.maybe_pro_odu);
+    CHECK(dish.q_at_root == 0);
 }
 
 TEST_CASE("detect: a HAL 0.0.00-looking root with any trace of the G2 gets no q") {

@@ -3,9 +3,10 @@
 // positively recognised: a prompt confirmed on two consecutive pokes, the `?` reply ending on that
 // same prompt, not the G2 root shape `TRK>`, and a listing that names no root command of any variant.
 // One deliberate exception keeps the Trav'ler Pro recognisable: a listing positively recognised as
-// the HAL 0.0.00 root (which a Pro's ODU console also shows) at a confirmed prompt other than `TRK>`,
-// with no trace of the G2 anywhere (listing, descriptions, boot output), gets one `q` to see whether
-// it leads to the Pro's IDU console. At `TRK>` it gets none: the Pro's 75 deg cap is kept instead.
+// the HAL 0.0.00 root (which a Pro's ODU console also shows) at a confirmed prompt, with no trace of
+// the G2 beyond the shared `TRK>` shape (no G2 command in the listing or its descriptions, no G2
+// boot line), gets one `q` to see whether it leads to the Pro's IDU console. It is no new risk: the
+// HAL 0.0.00 initialisation itself starts with the clients' `q` at the root (firmware notes 2, 3.6).
 // Before any `q` the console must have stayed quiet: output arriving then voids what was recognised.
 #include "birdcage/detect.hpp"
 
@@ -275,9 +276,10 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
             Detection d;
             d.variant = winner->variant;
             d.evidence = "auto-detected: " + summary({*winner});
-            const bool no_trace_of_g2 = score_of(ranking, VariantId::carryout_g2) == 0;
+            // The `TRK>` shape alone is no trace: the HAL 0.0.00 init sends `q` at its root anyway.
+            const bool no_trace_of_g2 = score_of(ranking, VariantId::carryout_g2) <= (is_g2_root_shape(evidence.prompt) ? 1 : 0);
             if (winner->variant == VariantId::travler_hal000) {
-                if (no_trace_of_g2 && !evidence.prompt.empty() && !is_g2_root_shape(evidence.prompt) && reply_on_same_prompt) {
+                if (no_trace_of_g2 && !evidence.prompt.empty() && reply_on_same_prompt) {
                     if (Status left = leave_menu(); !left) {
                         return {{}, left};
                     }

@@ -17,6 +17,14 @@ constexpr std::size_t baud_sample = 256;     // bytes judged by the wrong-baud c
 bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || byte == '\t'; }
 bool is_line_end(char c) { return c == '\r' || c == '\n'; }
 
+// A chunk that is mostly text (printable or line structure) rather than line noise: an idle
+// RS-485 bus can produce random bytes without end, a third of them printable by chance.
+bool has_text(std::string_view bytes) {
+    const auto text = std::count_if(bytes.begin(), bytes.end(),
+                                    [](char c) { return is_line_end(c) || is_text_byte(static_cast<unsigned char>(c)); });
+    return text * 2 > static_cast<std::ptrdiff_t>(bytes.size());
+}
+
 bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
     return std::any_of(markers.begin(), markers.end(),
                        [&](std::string_view marker) { return line.find(marker) != std::string_view::npos; });
@@ -69,8 +77,10 @@ std::string usual_baud_text(const FirmwareProfile& profile) {
 }  // namespace
 
 std::string trailing_prompt(std::string_view output) {
+    // Line endings and noise after the prompt (an idle RS-485 bus keeps producing bytes) do not
+    // hide it; noise inside its line does.
     std::size_t end = output.size();
-    while (end > 0 && is_line_end(output[end - 1])) {
+    while (end > 0 && (is_line_end(output[end - 1]) || !is_text_byte(static_cast<unsigned char>(output[end - 1])))) {
         --end;
     }
     std::size_t begin = end;
@@ -173,10 +183,13 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
         const std::string_view bytes(buffer.data(), got.value);
         emit(log_, LogLevel::trace, "RES " + escape_bytes(bytes));
         heard.raw.append(bytes);
+        if (has_text(bytes)) {   // line noise neither keeps a reply open nor ends one
+            heard.text_end = heard.raw.size();
+            wait_until = std::min(limit, now() + gap);
+        }
         if (now() >= limit) {
             return heard;
         }
-        wait_until = std::min(limit, now() + gap);
     }
 }
 
@@ -292,8 +305,8 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         if (unsolicited.failed) {
             return fail_io(unsolicited.failure);
         }
-        if (!unsolicited.raw.empty()) {
-            absorb(unsolicited.raw, snapshot);
+        absorb(unsolicited.raw, snapshot);
+        if (unsolicited.text_end > 0) {
             candidate.clear();
             probe_answer.clear();
             continue;
@@ -310,7 +323,7 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
             return fail_io(reply.failure);
         }
         absorb(reply.raw, snapshot);
-        if (std::string prompt = trailing_prompt(reply.raw); !prompt.empty() && !booting()) {
+        if (std::string prompt = trailing_prompt(reply.text()); !prompt.empty() && !booting()) {
             if (prompt == candidate) {
                 snapshot.prompt = std::move(prompt);
                 snapshot.waited = waited();
@@ -334,7 +347,7 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
             }
             const std::size_t first_new = snapshot.heard.size();
             absorb(answer.raw, snapshot);
-            if (std::string prompt = trailing_prompt(answer.raw); !prompt.empty() && !booting()) {
+            if (std::string prompt = trailing_prompt(answer.text()); !prompt.empty() && !booting()) {
                 candidate = std::move(prompt);   // the next bare line ending confirms it
                 continue;
             }

@@ -235,17 +235,6 @@ TEST_CASE("detect: a HAL 0.0.00 root keeps the Pro's elevation cap unless q reve
     }
 }
 
-TEST_CASE("detect: a HAL 0.0.00 listing at TRK> gets no q: the Pro's cap is kept instead") {
-    MenuConsole dish;
-    dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\n";
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
-    const auto found = detect_variant(wire, {}, 60s);
-    REQUIRE(found);
-    CHECK(found.value.variant == VariantId::travler_hal000);
-    CHECK(found.value.maybe_pro_odu);
-    CHECK(dish.q_at_root == 0);
-}
-
 TEST_CASE("detect: a HAL 0.0.00-looking root with any trace of the G2 gets no q") {
     MenuConsole dish;
     dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\nstep - Stepper\r\n";

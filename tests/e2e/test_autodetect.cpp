@@ -83,9 +83,7 @@ TEST_CASE("auto-detect (90100) identifies every emulated variant without sending
         {"hal000 booting", Variant::travler_hal000, "HAL 0.0.00", [](Options& o) { o.already_booted = false; }},
         {"carryout2003 left in target, no unknown-command text", Variant::carryout2003, "Carryout HAL 1.00.065",
          [](Options& o) { o.unknown_command_reply.clear(); }, {"target"}},
-        // The emulator's ODU root prompt is TRK>, the G2 root's shape: detection sends no q there,
-        // so it cannot learn that q would reach the IDU; the Pro's cap is kept (issue 11).
-        {"pro left in ODU mot, q returns to the IDU", Variant::travler_pro, "el limits 15.00..75.00",
+        {"pro left in ODU mot, q returns to the IDU", Variant::travler_pro, "Trav'ler Pro",
          [](Options& o) { o.pro_q_at_odu_root_returns_to_idu = true; }, {"odu", "mot"}},
         // Indistinguishable from a HAL 0.0.00 root: reported as such, with the Pro's 75 deg cap kept.
         {"pro left in ODU mot, q stays on the ODU", Variant::travler_pro, "el limits 15.00..75.00",

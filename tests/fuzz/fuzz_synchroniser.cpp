@@ -3,8 +3,7 @@
 // either waiting in the buffer, answering the next line ending, or arriving later.
 // Properties: the synchroniser returns within its budget (counted in the reads the fake serves);
 // a prompt it reports is the end of the last reply it read; detection never sends `q` while the
-// console's last output ends at the G2 root prompt, and never at all unless some output ended
-// on a prompt twice in a row.
+// console's output ends at the G2 root prompt with G2 evidence in it.
 #include "birdcage/detect.hpp"
 #include "birdcage/synchroniser.hpp"
 #include "birdcage/variants.hpp"
@@ -99,7 +98,12 @@ private:
         }
         return chunk;
     }
-    bool last_output_ends_g2_root() const { return birdcage::trailing_prompt(output_) == "TRK>"; }
+    // The G2 root: its prompt, with the G2's evidence in sight (its root listing or boot lines).
+    bool last_output_ends_g2_root() const {
+        return birdcage::trailing_prompt(output_) == "TRK>" &&
+               (output_.find("a3981") != std::string::npos || output_.find("Ant ID") != std::string::npos ||
+                output_.find("Bootloader") != std::string::npos);
+    }
 
     std::string_view script_;
     std::size_t at_ = 0;

@@ -31,6 +31,7 @@ struct ControllerOptions {
     bool skip_init = false;                         // user says the dish is ready (already in the motor menu)
     bool detect = false;                            // RotatorService: identify the variant at start (auto)
     std::string detection_note;                     // how the variant was identified (shown by describe())
+    int line_baud = 0;                              // the rate the port was opened at (describe()); 0 = unknown
     LogSink log;
     // Time source for motion bookkeeping (leg timeouts, poll pacing). Tests inject a fake clock;
     // I/O deadlines always use the real steady clock.
@@ -119,7 +120,6 @@ private:
     Status run_steps(std::span<const ConsoleStep> steps, std::string_view purpose);
     Status initialize_within(std::chrono::milliseconds boot_budget);
     Status wait_for_boot();
-    Status answers_help();
     Status leave_submenus();
     Status check_homing();
     Status check_tracker_disabled();

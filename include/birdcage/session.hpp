@@ -12,6 +12,7 @@
 #include "birdcage/errors.hpp"
 #include "birdcage/framer.hpp"
 #include "birdcage/log.hpp"
+#include "birdcage/synchroniser.hpp"
 #include "birdcage/transport.hpp"
 #include "birdcage/variants.hpp"
 
@@ -33,6 +34,10 @@ public:
     Result<Reply> transact(std::string_view command, std::chrono::milliseconds timeout);
     Result<Reply> transact(std::string_view command, std::chrono::milliseconds timeout,
                            const ReplyComplete& complete);
+
+    // Brings the console to a confirmed prompt (ConsoleSynchroniser) and adopts it; boot output
+    // heard meanwhile counts as for transact(). The only way an open path starts talking.
+    Result<ConsoleSnapshot> synchronise(const SyncSettings& settings);
 
     // Sends a bare line ending and waits for a prompt; learns which menu we are in.
     // Errc::timeout when no prompt arrived (always the case on variants without known prompts).
@@ -61,6 +66,9 @@ public:
     void set_axes_unhomed(bool unhomed) { axes_unhomed_ = unhomed; }
     // The caller learnt which menu the console is in by other means (e.g. its `?` listing).
     void set_menu(std::string menu) { menu_ = std::move(menu); }
+    // The console synchroniser confirmed this prompt: the menu follows from it, and whatever the
+    // framer held back from before the synchronisation is void.
+    void adopt_prompt(const std::string& prompt);
     // Forget what we knew about the menu (e.g. after a timeout left the console in an unknown state).
     void forget_menu();
 

@@ -104,10 +104,6 @@ struct FirmwareProfile {
     // NVS index of "Disable Tracker Proc?" (read-only check at init); -1 = none.
     int tracker_disable_nvs_index;
 
-    // Auto-detection: commands that, all listed by `?` at this variant's root, identify it
-    // (root menus per firmware.md 3.3, 4.3, 5.3, 6.3, 8.3). Rows are tried in detection_order().
-    std::span<const std::string_view> help_signature;
-
     // Default pointing mode: predictive where the motors step fast enough to follow an aim a
     // deadband ahead (G2: the tracking benchmark, docs/benchmarks.md); elsewhere each target as
     // sent, because a dish that needs ~1 s per small move (Trav'ler, firmware.md 3.4) only
@@ -125,14 +121,20 @@ const FirmwareProfile& profile(VariantId id);
 // the console is known to be inside a submenu, because `q` at the G2 root kills its shell).
 const FirmwareProfile& probe_profile();
 
-// The variant whose help_signature is fully contained in `commands` (the words a `?` listed),
-// trying the most specific rows first; nullopt when none matches.
-std::optional<VariantId> variant_from_help(std::span<const std::string> commands);
-
-// True if `commands` contains any command of the G2 root menu that no other variant's root has
-// (then a `q` there would be the shell-killing hazard).
-bool lists_g2_root_command(std::span<const std::string> commands);
 std::optional<VariantId> variant_from_name(std::string_view short_name);
+
+// Auto-detection evidence: each clue, when seen, adds `weight` to one variant's score (detect.cpp
+// ranks the scores). Text is matched case-insensitively: a boot line containing it, a prompt
+// equal to it, or a command word a `?` listing shows (full weight where the listing puts it in
+// a command's place, a third of it where it only appears in a description).
+enum class ClueSource { boot_line, prompt, help_command };
+struct DetectionClue {
+    ClueSource source;
+    std::string_view text;
+    VariantId variant;
+    int weight;
+};
+std::span<const DetectionClue> detection_clues();
 std::span<const FirmwareProfile> all_profiles();
 
 // Estimated duration of a single-axis move of `degrees` from the variant's motion model.

@@ -17,8 +17,7 @@ constexpr auto menu_step_timeout = 3000ms;    // one menu command and its reply
 constexpr auto query_timeout = 2000ms;        // `a`: ~60 bytes even at 57600 baud is ~11 ms
 constexpr auto resync_timeout = 1500ms;
 constexpr auto home_timeout = 180000ms;        // `h <id>` blocks the shell until the axis is homed
-constexpr auto boot_progress_interval = 10000ms;  // debug-log progress while a dish boots
-constexpr auto boot_probe_interval = 500ms;      // bare line-ending probes while it boots
+constexpr auto skip_init_sync_budget = 5000ms;   // skip_init: the dish is said to be up already
 constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (tracking.md 1.2)
 constexpr auto still_window = 2000ms;         // an axis unchanged this long has stopped
 constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
@@ -98,123 +97,19 @@ Status Controller::run_steps(std::span<const ConsoleStep> steps, std::string_vie
     return Status::ok();
 }
 
+// A booting, idle or noisy console is brought to a confirmed prompt by the one synchroniser
+// (never on a single line: see synchroniser.hpp); it also says at default verbosity that it waits.
 Status Controller::wait_for_boot() {
     session_.clear_reboot_seen();
-    // A booted console answers a bare line ending with its prompt.
-    const Status synced = session_.resync(resync_timeout);
-    if (synced) {
-        emit(options_.log, LogLevel::verbose, "console answered with prompt " + session_.last_prompt());
-        return Status::ok();
+    const auto synced = session_.synchronise(console_sync_settings(profile_, boot_budget_));
+    if (!synced) {
+        return Status{synced.status.code, "the " + std::string(profile_.display_name) +
+                                              " console did not come into sync: " + synced.status.message};
     }
-    if (synced.code != Errc::timeout) {
-        return synced;
+    if (synced.value.boot_heard) {
+        emit(options_.log, LogLevel::warning, "dish booted (last boot output \"" + synced.value.last_boot_line + "\")");
     }
-    // Where prompts are undocumented, a position reply is the next best proof of a live console.
-    if (!profile_.prompt_known() && !profile_.position_query.empty()) {
-        if (Status entered = run_steps(profile_.motor_menu_entry, "probing the motor menu"); !entered) {
-            return entered;
-        }
-        if (const auto position = ask_position(query_timeout); position) {
-            emit(options_.log, LogLevel::verbose, "dish answered a position query; treating it as booted");
-            return Status::ok();
-        }
-    }
-    if (profile_.position_query.empty()) {
-        if (Status helped = answers_help(); helped || helped.code != Errc::timeout) {
-            return helped;
-        }
-    }
-
-    // Still booting (a booting dish ignores its input): listen for the boot-complete line and
-    // keep offering a bare line ending, which a booted console answers with its prompt. The
-    // line-ending probe also covers units that never print the marker (Trav'lers with GPS, 3.2).
-    auto is_boot_done = [this](const std::string& text) {
-        if (looks_like_prompt(text)) {
-            return true;
-        }
-        return std::any_of(profile_.boot_complete_markers.begin(), profile_.boot_complete_markers.end(),
-                           [&](std::string_view marker) { return text.find(marker) != std::string::npos; });
-    };
-    // Time spent: the larger of the real time and the sum of the listening periods (the latter
-    // keeps the wait bounded over transports whose reads time out at once, like test fakes).
-    const auto started = Clock::now();
-    std::chrono::milliseconds listened{0};
-    auto elapsed = [&] {
-        return std::max(listened, std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started));
-    };
-    auto elapsed_s = [&] { return std::to_string(elapsed().count() / 1000); };
-    emit(options_.log, LogLevel::warning,
-         "the console does not answer yet; waiting for the dish to finish booting (up to " +
-             std::to_string(boot_budget_.count() / 1000) + " s)");
-    auto next_progress = boot_progress_interval;
-    auto report_progress = [&] {
-        if (elapsed() < next_progress) {
-            return;
-        }
-        next_progress += boot_progress_interval;
-        emit(options_.log, LogLevel::verbose,
-             "still waiting for the dish to boot (" + elapsed_s() + " s" +
-                 (session_.last_boot_line().empty() ? std::string(", no boot output yet")
-                                                    : "; last boot output: " + session_.last_boot_line()) +
-                 ")");
-    };
-    while (elapsed() < boot_budget_) {
-        if (!session_.last_boot_line().empty() && is_boot_done(session_.last_boot_line())) {
-            emit(options_.log, LogLevel::verbose, "boot finished (" + session_.last_boot_line() + ") after " +
-                                                      elapsed_s() + " s");
-            return Status::ok();
-        }
-        const auto period = std::min<std::chrono::milliseconds>(boot_probe_interval, boot_budget_ - elapsed());
-        const auto heard = session_.listen(period, is_boot_done);
-        listened += period;
-        if (heard) {
-            emit(options_.log, LogLevel::verbose, "boot finished after " + elapsed_s() + " s");
-            return Status::ok();
-        }
-        if (heard.status.code != Errc::timeout) {
-            return heard.status;
-        }
-        if (elapsed() >= boot_budget_) {
-            break;
-        }
-        if (!profile_.boot_complete_markers.empty()) {
-            // The documented boot-complete line is the signal; nothing is sent to a booting dish.
-            report_progress();
-            continue;
-        }
-        // No boot line is documented: offer a bare line ending and `?`, which a booted console answers.
-        if (Status probed = session_.resync(boot_probe_interval); probed) {
-            emit(options_.log, LogLevel::verbose, "console answered with prompt " + session_.last_prompt() +
-                                                      " after " + elapsed_s() + " s");
-            return Status::ok();
-        } else if (probed.code != Errc::timeout) {
-            return probed;
-        }
-        if (Status helped = answers_help(); helped || helped.code != Errc::timeout) {
-            return helped;
-        }
-        report_progress();
-    }
-    return Status{Errc::timeout, "the dish did not finish booting within " +
-                                     std::to_string(boot_budget_.count() / 1000) +
-                                     " s (no prompt, no boot-complete line); check wiring and baud, or use skip_init"};
-}
-
-// Where prompts are undocumented: `?` lists the menu's commands on every variant (firmware.md 2,
-// 8.1 "Typing ? should return a menu"); any reply line proves a live console. Errc::timeout if none.
-Status Controller::answers_help() {
-    if (profile_.prompt_known()) {
-        return Status{Errc::timeout, "prompt known; no help probe"};
-    }
-    const auto help = session_.transact("?", query_timeout);
-    if (!help && help.status.code != Errc::timeout) {
-        return help.status;
-    }
-    if (!help.value.lines.empty() || !help.value.prompt.empty()) {
-        emit(options_.log, LogLevel::verbose, "console answered ? (" + help.value.lines.front() + " ...)");
-        return Status::ok();
-    }
-    return Status{Errc::timeout, "no reply to ?"};
+    return Status::ok();
 }
 
 Status Controller::leave_submenus() {
@@ -347,8 +242,8 @@ Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
     if (options_.skip_init) {
         emit(options_.log, LogLevel::verbose, "skip_init: assuming the dish is booted and in its motor menu");
         if (profile_.prompt_known()) {
-            if (Status synced = session_.resync(resync_timeout); !synced) {
-                return synced;
+            if (const auto synced = session_.synchronise(console_sync_settings(profile_, skip_init_sync_budget)); !synced) {
+                return synced.status;
             }
         }
     } else {
@@ -1055,7 +950,10 @@ std::optional<Controller::LegMotion> Controller::leg_motion() const {
 std::string Controller::describe() const {
     std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +
                        std::string(profile_.short_name) + ", " +
-                       std::to_string(profile_.baud) + " baud";
+                       std::to_string(options_.line_baud > 0 ? options_.line_baud : profile_.baud) + " baud";
+    if (options_.line_baud > 0 && options_.line_baud != profile_.baud) {
+        text += " (this firmware usually runs at " + std::to_string(profile_.baud) + ")";
+    }
     if (!session_.last_prompt().empty()) {
         text += ", prompt " + session_.last_prompt();
     }

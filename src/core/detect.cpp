@@ -1,10 +1,22 @@
+// Auto-detection. What `q` may do: it is the documented way out of a submenu everywhere, and
+// terminates the G2's shell at its root (firmware notes 6.5). So it is sent only where a submenu was
+// positively recognised: a prompt confirmed on two consecutive pokes, the `?` reply ending on that
+// same prompt, not the G2 root shape `TRK>`, and a listing that names no root command of any variant.
+// One deliberate exception keeps the Trav'ler Pro recognisable: a listing positively recognised as
+// the HAL 0.0.00 root (which a Pro's ODU console also shows) at a confirmed prompt, with no trace of
+// the G2 beyond the shared `TRK>` shape (no G2 command in the listing or its descriptions, no G2
+// boot line), gets one `q` to see whether it leads to the Pro's IDU console. It is no new risk: the
+// HAL 0.0.00 initialisation itself starts with the clients' `q` at the root (firmware notes 2, 3.6).
+// Before any `q` the console must have stayed quiet: output arriving then voids what was recognised.
 #include "birdcage/detect.hpp"
 
 #include <algorithm>
-#include <vector>
+#include <cctype>
+#include <optional>
+#include <utility>
 
-#include "birdcage/framer.hpp"
 #include "birdcage/session.hpp"
+#include "birdcage/synchroniser.hpp"
 
 namespace birdcage {
 namespace {
@@ -12,131 +24,299 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr auto help_timeout = 3000ms;
-constexpr auto probe_timeout = 500ms;
-constexpr auto progress_interval = 10000ms;
-constexpr int max_levels = 4;  // deepest menu nesting seen: Pro IDU > ODU > mot
+constexpr auto resync_budget = 5000ms;     // after a `q`: the console is up, only the menu changed
+constexpr int max_levels = 4;              // deepest menu nesting seen: Pro IDU > ODU > mot
+constexpr int winning_score = 4;
+constexpr int winning_margin = 3;
+constexpr int description_divisor = 3;     // a word only in a description counts a third
 
-// The command words of a `?` listing: `Enter <word> - text` (6.3); otherwise each line's first word.
-std::vector<std::string> help_words(const std::vector<std::string>& lines) {
+std::string lower(std::string_view text) {
+    std::string out(text);
+    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return out;
+}
+
+bool is_word_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '?'; }
+
+std::vector<std::string> words_of(std::string_view text) {
     std::vector<std::string> words;
-    for (const std::string& line : lines) {
-        const auto open = line.find('<');
-        const auto close = line.find('>', open == std::string::npos ? 0 : open);
-        if (line.rfind("Enter <", 0) == 0 && close != std::string::npos) {
-            words.push_back(line.substr(open + 1, close - open - 1));
-            continue;
+    std::string word;
+    for (char c : text) {
+        if (is_word_char(c)) {
+            word += c;
+        } else if (!word.empty()) {
+            words.push_back(std::exchange(word, {}));
         }
-        const auto start = line.find_first_not_of(" \t");
-        if (start == std::string::npos) {
-            continue;
-        }
-        const auto end = line.find_first_of(" \t", start);
-        words.push_back(line.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    }
+    if (!word.empty()) {
+        words.push_back(word);
     }
     return words;
 }
 
-std::string listed(const std::vector<std::string>& words) {
+// A line that pairs a command with a description: a dash, colon or equals sign, or columns.
+bool is_described(std::string_view line) {
+    return line.find(" - ") != std::string_view::npos || line.find(':') != std::string_view::npos ||
+           line.find('=') != std::string_view::npos || line.find('\t') != std::string_view::npos ||
+           line.find("  ") != std::string_view::npos;
+}
+
+std::string trimmed(std::string_view text) {
+    const auto first = text.find_first_not_of(' ');
+    if (first == std::string_view::npos) {
+        return {};
+    }
+    const auto last = text.find_last_not_of(' ');
+    return std::string(text.substr(first, last - first + 1));
+}
+
+std::string variant_name(VariantId id) { return std::string(profile(id).short_name); }
+
+std::string summary(const std::vector<VariantScore>& ranking) {
     std::string text;
-    for (const auto& w : words) {
+    for (const auto& entry : ranking) {
+        if (entry.score == 0) {
+            continue;
+        }
+        text += (text.empty() ? "" : "; ") + variant_name(entry.variant) + " " + std::to_string(entry.score);
+        std::string reasons;
+        for (const auto& reason : entry.reasons) {
+            reasons += (reasons.empty() ? "" : ", ") + reason;
+        }
+        text += " (" + reasons + ")";
+    }
+    return text.empty() ? std::string("no evidence for any variant") : text;
+}
+
+std::string listing_text(const HelpListing& help) {
+    std::string text;
+    for (const auto& w : help.commands) {
         text += (text.empty() ? "" : " ") + w;
     }
-    return text;
+    return text.empty() ? std::string("(nothing)") : text;
 }
+
+int score_of(const std::vector<VariantScore>& ranking, VariantId id) {
+    for (const auto& entry : ranking) {
+        if (entry.variant == id) {
+            return entry.score;
+        }
+    }
+    return 0;
+}
+
+bool names_a_root_command(const HelpListing& help) {
+    const auto all = detection_clues();
+    return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
+        return clue.source == ClueSource::help_command && help.commands.count(std::string(clue.text)) > 0;
+    });
+}
+
+bool is_g2_root_shape(std::string_view prompt) { return lower(prompt) == lower(profile(VariantId::carryout_g2).root_prompt); }
 
 }  // namespace
 
-Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::chrono::milliseconds boot_timeout) {
-    ConsoleSession session(transport, probe_profile(), log);
-
-    // 1. A live console: a prompt after a bare line ending, or any reply to `?`. A booting dish
-    //    ignores input; keep probing until boot_timeout, showing progress.
-    const auto started = Clock::now();
-    std::chrono::milliseconds spent{0};
-    auto elapsed = [&] {
-        return std::max(spent, std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started));
-    };
-    auto next_progress = progress_interval;
-    Result<Reply> help;
-    for (bool first = true;; first = false) {
-        const Status synced = session.resync(probe_timeout);
-        if (!synced && synced.code != Errc::timeout) {
-            return {{}, synced};
+HelpListing parse_help_listing(const std::vector<std::string>& lines) {
+    HelpListing listing;
+    for (const std::string& original : lines) {
+        const std::string line = lower(original);
+        const auto all = words_of(line);
+        listing.words.insert(all.begin(), all.end());
+        if (all.empty()) {
+            continue;
         }
-        help = session.transact("?", help_timeout);
-        spent += probe_timeout;
-        if (!help && help.status.code != Errc::timeout) {
-            return {{}, help.status};
+        // `Enter <cmd> - Description` (6.3), once per line or many on one line.
+        bool entered = false;
+        for (std::size_t at = line.find("enter <"); at != std::string::npos; at = line.find("enter <", at + 1)) {
+            const auto close = line.find('>', at);
+            if (close == std::string::npos) {
+                break;
+            }
+            const auto inside = words_of(std::string_view(line).substr(at + 7, close - at - 7));
+            if (!inside.empty()) {
+                listing.commands.insert(inside.front());
+                entered = true;
+            }
         }
-        if (!help.value.lines.empty()) {
-            break;
+        if (entered) {
+            continue;
         }
-        if (first) {
-            emit(log, LogLevel::warning, "auto-detect: the console does not answer yet; waiting for the dish to boot (up to " +
-                                             std::to_string(boot_timeout.count() / 1000) + " s)");
+        if (!is_described(line)) {
+            listing.commands.insert(all.begin(), all.end());   // `mot os nvs`, `mot, os, nvs`
+            continue;
         }
-        if (elapsed() >= boot_timeout) {
-            return {{}, Status{Errc::timeout, "auto-detect: no answer from the console within " +
-                                                  std::to_string(boot_timeout.count() / 1000) +
-                                                  " s; check wiring and baud (-s 57600 for Trav'ler/Carryout 2003, "
-                                                  "-s 115200 for the G2) or choose the model yourself"}};
-        }
-        if (elapsed() >= next_progress) {
-            next_progress += progress_interval;
-            emit(log, LogLevel::verbose, "auto-detect: still waiting for the dish (" +
-                                             std::to_string(elapsed().count() / 1000) + " s" +
-                                             (session.last_boot_line().empty() ? std::string()
-                                                                               : "; last boot output: " + session.last_boot_line()) +
-                                             ")");
+        // Described entries, one per line or separated by , ; | on one line: each entry's first word.
+        std::size_t start = 0;
+        for (std::size_t i = 0; i <= line.size(); ++i) {
+            if (i == line.size() || line[i] == ',' || line[i] == ';' || line[i] == '|') {
+                const auto entry = words_of(std::string_view(line).substr(start, i - start));
+                if (!entry.empty()) {
+                    listing.commands.insert(entry.front());
+                }
+                start = i + 1;
+            }
         }
     }
+    return listing;
+}
 
-    // 2. Identify the menu from its help; climb out of submenus with `q` only where that is safe.
-    bool left_odu_root = false;
-    for (int level = 0; level < max_levels; ++level) {
-        const std::vector<std::string> words = help_words(help.value.lines);
-        emit(log, LogLevel::verbose, "auto-detect: prompt \"" + session.last_prompt() + "\", ? lists: " + listed(words));
-        if (const auto found = variant_from_help(words)) {
-            Detection d;
-            d.variant = *found;
-            d.evidence = "auto-detected: ? at prompt \"" + session.last_prompt() + "\" lists " +
-                         std::string(profile(*found).help_signature.front());
-            if (*found == VariantId::travler_hal000 && !left_odu_root && !lists_g2_root_command(words)) {
-                // A Pro left in its ODU console shows the same menu. `q` is safe here (this is not a
-                // G2 root); if it leads to the IDU, this is a Pro.
-                session.set_menu("submenu");
-                left_odu_root = true;
-                if (const auto q = session.transact("q", help_timeout); !q && q.status.code != Errc::timeout) {
-                    return {{}, q.status};
+std::vector<VariantScore> rank_evidence(const ConsoleEvidence& evidence) {
+    std::vector<VariantScore> ranking;
+    for (const FirmwareProfile& row : all_profiles()) {
+        ranking.push_back({row.id, 0, {}});
+    }
+    auto entry_for = [&](VariantId id) -> VariantScore& {
+        return *std::find_if(ranking.begin(), ranking.end(), [&](const VariantScore& s) { return s.variant == id; });
+    };
+    const std::string prompt = lower(evidence.prompt);
+    for (const DetectionClue& clue : detection_clues()) {
+        const std::string text = lower(clue.text);
+        VariantScore& entry = entry_for(clue.variant);
+        switch (clue.source) {
+        case ClueSource::boot_line:
+            for (const auto& line : evidence.lines) {
+                if (lower(line).find(text) != std::string::npos) {
+                    entry.score += clue.weight;
+                    entry.reasons.push_back("boot line \"" + escape_bytes(line) + "\"");
+                    break;
                 }
-                help = session.transact("?", help_timeout);
-                if (help && variant_from_help(help_words(help.value.lines)) == VariantId::travler_pro) {
-                    d.variant = VariantId::travler_pro;
-                    d.evidence += "; q from there led to the IDU console (? lists odu): a Trav'ler Pro";
+            }
+            break;
+        case ClueSource::prompt:
+            if (!prompt.empty() && prompt == text) {
+                entry.score += clue.weight;
+                entry.reasons.push_back("prompt " + evidence.prompt);
+            }
+            break;
+        case ClueSource::help_command:
+            if (evidence.help.commands.count(text) > 0) {
+                entry.score += clue.weight;
+                entry.reasons.push_back("? lists " + text);
+            } else if (evidence.help.words.count(text) > 0 && clue.weight / description_divisor > 0) {
+                entry.score += clue.weight / description_divisor;
+                entry.reasons.push_back("? mentions " + text);
+            }
+            break;
+        }
+    }
+    std::stable_sort(ranking.begin(), ranking.end(), [](const VariantScore& a, const VariantScore& b) { return a.score > b.score; });
+    return ranking;
+}
+
+std::optional<VariantScore> clear_winner(const std::vector<VariantScore>& ranking) {
+    if (ranking.empty() || ranking.front().score < winning_score) {
+        return std::nullopt;
+    }
+    const int second = ranking.size() > 1 ? ranking[1].score : 0;
+    if (ranking.front().score - second < winning_margin) {
+        return std::nullopt;
+    }
+    return ranking.front();
+}
+
+Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::chrono::milliseconds boot_timeout) {
+    ConsoleSession session(transport, probe_profile(), log);
+    const std::string force_hint =
+        "force one with -C variant=<hal000|hal205|pro|carryout2003|g2> or use that variant's own model";
+
+    auto synced = session.synchronise(console_sync_settings(probe_profile(), boot_timeout));
+    if (!synced) {
+        return {{}, Status{synced.status.code, "auto-detect: " + synced.status.message + "; " + force_hint}};
+    }
+    ConsoleEvidence evidence;
+    evidence.lines = synced.value.heard;
+    evidence.prompt = synced.value.prompt;
+    std::vector<std::string> help_lines = synced.value.probe_reply;
+    bool reply_on_same_prompt = true;
+
+    auto read_help = [&]() -> Status {
+        auto help = session.transact("?", help_timeout);
+        if (!help && help.status.code != Errc::timeout) {
+            return help.status;
+        }
+        help_lines = help.value.lines;
+        evidence.lines.insert(evidence.lines.end(), help.value.lines.begin(), help.value.lines.end());
+        reply_on_same_prompt = trimmed(help.value.prompt) == evidence.prompt;
+        return Status::ok();
+    };
+    // `q`, then the console must come into sync again before anything is concluded.
+    auto leave_menu = [&]() -> Status {
+        if (auto heard = session.listen(probe_profile().quiet_gap); !heard.value.lines.empty() || !heard.value.prompt.empty()) {
+            return Status{Errc::protocol, "auto-detect: the console printed more (\"" +
+                                              escape_bytes(heard.value.lines.empty() ? heard.value.prompt : heard.value.lines.back()) +
+                                              "\") while its menu was being left; not sending q"};
+        }
+        session.set_menu("submenu");   // recognised by the caller (see the rules at the top)
+        if (auto q = session.transact("q", help_timeout); !q && q.status.code != Errc::timeout) {
+            return q.status;
+        }
+        auto again = session.synchronise(console_sync_settings(probe_profile(), resync_budget));
+        if (!again) {
+            return again.status;
+        }
+        evidence.lines.insert(evidence.lines.end(), again.value.heard.begin(), again.value.heard.end());
+        evidence.prompt = again.value.prompt;
+        help_lines = again.value.probe_reply;
+        reply_on_same_prompt = true;
+        return Status::ok();
+    };
+
+    std::vector<VariantScore> ranking;
+    for (int level = 0; level < max_levels; ++level) {
+        if (help_lines.empty()) {
+            if (Status read = read_help(); !read) {
+                return {{}, read};
+            }
+        }
+        evidence.help = parse_help_listing(help_lines);
+        ranking = rank_evidence(evidence);
+        emit(log, LogLevel::verbose, "auto-detect: prompt \"" + evidence.prompt + "\", ? lists " +
+                                         listing_text(evidence.help) + "; scores: " + summary(ranking));
+        if (const auto winner = clear_winner(ranking)) {
+            Detection d;
+            d.variant = winner->variant;
+            d.evidence = "auto-detected: " + summary({*winner});
+            // The `TRK>` shape alone is no trace: the HAL 0.0.00 init sends `q` at its root anyway.
+            const bool no_trace_of_g2 = score_of(ranking, VariantId::carryout_g2) <= (is_g2_root_shape(evidence.prompt) ? 1 : 0);
+            if (winner->variant == VariantId::travler_hal000) {
+                if (no_trace_of_g2 && !evidence.prompt.empty() && reply_on_same_prompt) {
+                    if (Status left = leave_menu(); !left) {
+                        return {{}, left};
+                    }
+                    if (Status read = read_help(); !read) {
+                        return {{}, read};
+                    }
+                    evidence.help = parse_help_listing(help_lines);
+                    const auto after = clear_winner(rank_evidence(evidence));
+                    if (after && after->variant == VariantId::travler_pro) {
+                        d.variant = VariantId::travler_pro;
+                        d.evidence += "; q from there led to the IDU console (? lists odu): a Trav'ler Pro";
+                    } else {
+                        d.maybe_pro_odu = true;
+                    }
                 } else {
                     d.maybe_pro_odu = true;
+                }
+                if (d.maybe_pro_odu) {
                     d.evidence += " (a Trav'ler Pro left inside its ODU console looks the same; elevation kept <= 75)";
                 }
             }
             emit(log, LogLevel::verbose, d.evidence);
             return {d, Status::ok()};
         }
-        // Never `q` where it could be the G2 root: its documented prompt, or any G2-only root command.
-        if (words.empty() || lists_g2_root_command(words) || session.last_prompt() == "TRK>") {
+        const bool submenu = !evidence.prompt.empty() && reply_on_same_prompt && !is_g2_root_shape(evidence.prompt) &&
+                             !evidence.help.commands.empty() && !names_a_root_command(evidence.help);
+        if (!submenu) {
             break;
         }
-        // Not a root menu of any variant and not the G2 root: a submenu, which `q` leaves.
-        session.set_menu("submenu");
-        if (const auto q = session.transact("q", help_timeout); !q && q.status.code != Errc::timeout) {
-            return {{}, q.status};
-        }
-        help = session.transact("?", help_timeout);
-        if (!help && help.status.code != Errc::timeout) {
-            return {{}, help.status};
+        emit(log, LogLevel::verbose, "auto-detect: " + evidence.prompt + " is a submenu (its ? names no root command); leaving it with q");
+        if (Status left = leave_menu(); !left) {
+            return {{}, left};
         }
     }
-    return {{}, Status{Errc::protocol, "auto-detect: the console's help matches no known Winegard firmware (last prompt \"" +
-                                           session.last_prompt() + "\"); choose the model yourself"}};
+    return {{}, Status{Errc::protocol, "auto-detect: not sure which firmware this is (prompt \"" + evidence.prompt +
+                                           "\", ? lists " + listing_text(evidence.help) + "; scores: " + summary(ranking) +
+                                           "); " + force_hint}};
 }
 
 }  // namespace birdcage

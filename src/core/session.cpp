@@ -29,6 +29,26 @@ void ConsoleSession::forget_menu() {
     last_prompt_.clear();
 }
 
+Result<ConsoleSnapshot> ConsoleSession::synchronise(const SyncSettings& settings) {
+    framer_.reset();
+    ConsoleSynchroniser synchroniser(transport_, settings, log_);
+    auto synced = synchroniser.synchronise();
+    if (synced.value.boot_heard) {
+        reboot_seen_ = true;
+        last_boot_line_ = synced.value.last_boot_line;
+        menu_.clear();
+    }
+    if (synced && !synced.value.prompt.empty()) {
+        adopt_prompt(synced.value.prompt);
+    }
+    return synced;
+}
+
+void ConsoleSession::adopt_prompt(const std::string& prompt) {
+    framer_.reset();
+    note_prompt(prompt);
+}
+
 void ConsoleSession::note_prompt(const std::string& prompt) {
     last_prompt_ = prompt;
     while (!last_prompt_.empty() && last_prompt_.back() == ' ') {

@@ -40,29 +40,67 @@ constexpr std::array<ConsoleStep, 1> carryout_motor_entry{{{"target", 0ms}}};
 
 // ---- Carryout G2 02.02.48 (firmware.md 6) ----
 constexpr std::array<ConsoleStep, 1> g2_motor_entry{{{"mot", 0ms}}};
-constexpr std::array<std::string_view, 1> g2_boot_complete{"Boot Complete"};
+// `Boot Complete` then `Loc Startup: IDU NOT Present`: the boot-complete pair (6.2 item 13); the
+// second may arrive after the first has been answered, so either ends the boot.
+constexpr std::array<std::string_view, 2> g2_boot_complete{"Boot Complete", "Loc Startup:"};
 constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -",
                                                     "Boot Complete", "Loc Startup:"};
 
 // G2 homing, elevation first as at boot (6.2 item 11): the dish rises before it turns.
 constexpr std::array<std::string_view, 2> g2_home{"h 1", "h 0"};
 
-// ---- auto-detection signatures (`?` at the root) ----
-constexpr std::array<std::string_view, 2> hal000_help{"mot", "os"};
-constexpr std::array<std::string_view, 1> hal205_help{"ngsearch"};
-constexpr std::array<std::string_view, 1> pro_help{"odu"};          // the IDU console (5.1)
-constexpr std::array<std::string_view, 1> carryout_help{"target"};
-constexpr std::array<std::string_view, 1> g2_help{"a3981"};
-// G2 root commands found on no other variant's root (6.3 vs 3.3/4.3/5.3/8.3).
-constexpr std::array<std::string_view, 8> g2_only_root{"a3981", "adc", "dipswitch", "eeprom",
-                                                       "gpio", "latlon", "peak", "step"};
-// Most specific first: the HAL 0.0.00 root (mot, os) is a subset of the G2's and of the Pro ODU's.
-constexpr std::array<VariantId, 5> detection_order{VariantId::carryout_g2, VariantId::travler_pro,
-                                                   VariantId::carryout2003, VariantId::travler_hal205,
-                                                   VariantId::travler_hal000};
+constexpr std::array<std::string_view, 4> any_boot_complete{"NoGPS", "No LNB Voltage", "Boot Complete",
+                                                            "Loc Startup:"};
 constexpr std::array<std::string_view, 8> any_boot_marker{"NoGPS", "No LNB Voltage", "Boot Complete",
                                                           "Bootloader v", "Motor init:", "Ant ID -",
                                                           "Loc Startup:", "Antenna Facing"};
+
+// Weights: a command found on one variant's root only, or a boot line only one firmware prints, is
+// decisive (>= 4, the winning threshold in detect.cpp); shapes other firmware may share (the
+// `TRK>` prompt, `mot`/`os` at a root, `NoGPS` on both Trav'ler HALs) only tip the balance.
+using V = VariantId;
+using S = ClueSource;
+constexpr std::array<DetectionClue, 36> clues{{
+    // Boot lines (3.2, 4.2, 6.2).
+    {S::boot_line, "Bootloader v", V::carryout_g2, 4},
+    {S::boot_line, "Ant ID -", V::carryout_g2, 4},
+    {S::boot_line, "12-IN G2", V::carryout_g2, 4},
+    {S::boot_line, "Motor init:", V::carryout_g2, 3},
+    {S::boot_line, "Antenna Facing", V::carryout_g2, 3},
+    {S::boot_line, "Boot Complete", V::carryout_g2, 3},
+    {S::boot_line, "Loc Startup:", V::carryout_g2, 3},
+    {S::boot_line, "EXTENDED_DVB_DEBUG", V::carryout_g2, 3},
+    {S::boot_line, "BCM4515", V::carryout_g2, 3},
+    {S::boot_line, "No LNB Voltage", V::travler_hal205, 4},
+    {S::boot_line, "NoGPS", V::travler_hal000, 1},
+    {S::boot_line, "NoGPS", V::travler_hal205, 1},
+    // Prompts (6.3): the G2's submenu prompts are documented; its root shape may be shared.
+    {S::prompt, "TRK>", V::carryout_g2, 1},
+    {S::prompt, "A3981>", V::carryout_g2, 4},
+    {S::prompt, "EE>", V::carryout_g2, 4},
+    {S::prompt, "DIPSWITCH>", V::carryout_g2, 4},
+    {S::prompt, "LATLON>", V::carryout_g2, 4},
+    {S::prompt, "GPIO>", V::carryout_g2, 4},
+    {S::prompt, "PEAK>", V::carryout_g2, 3},
+    {S::prompt, "STEP>", V::carryout_g2, 3},
+    {S::prompt, "ADC>", V::carryout_g2, 3},
+    // Root listings (3.3, 4.3, 5.3, 6.3, 8.3).
+    {S::help_command, "a3981", V::carryout_g2, 5},
+    {S::help_command, "dipswitch", V::carryout_g2, 3},
+    {S::help_command, "latlon", V::carryout_g2, 3},
+    {S::help_command, "adc", V::carryout_g2, 2},
+    {S::help_command, "eeprom", V::carryout_g2, 2},
+    {S::help_command, "gpio", V::carryout_g2, 2},
+    {S::help_command, "peak", V::carryout_g2, 2},
+    {S::help_command, "step", V::carryout_g2, 2},
+    {S::help_command, "odu", V::travler_pro, 6},
+    {S::help_command, "target", V::carryout2003, 6},
+    {S::help_command, "ngsearch", V::travler_hal205, 6},
+    {S::help_command, "mot", V::travler_hal000, 2},
+    {S::help_command, "os", V::travler_hal000, 1},
+    {S::help_command, "nvs", V::travler_hal000, 1},
+    {S::help_command, "stow", V::travler_hal000, 1},
+}};
 
 constexpr std::array<FirmwareProfile, 5> profiles{{
     {
@@ -93,7 +131,6 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .park_az = 0.0, .park_el = 45.0,
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
-        .help_signature = hal000_help,
         .predictive_by_default = false,
     },
     {
@@ -124,7 +161,6 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .park_az = 0.0, .park_el = 45.0,
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
-        .help_signature = hal205_help,
         .predictive_by_default = false,
     },
     {
@@ -155,7 +191,6 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .park_az = 0.0, .park_el = 45.0,
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
-        .help_signature = pro_help,
         .predictive_by_default = false,
     },
     {
@@ -187,7 +222,6 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .park_az = 0.0, .park_el = 45.0,
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
-        .help_signature = carryout_help,
         .predictive_by_default = false,
     },
     {
@@ -218,7 +252,6 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .park_az = 0.0, .park_el = 65.0,
         .home_commands = g2_home,
         .tracker_disable_nvs_index = 20,
-        .help_signature = g2_help,
         .predictive_by_default = true,
     },
 }};
@@ -249,12 +282,12 @@ constexpr FirmwareProfile probe{
     .model_index = 0,
     .baud = 57600,
     .line_ending = "\r",
-    .root_prompt = "",
+    .root_prompt = "TRK>",   // the G2's: the guard refuses `q` there while the variant is unknown
     .motor_prompt = "",
     .quiet_gap = 150ms,
     .motor_menu_entry = {},
     .search_kill = {},
-    .boot_complete_markers = {},
+    .boot_complete_markers = any_boot_complete,
     .reboot_markers = any_boot_marker,
     .position_query = "",
     .position_format = PositionFormat::travler_az_el_sk,
@@ -270,32 +303,12 @@ constexpr FirmwareProfile probe{
     .park_az = 0, .park_el = 0,
     .home_commands = {},
     .tracker_disable_nvs_index = -1,
-    .help_signature = {},
     .predictive_by_default = false,
 };
-
-bool contains(std::span<const std::string> words, std::string_view word) {
-    return std::find(words.begin(), words.end(), word) != words.end();
-}
 
 }  // namespace
 
 const FirmwareProfile& probe_profile() { return probe; }
-
-std::optional<VariantId> variant_from_help(std::span<const std::string> commands) {
-    for (VariantId id : detection_order) {
-        const auto& signature = profile(id).help_signature;
-        if (!signature.empty() && std::all_of(signature.begin(), signature.end(),
-                                              [&](std::string_view w) { return contains(commands, w); })) {
-            return id;
-        }
-    }
-    return std::nullopt;
-}
-
-bool lists_g2_root_command(std::span<const std::string> commands) {
-    return std::any_of(g2_only_root.begin(), g2_only_root.end(), [&](std::string_view w) { return contains(commands, w); });
-}
 
 const FirmwareProfile& profile(VariantId id) {
     for (const auto& row : profiles) {
@@ -316,6 +329,8 @@ std::optional<VariantId> variant_from_name(std::string_view short_name) {
 }
 
 std::span<const FirmwareProfile> all_profiles() { return profiles; }
+
+std::span<const DetectionClue> detection_clues() { return clues; }
 
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees) {
     const double distance = std::fabs(degrees);

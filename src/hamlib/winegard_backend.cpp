@@ -80,10 +80,20 @@ int to_hamlib_error(const Status& status) {
     return -RIG_EINTERNAL;
 }
 
+// Stock rotctld runs at RIG_DEBUG_NONE unless given -v, where rot_debug prints nothing and a
+// failed open shows only rigerror()'s text ("Protocol error" after whatever the saved-message
+// buffer holds). What a user must read (waiting for a booting dish, why open failed, a wrong baud
+// rate) is therefore also written to stderr when Hamlib's level would hide it.
+void say(rig_debug_level_e level, const std::string& text) {
+    rot_debug(level, "winegard: %s\n", text.c_str());
+    if (level <= RIG_DEBUG_WARN && !rig_need_debug(level)) {
+        std::fprintf(stderr, "winegard: %s\n", text.c_str());
+    }
+}
+
 int report(const char* where, const Status& status) {
     if (!status) {
-        rot_debug(RIG_DEBUG_ERR, "winegard: %s: %s: %s\n", where, birdcage::to_string(status.code),
-                  status.message.c_str());
+        say(RIG_DEBUG_ERR, std::string(where) + ": " + birdcage::to_string(status.code) + ": " + status.message);
     }
     return to_hamlib_error(status);
 }
@@ -157,7 +167,7 @@ extern "C" int winegard_rot_init(ROT* rot) {
     priv->options.variant = profile->id;
     priv->options.detect = is_auto(profile);
     priv->options.log = [](birdcage::LogLevel level, const std::string& message) {
-        rot_debug(to_hamlib_level(level), "winegard: %s\n", message.c_str());
+        say(to_hamlib_level(level), message);
     };
     WG_ROTSTATE(rot)->priv = priv;
     return RIG_OK;
@@ -191,6 +201,8 @@ extern "C" int winegard_rot_open(ROT* rot) {
         return {std::move(opened.value), birdcage::Status::ok()};
     };
     birdcage::ControllerOptions options = priv->options;
+    // `_` reports the rate the line really runs at (rotctld -s), not the table's.
+    options.line_baud = port->type.rig == RIG_PORT_SERIAL ? baud : 0;
     options.leapfrog = priv->pointing.mode == birdcage::PointingMode::leapfrog;
     birdcage::ServiceTiming timing;
     if (priv->time_scale != 1.0) {

@@ -117,7 +117,9 @@ std::vector<std::string> FakeG2::respond(const std::string& command) {
 std::vector<std::string> FakeTravler::respond(const std::string& command) {
     std::string out = echo ? command + "\r\n" : std::string();
     const auto words = split(command);
-    if (!words.empty() && words[0] == "a" && words.size() == 1) {
+    if (!words.empty() && words[0] == "?") {
+        out += "a - show position\r\na <id> <deg> - move one motor\r\ng <az> <el> <sk> - go\r\nq - quit menu\r\n";
+    } else if (!words.empty() && words[0] == "a" && words.size() == 1) {
         az = approach(az, target_az, step_per_query);
         el = approach(el, target_el, step_per_query);
         out += "AZ = " + two_decimals(az) + "\r\nEL = " + two_decimals(el) + "\r\nSK = 0.00\r\n";

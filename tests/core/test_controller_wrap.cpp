@@ -77,6 +77,8 @@ struct WrapDish {
             menu = "MOT";
         } else if (g2 && !words.empty() && words[0] == "q") {
             menu = "TRK";
+        } else if (words.size() == 1 && words[0] == "?") {
+            out += "a - position\r\nq - quit\r\n";  // a live console lists its menu
         } else if (motor_menu && words.size() == 1 && words[0] == "a") {
             mech = approach(mech, target_mech, step);
             el = approach(el, target_el, step);

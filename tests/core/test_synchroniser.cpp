@@ -1,0 +1,261 @@
+// The console synchroniser over scripted consoles: every state a console can be in when the
+// backend opens it (booting with late lines, idle, echo or none, CR/LF/CRLF, prompt + space,
+// garbage, NULs, a wrong baud rate), and the failure messages.
+#include <catch2/catch.hpp>
+
+#include "birdcage/controller.hpp"
+#include "birdcage/synchroniser.hpp"
+#include "fake_transport.hpp"
+
+using namespace birdcage;
+using namespace birdcage::test;
+using namespace std::chrono_literals;
+
+namespace {
+
+using Commands = std::vector<std::string>;
+
+struct Logged {
+    std::vector<std::pair<LogLevel, std::string>> lines;
+    LogSink sink() {
+        return [this](LogLevel level, const std::string& m) { lines.emplace_back(level, m); };
+    }
+    bool has(LogLevel level, std::string_view text) const {
+        return std::any_of(lines.begin(), lines.end(), [&](const auto& l) {
+            return l.first == level && l.second.find(text) != std::string::npos;
+        });
+    }
+    std::size_t count(std::string_view text) const {
+        return static_cast<std::size_t>(std::count_if(lines.begin(), lines.end(), [&](const auto& l) {
+            return l.second.find(text) != std::string::npos;
+        }));
+    }
+};
+
+// A clock that never moves by itself: only the synchroniser's timed-out reads advance its time.
+Clock::time_point frozen() { return Clock::time_point{} + 1000h; }
+
+SyncSettings g2_settings(std::chrono::milliseconds budget = 60s) {
+    return console_sync_settings(profile(VariantId::carryout_g2), budget);
+}
+
+// A console answering a bare line ending with `prompt`, in a given line-ending and echo style.
+FakeTransport::Responder prompt_console(std::string prompt, std::string eol, bool echo) {
+    return [=](const std::string& command) -> Commands {
+        std::string out = echo ? command + eol : std::string();
+        if (command.empty()) {
+            out += eol;
+        }
+        return {out + prompt};
+    };
+}
+
+}  // namespace
+
+TEST_CASE("sync: the prompt is taken from the end of the output, never from a stale line") {
+    CHECK(trailing_prompt("\r\nTRK>") == "TRK>");
+    CHECK(trailing_prompt("\r\nMOT> ") == "MOT>");
+    CHECK(trailing_prompt("TRK>\r\n") == "TRK>");   // a prompt on a line of its own
+    CHECK(trailing_prompt("\nTRK>\r\nLoc Startup: IDU NOT Present\r\n").empty());
+    CHECK(trailing_prompt("Enter <a3981> - A3981 menu\r\n").empty());
+    CHECK(trailing_prompt("\r\nT\x00RK>").empty());   // garbage inside: not a prompt
+    CHECK(trailing_prompt("").empty());
+}
+
+TEST_CASE("sync: a booted console is confirmed on two consecutive pokes, in any line style") {
+    const std::string eol = GENERATE(std::string("\r\n"), std::string("\n"), std::string("\r"));
+    const bool echo = GENERATE(true, false);
+    const std::string prompt = GENERATE(std::string("TRK>"), std::string("TRK> "), std::string(">"));
+    FakeTransport wire(prompt_console(prompt, eol, echo));
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(), log.sink(), frozen);
+    const auto synced = sync.synchronise();
+    INFO(synced.status.message);
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == (prompt == "TRK> " ? "TRK>" : prompt));
+    CHECK(wire.commands() == Commands{"", ""});
+    CHECK_FALSE(log.has(LogLevel::warning, "waiting"));
+}
+
+TEST_CASE("sync: stale input is drained and never taken for a prompt") {
+    FakeTransport wire;
+    wire.push_input("Boot Complete\r\nTRK>");   // left in the buffer from before we opened
+    int pokes = 0;
+    wire.set_responder([&](const std::string&) -> Commands {
+        return {++pokes == 1 ? "\r\nLoc Startup: IDU NOT Present\r\n" : "\r\nTRK>"};
+    });
+    ConsoleSynchroniser sync(wire, g2_settings(), {}, frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == "TRK>");
+    CHECK(pokes == 3);   // the first reply ended on a boot line: two more to confirm
+    CHECK(synced.value.last_boot_line == "Loc Startup: IDU NOT Present");
+}
+
+TEST_CASE("controller G2: rotctld started during boot survives the late Loc Startup line") {
+    // The reported failure: after `Boot Complete` the backend sent CR, the late boot line arrived,
+    // it sent `mot`, read a stale `TRK>` and gave up ("expected the motor prompt MOT>, console
+    // shows TRK>"). The console here prints the late line after the first CR's prompt.
+    FakeG2 dish;
+    bool booted = false;
+    bool late_line_pending = true;
+    FakeTransport wire;
+    wire.set_responder([&](const std::string& command) -> Commands {
+        if (!booted) {
+            return {};
+        }
+        auto reply = dish.respond(command);
+        if (late_line_pending) {
+            late_line_pending = false;
+            reply.push_back("\r\nLoc Startup: IDU NOT Present\r\n");
+        }
+        return reply;
+    });
+    wire.push_delayed("Bootloader v1.01\r\nMotor init: System=12Inch, master=40000 steps\r\n", 2);
+    wire.push_delayed("Ant ID - 12-IN G2\r\nAntenna Facing Front\r\nBoot Complete\r\n", 3);
+    Logged log;
+    ControllerOptions options{};
+    options.variant = VariantId::carryout_g2;
+    options.leapfrog = false;
+    options.boot_timeout = 900s;
+    options.log = [&](LogLevel level, const std::string& m) {
+        log.lines.emplace_back(level, m);
+        if (m.find("Boot Complete") != std::string::npos) {
+            booted = true;
+        }
+    };
+    Controller controller(wire, options);
+    const Status status = controller.initialize();
+    INFO(status.message);
+    REQUIRE(status);
+    CHECK(controller.initialised());
+    CHECK_FALSE(dish.shell_killed);
+    CHECK(dish.menu == "MOT");
+    // Never `q` at the root, and `mot` only after the prompt was confirmed.
+    const auto& sent = wire.commands();
+    CHECK(std::find(sent.begin(), sent.end(), "q") == sent.end());
+    CHECK(log.has(LogLevel::warning, "waiting for the dish to finish booting"));
+}
+
+TEST_CASE("sync: while boot output is in progress the console is only listened to") {
+    FakeTransport wire;
+    int pokes_while_booting = 0;
+    bool booted = false;
+    wire.set_responder([&](const std::string&) -> Commands {
+        if (!booted) {
+            ++pokes_while_booting;
+            return {};
+        }
+        return {"\r\nTRK>"};
+    });
+    wire.push_input("Bootloader v1.01\r\n");
+    wire.push_delayed("Motor init: System=12Inch\r\n", 0);
+    wire.push_delayed("Boot Complete\r\n", 0);
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(), [&](LogLevel l, const std::string& m) {
+        log.lines.emplace_back(l, m);
+        booted = booted || m.find("Boot Complete") != std::string::npos;
+    }, frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE(synced);
+    CHECK(pokes_while_booting == 0);
+    CHECK(synced.value.boot_heard);
+}
+
+TEST_CASE("sync: a silent console is waited for with progress every 30 s, then the reason") {
+    FakeTransport wire;   // never says anything
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(100s), log.sink(), frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE_FALSE(synced);
+    CHECK(synced.status.code == Errc::timeout);
+    CHECK(log.count("waiting for the dish to finish booting (up to 100 s)") == 1);
+    CHECK(log.count("still waiting for the dish to boot: 30 s") == 1);
+    CHECK(log.count("still waiting for the dish to boot: 60 s") == 1);
+    CHECK(log.count("still waiting for the dish to boot: 90 s") == 1);
+    CHECK(log.count("still waiting") == 3);
+    CHECK(synced.status.message.find("expected the console's prompt (TRK>") != std::string::npos);
+    CHECK(synced.status.message.find("stayed silent") != std::string::npos);
+    CHECK(synced.status.message.find("115200") != std::string::npos);
+    // Bounded: every poke took at least a reply window of the 100 s budget.
+    CHECK(wire.commands().size() <= 100);
+}
+
+TEST_CASE("sync: giving up quotes the last lines seen, escaped") {
+    FakeTransport wire([](const std::string&) -> Commands { return {"\r\nUnknown thing\r\nweird\x01line\r\n"}; });
+    ConsoleSynchroniser sync(wire, g2_settings(10s), {}, frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE_FALSE(synced);
+    INFO(synced.status.message);
+    CHECK(synced.status.message.find("\"Unknown thing\", \"weird\\x01line\"") != std::string::npos);
+    CHECK(synced.status.message.find("bytes unprintable") != std::string::npos);
+}
+
+TEST_CASE("sync: garbage and NULs around a prompt never confirm a garbage prompt") {
+    // Line noise on an idle RS-485 bus: random bytes, some of which look like `X>`.
+    int poke = 0;
+    FakeTransport wire([&](const std::string&) -> Commands {
+        ++poke;
+        switch (poke % 3) {
+        case 0: return {std::string("\x00\x00Q>", 4)};
+        case 1: return {"\xff\xfe" "A>"};
+        default: return {std::string("\r\n\x00TRK>", 7)};
+        }
+    });
+    ConsoleSynchroniser sync(wire, g2_settings(20s), {}, frozen);
+    const auto synced = sync.synchronise();
+    // Each reply ends on a different candidate (or a noisy line): nothing is confirmed.
+    CHECK_FALSE(synced);
+}
+
+TEST_CASE("sync: NULs before a clean prompt line are dropped") {
+    FakeTransport wire([](const std::string&) -> Commands { return {std::string("\x00\r\nMOT>", 7)}; });
+    ConsoleSynchroniser sync(wire, g2_settings(), {}, frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == "MOT>");
+}
+
+TEST_CASE("sync: replies that look like a wrong baud rate get a warning naming the usual rate") {
+    FakeTransport wire([](const std::string&) -> Commands { return {std::string("\xf0\x8a\x00\xfe\x9c\x13\xe0\x80\xff\x11", 10)}; });
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(10s), log.sink(), frozen);
+    CHECK_FALSE(sync.synchronise());
+    CHECK(log.count("look like a wrong baud rate") == 1);
+    CHECK(log.has(LogLevel::warning, "usually runs at 115200 baud"));
+    CHECK(looks_like_wrong_baud(std::string_view("\xf0\x8a\x00\xfe\x9c\x13\xe0\x80", 8)));
+    CHECK_FALSE(looks_like_wrong_baud("Angle[0] = 180.00\r\nMOT>"));
+}
+
+TEST_CASE("sync: auto-detect names every variant's usual rate") {
+    const auto settings = console_sync_settings(probe_profile(), 10s);
+    CHECK(settings.usual_baud.find("57600 (hal000") != std::string::npos);
+    CHECK(settings.usual_baud.find("115200 (g2)") != std::string::npos);
+    CHECK(settings.probe_command == "?");
+}
+
+TEST_CASE("sync: a prompt-less console is live once ? is answered the same twice") {
+    FakeTravler dish;
+    dish.echo = GENERATE(true, false);
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    ConsoleSynchroniser sync(wire, console_sync_settings(profile(VariantId::travler_hal205), 60s), {}, frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE(synced);
+    CHECK(synced.value.prompt.empty());
+    CHECK(synced.value.probe_reply.size() == 4);
+    CHECK(wire.commands() == Commands{"", "?", "", "?"});
+}
+
+TEST_CASE("sync: boot chatter answering a prompt-less probe is not taken for a live console") {
+    FakeTransport wire;
+    int probes = 0;
+    wire.set_responder([&](const std::string& c) -> Commands {
+        if (c == "?") {
+            ++probes;
+            return {"Calibrating step " + std::to_string(probes) + "\r\n"};   // different each time
+        }
+        return {};
+    });
+    ConsoleSynchroniser sync(wire, console_sync_settings(profile(VariantId::travler_hal000), 20s), {}, frozen);
+    CHECK_FALSE(sync.synchronise());
+}

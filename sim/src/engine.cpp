@@ -364,8 +364,10 @@ void Engine::run_boot()
         switch (step.kind) {
         case BootStep::Kind::line:
             print_line(step.text);
-            // The last line ends the boot at once: a client may answer it straight away (§3.6).
-            if (boot_index_ < boot_steps_.size()) boot_resume_at_ = now + options.boot_line_gap;
+            // The gap separates one line from the next; a pause or a move sets its own time, and
+            // the last line ends the boot at once: a client may answer it straight away (§3.6).
+            if (boot_index_ < boot_steps_.size() && boot_steps_[boot_index_].kind == BootStep::Kind::line)
+                boot_resume_at_ = now + options.boot_line_gap;
             break;
         case BootStep::Kind::move: motors.enqueue(step.axis, step.target); break;
         case BootStep::Kind::home: homed[step.axis] = true; break;

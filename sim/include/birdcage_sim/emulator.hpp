@@ -1,5 +1,5 @@
 // birdcage dish emulator: a pty that behaves like the serial console of a Winegard motorized
-// dish. Written from /work/shared/notes/firmware.md (section numbers cited as §n), independently
+// dish. Written from the firmware notes (section numbers cited as §n), independently
 // of the backend in src/, so that it can act as the test oracle.
 #pragma once
 
@@ -19,8 +19,8 @@ enum class Variant { travler_hal000, travler_hal205, travler_pro, carryout2003, 
 std::optional<Variant> parse_variant(std::string_view name);
 const char* variant_name(Variant);
 
-// Switches for behaviour firmware.md §14 lists as unknown. Defaults are the most plausible
-// reading of the notes; text marked INVENTED is not known firmware output.
+// Switches for behaviour the firmware notes (§14, Appendix C) leave open. Defaults are the most
+// plausible reading of the notes; text marked INVENTED is not known firmware output.
 // Output line ending. §14 HAL0.6, G2.10: unknown; CR LF from birdcage's bare-CR probe ("CR LF then
 // TRK>", §6.1). LF CR is a common embedded-shell habit; CR alone breaks travler_init.py's
 // readline (§3.6) and is offered only to try that.

@@ -11,7 +11,7 @@ Console::~Console() = default;
 
 void Console::feed(std::string_view bytes) { engine_->feed(bytes); }
 void Console::advance(double dt) { engine_->advance(dt); }
-std::string Console::take_output() { return std::exchange(engine_->output, {}); }
+std::string Console::take_output() { return engine_->take_output(); }
 
 Pose Console::position() const { return {engine_->displayed_az(), engine_->motors.axis(axis_el).position()}; }
 double Console::mechanical_az() const { return engine_->motors.axis(axis_az).position(); }

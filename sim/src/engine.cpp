@@ -1,6 +1,7 @@
 #include "engine.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <utility>
 
@@ -8,9 +9,7 @@ namespace birdcage::sim {
 namespace {
 
 constexpr double max_tick = 0.02;           // simulated seconds per event step
-constexpr double boot_line_gap = 0.05;      // INVENTED pacing of boot lines
 constexpr double search_dwell = 0.5;        // INVENTED pause between search moves
-constexpr double live_line_period = 0.25;   // §14 CO.1: repetition rate unknown; 4 Hz
 
 double initial_mechanical_az(const VariantProfile& profile, double start_az)
 {
@@ -55,6 +54,7 @@ Engine::Engine(const Options& opts)
         start_boot();
     } else {
         if (profile.needs_homing) homed = {opts.g2_homed, opts.g2_homed};
+        next_idle_line_ = opts.idle_line_period;
         if (opts.search_running) start_search();
     }
     record_sample();
@@ -62,7 +62,31 @@ Engine::Engine(const Options& opts)
 
 std::string Engine::eol() const
 {
-    return options.line_ending == LineEnding::crlf ? "\r\n" : "\n";
+    switch (options.line_ending) {
+    case LineEnding::crlf: return "\r\n";
+    case LineEnding::lf: return "\n";
+    case LineEnding::lfcr: return "\n\r";
+    case LineEnding::cr: return "\r";
+    }
+    return "\r\n";
+}
+
+std::string Engine::take_output()
+{
+    if (!options.pace_at_line_rate) return on_line_ + std::exchange(output, {});
+    return std::exchange(on_line_, {});
+}
+
+// 10 bits per byte at the variant's baud rate, in simulated time.
+void Engine::run_line(double dt)
+{
+    if (!options.pace_at_line_rate) return;
+    line_credit_ += dt * profile.baud / 10.0;
+    const auto sendable = static_cast<std::size_t>(std::min(line_credit_, static_cast<double>(output.size())));
+    on_line_.append(output, 0, sendable);
+    output.erase(0, sendable);
+    line_credit_ -= static_cast<double>(sendable);
+    if (output.empty()) line_credit_ = std::min(line_credit_, 1.0);  // an idle line saves no time
 }
 
 void Engine::print(std::string_view text) { output.append(text); }
@@ -78,6 +102,7 @@ void Engine::print_prompt()
     const bool named = profile.fixed_prompts || options.prompt_style == PromptStyle::named;
     if (named) output.append(menus.back()->prompt_name);
     output.push_back('>');
+    if (options.prompt_space) output.push_back(' ');
 }
 
 void Engine::unknown_command()
@@ -120,8 +145,9 @@ void Engine::feed(std::string_view bytes)
         previous_raw_ = byte;
         if (terminator_tail) continue;
         record_received(byte);
-        if (booting_ || !shell_alive) continue;  // nobody is reading the UART
-        if (busy.kind == Busy::Kind::goto_move && options.g_aborts_on_input) {
+        if ((booting_ && !boot_input_kept_) || !shell_alive) continue;  // nobody is reading the UART
+        if (!booting_ && now < input_deaf_until_ - 1e-9) continue;     // Options::boot_input_drop
+        if (busy.kind == Busy::Kind::goto_move && g_aborts_on_input()) {
             motors.stop_all();
             busy.kind = Busy::Kind::until_idle;
         }
@@ -209,14 +235,43 @@ void Engine::quit()
 
 void Engine::help()
 {
+    struct Entry {
+        std::string word;
+        std::string_view text;
+    };
+    std::vector<Entry> entries;
     for (const Command& command : menus.back()->commands) {
         if (command.available != nullptr && !command.available(options)) continue;
-        std::string text = "Enter <";
-        text.append(command.word).append("> - ").append(command.help);
-        print_line(text);
+        entries.push_back({std::string(command.word), command.help});
     }
-    print_line("Enter <q> - Quit this menu");  // INVENTED description
-    print_line("help [<command>]");
+    entries.push_back({"q", "Quit this menu"});  // INVENTED description
+    if (options.help_layout != HelpLayout::described) entries.push_back({"?", "Help"});  // INVENTED
+    std::size_t width = 0;
+    for (Entry& entry : entries) {
+        if (options.help_upper_case)
+            for (char& c : entry.word) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        width = std::max(width, entry.word.size());
+    }
+    std::string joined;
+    for (const Entry& entry : entries) {
+        switch (options.help_layout) {
+        case HelpLayout::described:
+            print_line("Enter <" + entry.word + "> - " + std::string(entry.text));
+            break;
+        case HelpLayout::words: print_line(entry.word); break;
+        case HelpLayout::one_line:
+        case HelpLayout::comma_line:
+            if (!joined.empty()) joined += options.help_layout == HelpLayout::comma_line ? ", " : " ";
+            joined += entry.word;
+            break;
+        case HelpLayout::colon_table:
+            print_line(entry.word + std::string(width - entry.word.size(), ' ') + " : " + std::string(entry.text));
+            break;
+        case HelpLayout::tab_table: print_line(entry.word + "\t" + std::string(entry.text)); break;
+        }
+    }
+    if (!joined.empty()) print_line(joined);
+    if (options.help_layout == HelpLayout::described) print_line("help [<command>]");  // §6.3
 }
 
 void Engine::kill_shell(std::string_view last_words)
@@ -263,7 +318,7 @@ void Engine::run_busy()
     case Busy::Kind::goto_move:
     case Busy::Kind::until_idle:
         if (busy.kind == Busy::Kind::goto_move && profile.live_goto_output && now >= busy.next_live_line) {
-            busy.next_live_line += live_line_period;
+            busy.next_live_line += options.carryout_live_line_period;
             if (busy.finish) busy.finish(*this);  // the live line printer doubles as the final line
         }
         if (!motors.moving()) finish_busy();
@@ -278,6 +333,7 @@ void Engine::start_boot()
     motors.stop_all();
     for (std::size_t index : {axis_az, axis_el, axis_skew}) motors.axis(index).set_position(motors.axis(index).position());
     booting_ = true;
+    boot_input_kept_ = false;
     shell_alive = true;
     busy = {};
     pending_.clear();
@@ -308,11 +364,15 @@ void Engine::run_boot()
         switch (step.kind) {
         case BootStep::Kind::line:
             print_line(step.text);
-            boot_resume_at_ = now + boot_line_gap;
+            // The gap separates one line from the next; a pause or a move sets its own time, and
+            // the last line ends the boot at once: a client may answer it straight away (§3.6).
+            if (boot_index_ < boot_steps_.size() && boot_steps_[boot_index_].kind == BootStep::Kind::line)
+                boot_resume_at_ = now + options.boot_line_gap;
             break;
         case BootStep::Kind::move: motors.enqueue(step.axis, step.target); break;
         case BootStep::Kind::home: homed[step.axis] = true; break;
         case BootStep::Kind::pause: boot_resume_at_ = now + step.seconds; break;
+        case BootStep::Kind::ready: boot_input_kept_ = true; break;
         }
     }
 }
@@ -320,6 +380,9 @@ void Engine::run_boot()
 void Engine::finish_boot()
 {
     booting_ = false;
+    boot_input_kept_ = false;
+    input_deaf_until_ = now + options.boot_input_drop;
+    next_idle_line_ = now + options.idle_line_period;
     bool searching = true;
     if (profile.search_stop == SearchStop::nvs_disable_tracker) {
         const NvsEntry* entry = nvs.find(profile.nvs_disable_tracker_index);
@@ -411,6 +474,15 @@ void Engine::run_stalls()
     }
 }
 
+// Unsolicited output from another firmware task: it lands wherever the shell happens to be.
+void Engine::run_idle_line()
+{
+    if (options.idle_line_period <= 0.0 || options.idle_line.empty() || booting_ || !shell_alive) return;
+    if (now < next_idle_line_ - 1e-9) return;
+    next_idle_line_ = now + options.idle_line_period;
+    print_line(options.idle_line);
+}
+
 void Engine::tick()
 {
     run_stalls();
@@ -418,6 +490,7 @@ void Engine::tick()
     run_search();
     run_busy();
     process_pending();
+    run_idle_line();
     record_sample();
 }
 
@@ -429,6 +502,7 @@ void Engine::advance(double dt)
         motors.advance(step);
         now += step;
         tick();
+        run_line(step);
     }
 }
 

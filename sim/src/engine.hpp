@@ -51,7 +51,8 @@ enum class SearchStop {
 };
 
 struct BootStep {
-    enum class Kind { line, move, home, pause };
+    // ready: the completion line is out; from here input is kept for the shell (late lines follow).
+    enum class Kind { line, move, home, pause, ready };
     Kind kind;
     std::string text;         // line
     std::size_t axis = 0;     // move, home
@@ -82,6 +83,7 @@ struct VariantProfile {
     std::size_t nvs_page_rows;  // `d` pages through the table (Pro, §5.3); 0 = all at once
     std::vector<NvsEntry> (*nvs_table)();
     std::vector<BootStep> (*boot_script)(const Engine&);
+    bool g_aborts_on_input;   // default of Options::g_aborts_on_input
 };
 
 const VariantProfile& profile_for(Variant variant);
@@ -104,6 +106,8 @@ struct Engine {
     void print_line(std::string_view text);  // text + line ending
     void print_prompt();
     std::string eol() const;
+    std::string take_output();               // bytes on the line (all, or paced at the baud rate)
+    bool g_aborts_on_input() const { return options.g_aborts_on_input.value_or(profile.g_aborts_on_input); }
 
     // --- shared behaviour used by handlers ----------------------------------------------
     void unknown_command();
@@ -132,7 +136,7 @@ struct Engine {
     SkyModel sky;
     std::mt19937 rng;
     std::vector<const Menu*> menus;  // menus.front() is the console root
-    std::string output;
+    std::string output;  // printed, not yet on the line
     std::vector<std::string> commands;
     std::vector<Sample> history;
     unsigned hazards = 0;
@@ -162,6 +166,8 @@ private:
     void apply_nvs_limits();
     void finish_busy();
     void run_stalls();
+    void run_idle_line();
+    void run_line(double dt);
 
     struct StallArm {
         bool armed = false;
@@ -177,6 +183,11 @@ private:
     std::string received_line_;
     char previous_raw_ = 0;
     bool booting_ = false;
+    bool boot_input_kept_ = false;     // past the completion line: input waits for the shell
+    double input_deaf_until_ = -1.0;   // Options::boot_input_drop window
+    double next_idle_line_ = 0.0;
+    std::string on_line_;              // pace_at_line_rate: bytes already sent
+    double line_credit_ = 0.0;         // bytes the line may still send this tick
     std::vector<BootStep> boot_steps_;
     std::size_t boot_index_ = 0;
     double boot_resume_at_ = 0.0;

@@ -42,17 +42,30 @@ long centi(double degrees) { return std::lround(degrees * 100.0); }
 
 constexpr double unhomed_angle = INT_MAX;  // §6.4: uncalibrated axes read 2147483647
 
+// `<label><value>` with Options::position_decimals.
+std::string field(Engine& e, const char* label, double value)
+{
+    return format("%s%.*f", label, std::clamp(e.options.position_decimals, 0, 6), value);
+}
+
 void print_position(Engine& e)
 {
     const double el = e.motors.axis(axis_el).position();
+    const std::string indent(static_cast<std::size_t>(std::clamp(e.options.position_indent, 0, 16)), ' ');
     if (e.profile.position_format == PositionFormat::travler) {
-        // §3.3: one line, `AZ = ` / `EL = ` with one space before '='; 2 decimals chosen.
-        e.print_line(format("AZ = %.2f EL = %.2f SK = %.2f", e.reported_az(), el,
-                            e.motors.axis(axis_skew).position()));
+        // §3.3: `AZ = ` / `EL = ` with one space before '='.
+        const std::string az = field(e, "AZ = ", e.reported_az());
+        const std::string elevation = field(e, "EL = ", el);
+        const std::string skew = field(e, "SK = ", e.motors.axis(axis_skew).position());
+        if (e.options.travler_position_layout == TravlerPositionLayout::one_line) {
+            e.print_line(indent + az + " " + elevation + " " + skew);
+        } else {
+            for (const std::string& line : {az, elevation, skew}) e.print_line(indent + line);
+        }
         return;
     }
-    e.print_line(format("Angle[0] = %.2f", e.homed[axis_az] ? e.reported_az() : unhomed_angle));
-    e.print_line(format("Angle[1] = %.2f", e.homed[axis_el] ? el : unhomed_angle));
+    e.print_line(indent + field(e, "Angle[0] = ", e.homed[axis_az] ? e.reported_az() : unhomed_angle));
+    e.print_line(indent + field(e, "Angle[1] = ", e.homed[axis_el] ? el : unhomed_angle));
 }
 
 // §6.3 error string (known for EL; the AZ form is the obvious analogue, INVENTED).
@@ -162,7 +175,7 @@ void angle(Engine& e, const Args& args)
     if (e.profile.move_ack_angle) {
         double shown = *target;
         if (*axis == axis_az && e.options.az_report == AzReport::displayed) shown = normalize_360(shown);
-        e.print_line(format("Angle = %.2f", shown));
+        e.print_line(field(e, "Angle = ", shown));
     }
     if (e.options.move_ack == MoveAck::after_motion) e.wait_until_idle(nullptr);
 }
@@ -212,8 +225,12 @@ void home(Engine& e, const Args& args)
         e.homed[axis_az] = true;
     }
     e.wait_until_idle([home_az](Engine& engine) {
-        if (home_az)
+        if (!home_az) return;
+        if (engine.options.home_report == HomeReport::g2plus_status) {
+            engine.print_line("AZ - Angle: 1 Wrap: 0");  // §7.1: shape inferred from mjlangan's regex
+        } else {
             engine.print_line(format("wrap_min:%ld wrap_max:%ld", centi(engine.profile.az.min), centi(engine.profile.az.max)));
+        }
     });
 }
 

@@ -1,116 +1,295 @@
-// birdcage-sim: run one emulated dish on a pty until SIGINT/SIGTERM.
+// birdcage-sim: run one emulated dish on a pty until SIGINT/SIGTERM. Every Options switch has a
+// long option here (`--flag value` or `--flag=value`); sim/README.md says what each one means.
 #include <algorithm>
-#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <pthread.h>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
 
 namespace {
 
-void usage()
+using birdcage::sim::Options;
+
+// A usage error: one line on stderr, exit status 2.
+struct UsageError {
+    std::string message;
+};
+
+std::optional<double> number(std::string_view text)
 {
-    std::cerr << "usage: birdcage-sim --variant hal205|g2|hal000|pro|carryout2003 [--link PATH]\n"
-                 "                    [--time-scale X] [--booting] [--search] [--az A --el E] [--trace]\n"
-                 "                    [--replay TRANSCRIPT [--lenient]]   (--variant defaults to the transcript's)\n"
-                 "                    [--idle-noise BPS] [--invert] [--ignore-input] [--drop P] [--pace BAUD]\n"
-                 "                    [--seed N]   (line faults; BPS and BAUD in real time)\n"
-                 "                    [--az-mapping nearest|literal|wrap_manager] [--az-wrap-point DEG]\n";
+    const std::string owned(text);
+    char* end = nullptr;
+    const double value = std::strtod(owned.c_str(), &end);
+    if (owned.empty() || end != owned.c_str() + owned.size()) return std::nullopt;
+    return value;
 }
 
-std::optional<double> number(const char* text)
+double number_at_least(std::string_view flag, std::string_view text, double min, double max = 1e18)
 {
-    char* end = nullptr;
-    const double value = std::strtod(text, &end);
-    if (end == text || *end != '\0') return std::nullopt;
-    return value;
+    const auto value = number(text);
+    if (!value || *value < min || *value > max) {
+        char range[64];
+        std::snprintf(range, sizeof range, max < 1e18 ? "%g..%g" : ">= %g", min, max);
+        throw UsageError{std::string(flag) + ": expected a number " + range + ", got '" + std::string(text) + "'"};
+    }
+    return *value;
+}
+
+long integer_in(std::string_view flag, std::string_view text, double min, double max)
+{
+    const double value = number_at_least(flag, text, min, max);
+    if (value != static_cast<double>(static_cast<long>(value)))
+        throw UsageError{std::string(flag) + ": expected a whole number, got '" + std::string(text) + "'"};
+    return static_cast<long>(value);
+}
+
+bool yes_no(std::string_view flag, std::string_view text)
+{
+    if (text == "yes" || text == "on" || text == "true" || text == "1") return true;
+    if (text == "no" || text == "off" || text == "false" || text == "0") return false;
+    throw UsageError{std::string(flag) + ": expected yes or no, got '" + std::string(text) + "'"};
+}
+
+// One of `names` (its index), else a usage error listing them.
+template <typename Enum>
+Enum choice(std::string_view flag, std::string_view text, std::initializer_list<std::pair<const char*, Enum>> names)
+{
+    std::string list;
+    for (const auto& [name, value] : names) {
+        if (text == name) return value;
+        list += list.empty() ? "" : "|";
+        list += name;
+    }
+    throw UsageError{std::string(flag) + ": expected " + list + ", got '" + std::string(text) + "'"};
+}
+
+struct Flag {
+    const char* name;
+    const char* value;  // nullptr: takes no value
+    const char* help;
+    std::function<void(Options&, std::string_view flag, std::string_view value)> apply;
+};
+
+using birdcage::sim::AzReport;
+using birdcage::sim::BootMarker;
+using birdcage::sim::HelpLayout;
+using birdcage::sim::HomeReport;
+using birdcage::sim::LineEnding;
+using birdcage::sim::MoveAck;
+using birdcage::sim::OutOfRange;
+using birdcage::sim::PromptStyle;
+using birdcage::sim::ReplayMode;
+using birdcage::sim::TravlerPositionLayout;
+
+bool have_variant = false;
+
+const std::vector<Flag>& flags()
+{
+    static const std::vector<Flag> table = {
+        // --- the dish and the session ---
+        {"--variant", "hal205|g2|hal000|pro|carryout2003", "firmware variant (default: the transcript's)",
+         [](Options& o, std::string_view f, std::string_view v) {
+             const auto variant = birdcage::sim::parse_variant(v);
+             if (!variant) throw UsageError{std::string(f) + ": unknown variant '" + std::string(v) + "'"};
+             o.variant = *variant;
+             have_variant = true;
+         }},
+        {"--link", "PATH", "symlink to the pty slave", [](Options& o, auto, auto v) { o.link_path = v; }},
+        {"--time-scale", "X", "simulated seconds per real second (> 0)",
+         [](Options& o, auto f, auto v) {
+             o.time_scale = number_at_least(f, v, 1e-6);
+         }},
+        {"--booting", nullptr, "start at power-on (boot log first)", [](Options& o, auto, auto) { o.already_booted = false; }},
+        {"--search", nullptr, "the TV-satellite search is running", [](Options& o, auto, auto) { o.search_running = true; }},
+        {"--az", "DEG", "true azimuth at start", [](Options& o, auto f, auto v) { o.start_az = number_at_least(f, v, -1e6); }},
+        {"--el", "DEG", "true elevation at start", [](Options& o, auto f, auto v) { o.start_el = number_at_least(f, v, -1e6); }},
+        {"--seed", "N", "seed of every random choice", [](Options& o, auto f, auto v) {
+             o.seed = static_cast<std::uint32_t>(integer_in(f, v, 0, 4294967295.0));
+         }},
+        {"--trace", nullptr, "log << client and >> dish bytes to stderr", [](Options& o, auto, auto) {
+             o.trace = [](bool from_client, std::string_view bytes) {
+                 std::cerr << (from_client ? "<< " : ">> ") << birdcage::sim::escape_chunk(bytes) << '\n';
+             };
+         }},
+        {"--replay", "TRANSCRIPT", "answer from a transcript (strict)", [](Options& o, auto, auto v) {
+             o.transcript_path = v;
+             if (o.replay == ReplayMode::off) o.replay = ReplayMode::strict;
+         }},
+        {"--lenient", nullptr, "replay hands over to the model on a mismatch", [](Options& o, auto, auto) { o.replay = ReplayMode::lenient; }},
+        // --- line faults (real time) ---
+        {"--idle-noise", "BPS", "random bytes per real second while idle", [](Options& o, auto f, auto v) {
+             o.line_faults.idle_noise_bps = number_at_least(f, v, 0.0);
+         }},
+        {"--invert", nullptr, "swapped RX pair: every dish byte inverted", [](Options& o, auto, auto) { o.line_faults.inverted_polarity = true; }},
+        {"--ignore-input", nullptr, "swapped TX pair: the dish hears nothing", [](Options& o, auto, auto) { o.line_faults.ignore_input = true; }},
+        {"--drop", "P", "each dish byte lost with probability P", [](Options& o, auto f, auto v) {
+             o.line_faults.drop_probability = number_at_least(f, v, 0.0, 1.0);
+         }},
+        {"--pace", "BAUD", "wire pacing in real time, 10 bits per byte (0 = off)", [](Options& o, auto f, auto v) {
+             o.line_faults.pace_baud = static_cast<int>(integer_in(f, v, 0, 1e9));
+         }},
+        // --- open questions of the firmware notes ---
+        {"--echo", "yes|no", "echo typed characters (default yes)", [](Options& o, auto f, auto v) { o.echo = yes_no(f, v); }},
+        {"--line-ending", "crlf|lf|lfcr|cr", "output line ending (default crlf)", [](Options& o, auto f, auto v) {
+             o.line_ending = choice<LineEnding>(f, v, {{"crlf", LineEnding::crlf}, {"lf", LineEnding::lf},
+                                                      {"lfcr", LineEnding::lfcr}, {"cr", LineEnding::cr}});
+         }},
+        {"--unknown-reply", "TEXT", "unknown-command reply, empty = none (default 'Unknown command')",
+         [](Options& o, auto, auto v) { o.unknown_command_reply = v; }},
+        {"--out-of-range", "clamp|reject", "out-of-range move (default clamp)", [](Options& o, auto f, auto v) {
+             o.out_of_range = choice<OutOfRange>(f, v, {{"clamp", OutOfRange::clamp}, {"reject", OutOfRange::reject}});
+         }},
+        {"--out-of-range-reply", "TEXT", "printed when rejecting (default 'Angle out of range')",
+         [](Options& o, auto, auto v) { o.out_of_range_reply = v; }},
+        {"--move-ack", "immediate|after-motion", "when `a <id> <deg>` returns its prompt (default immediate)",
+         [](Options& o, auto f, auto v) {
+             o.move_ack = choice<MoveAck>(f, v, {{"immediate", MoveAck::immediate}, {"after-motion", MoveAck::after_motion}});
+         }},
+        {"--position-while-moving", "answer|wait", "`a` while moving (default answer)", [](Options& o, auto f, auto v) {
+             o.answer_position_while_moving = choice<bool>(f, v, {{"answer", true}, {"wait", false}});
+         }},
+        {"--az-report", "displayed|mechanical", "AZ in `a` replies (default displayed 0..360)", [](Options& o, auto f, auto v) {
+             o.az_report = choice<AzReport>(f, v, {{"displayed", AzReport::displayed}, {"mechanical", AzReport::mechanical}});
+         }},
+        {"--az-mapping", "nearest|literal|wrap_manager", "how an AZ target maps onto the travel (default nearest)",
+         [](Options& o, auto f, auto v) {
+             const auto mapping = birdcage::sim::parse_az_mapping(v);
+             if (!mapping) throw UsageError{std::string(f) + ": expected nearest|literal|wrap_manager, got '" + std::string(v) + "'"};
+             o.az_mapping = *mapping;
+         }},
+        {"--az-wrap-point", "DEG", "wrap_manager: display azimuth of the wrap point (default 0, north)",
+         [](Options& o, auto f, auto v) { o.az_wrap_point = number_at_least(f, v, 0.0, 360.0); }},
+        {"--g-aborts", "yes|no", "any byte aborts `g` (default yes, carryout2003 no)",
+         [](Options& o, auto f, auto v) { o.g_aborts_on_input = yes_no(f, v); }},
+        {"--g2-root-q", "kill|harmless", "G2 `q` at TRK> (default kill; harmless reprints TRK>)",
+         [](Options& o, auto f, auto v) { o.g2_root_q_kills_shell = choice<bool>(f, v, {{"kill", true}, {"harmless", false}}); }},
+        {"--g2-homed", "yes|no", "G2 axes calibrated at start (default yes)", [](Options& o, auto f, auto v) { o.g2_homed = yes_no(f, v); }},
+        {"--g2-boot-homes", "yes|no", "G2 boot homes with NVS 20 TRUE (default yes)",
+         [](Options& o, auto f, auto v) { o.g2_boot_homes = yes_no(f, v); }},
+        {"--home-report", "wrap-limits|g2plus", "what `h` prints after AZ homing (default wrap-limits)",
+         [](Options& o, auto f, auto v) {
+             o.home_report = choice<HomeReport>(f, v, {{"wrap-limits", HomeReport::wrap_limits}, {"g2plus", HomeReport::g2plus_status}});
+         }},
+        {"--prompt-style", "named|bare", "Trav'ler/Carryout prompts `TRK>` or `>` (default named)", [](Options& o, auto f, auto v) {
+             o.prompt_style = choice<PromptStyle>(f, v, {{"named", PromptStyle::named}, {"bare", PromptStyle::bare}});
+         }},
+        {"--prompt-space", "yes|no", "a space after the prompt (default no)", [](Options& o, auto f, auto v) { o.prompt_space = yes_no(f, v); }},
+        {"--hal205-marker", "nogps|no-lnb-voltage", "HAL 2.05 boot-complete line (default nogps)", [](Options& o, auto f, auto v) {
+             o.hal205_boot_marker = choice<BootMarker>(f, v, {{"nogps", BootMarker::no_gps}, {"no-lnb-voltage", BootMarker::no_lnb_voltage}});
+         }},
+        {"--hal205-mot", "yes|no", "HAL 2.05 accepts `mot` as well as `motor` (default no)",
+         [](Options& o, auto f, auto v) { o.hal205_accepts_mot = yes_no(f, v); }},
+        {"--pro-q-returns-to-idu", "yes|no", "Pro `q` at the ODU root returns to the IDU (default no)",
+         [](Options& o, auto f, auto v) { o.pro_q_at_odu_root_returns_to_idu = yes_no(f, v); }},
+        {"--carryout-search-seconds", "S", "2003 Carryout search duration (default 600)",
+         [](Options& o, auto f, auto v) { o.carryout_search_seconds = number_at_least(f, v, 0.0); }},
+        {"--carryout-live-period", "S", "2003 Carryout `g` live line period (default 0.25)",
+         [](Options& o, auto f, auto v) { o.carryout_live_line_period = number_at_least(f, v, 0.001); }},
+        {"--rssi-floor", "N", "G2 RSSI floor (default 401)", [](Options& o, auto f, auto v) { o.rssi_floor = number_at_least(f, v, 0.0); }},
+        {"--position-decimals", "N", "decimals in position replies (default 2)",
+         [](Options& o, auto f, auto v) { o.position_decimals = static_cast<int>(integer_in(f, v, 0, 6)); }},
+        {"--position-indent", "N", "spaces before position lines (default 0)",
+         [](Options& o, auto f, auto v) { o.position_indent = static_cast<int>(integer_in(f, v, 0, 16)); }},
+        {"--position-layout", "one-line|per-axis", "Trav'ler `a` reply (default one-line)", [](Options& o, auto f, auto v) {
+             o.travler_position_layout = choice<TravlerPositionLayout>(
+                 f, v, {{"one-line", TravlerPositionLayout::one_line}, {"per-axis", TravlerPositionLayout::line_per_axis}});
+         }},
+        {"--help-layout", "described|words|one-line|comma-line|colon-table|tab-table", "`?` listing (default described)",
+         [](Options& o, auto f, auto v) {
+             o.help_layout = choice<HelpLayout>(f, v, {{"described", HelpLayout::described}, {"words", HelpLayout::words},
+                                                      {"one-line", HelpLayout::one_line}, {"comma-line", HelpLayout::comma_line},
+                                                      {"colon-table", HelpLayout::colon_table}, {"tab-table", HelpLayout::tab_table}});
+         }},
+        {"--help-upper", "yes|no", "upper-case command words in `?` (default no)", [](Options& o, auto f, auto v) { o.help_upper_case = yes_no(f, v); }},
+        {"--boot-line-gap", "S", "simulated seconds between boot lines (default 0.05)",
+         [](Options& o, auto f, auto v) { o.boot_line_gap = number_at_least(f, v, 0.0); }},
+        {"--line-rate", "yes|no", "pace all output at the variant's baud in simulated time (default no)",
+         [](Options& o, auto f, auto v) { o.pace_at_line_rate = yes_no(f, v); }},
+        {"--late-line-delay", "S", "G2: seconds from `Boot Complete` to `Loc Startup: ...` (default 0.05)",
+         [](Options& o, auto f, auto v) { o.late_boot_line_delay = number_at_least(f, v, 0.0); }},
+        {"--boot-input-drop-ms", "MS", "input dropped this long after the last boot line (default 0)",
+         [](Options& o, auto f, auto v) { o.boot_input_drop = number_at_least(f, v, 0.0) / 1000.0; }},
+        {"--idle-line", "TEXT", "unsolicited line printed every --idle-line-period", [](Options& o, auto, auto v) { o.idle_line = v; }},
+        {"--idle-line-period", "S", "seconds between unsolicited lines (default 0 = never)",
+         [](Options& o, auto f, auto v) { o.idle_line_period = number_at_least(f, v, 0.0); }},
+    };
+    return table;
+}
+
+void print_help()
+{
+    std::cout << "usage: birdcage-sim --variant VARIANT [options]   (--flag VALUE or --flag=VALUE)\n"
+                 "Runs one emulated Winegard dish console on a pty, prints `device: <path>`, stops on SIGINT/SIGTERM.\n"
+                 "Simulated seconds run --time-scale times faster than real ones. sim/README.md cites the evidence.\n\n";
+    for (const Flag& flag : flags()) {
+        std::string head = std::string("  ") + flag.name + (flag.value ? std::string(" ") + flag.value : "");
+        std::cout << head;
+        if (head.size() < 40) {
+            std::cout << std::string(40 - head.size(), ' ');
+        } else {
+            std::cout << "\n" << std::string(40, ' ');
+        }
+        std::cout << flag.help << '\n';
+    }
+    std::cout << "  --help                                this text\n";
+}
+
+Options parse(int argc, char** argv)
+{
+    Options options;
+    for (int i = 1; i < argc; ++i) {
+        std::string_view arg = argv[i];
+        std::optional<std::string_view> inline_value;
+        if (const std::size_t equals = arg.find('='); arg.starts_with("--") && equals != std::string_view::npos) {
+            inline_value = arg.substr(equals + 1);
+            arg = arg.substr(0, equals);
+        }
+        const auto& table = flags();
+        const auto flag = std::find_if(table.begin(), table.end(), [&](const Flag& f) { return arg == f.name; });
+        if (flag == table.end()) throw UsageError{"unknown option '" + std::string(arg) + "' (see --help)"};
+        std::string_view value;
+        if (flag->value == nullptr) {
+            if (inline_value) throw UsageError{std::string(arg) + " takes no value"};
+        } else if (inline_value) {
+            value = *inline_value;
+        } else if (i + 1 < argc) {
+            value = argv[++i];
+        } else {
+            throw UsageError{std::string(arg) + ": missing value " + flag->value};
+        }
+        flag->apply(options, arg, value);
+    }
+    if (options.replay != ReplayMode::off && options.transcript_path.empty()) throw UsageError{"--lenient needs --replay"};
+    return options;
 }
 
 }  // namespace
 
 int main(int argc, char** argv)
 {
-    birdcage::sim::Options options;
-    bool have_variant = false;
     for (int i = 1; i < argc; ++i) {
-        const std::string_view arg = argv[i];
-        const bool has_value = i + 1 < argc;
-        if (arg == "--variant" && has_value) {
-            const auto variant = birdcage::sim::parse_variant(argv[++i]);
-            if (!variant) {
-                usage();
-                return 2;
-            }
-            options.variant = *variant;
-            have_variant = true;
-        } else if (arg == "--link" && has_value) {
-            options.link_path = argv[++i];
-        } else if ((arg == "--time-scale" || arg == "--az" || arg == "--el") && has_value) {
-            const auto value = number(argv[++i]);
-            if (!value || (arg == "--time-scale" && *value <= 0.0)) {
-                usage();
-                return 2;
-            }
-            (arg == "--time-scale" ? options.time_scale : arg == "--az" ? options.start_az : options.start_el) = *value;
-        } else if ((arg == "--idle-noise" || arg == "--drop" || arg == "--pace" || arg == "--seed") && has_value) {
-            const auto value = number(argv[++i]);
-            const bool integral = arg == "--pace" || arg == "--seed";
-            if (!value || *value < 0.0 || (arg == "--drop" && *value > 1.0) ||
-                (integral && (*value != static_cast<double>(static_cast<long>(*value)) || *value > 4294967295.0))) {
-                usage();
-                return 2;
-            }
-            if (arg == "--idle-noise") options.line_faults.idle_noise_bps = *value;
-            if (arg == "--drop") options.line_faults.drop_probability = *value;
-            if (arg == "--pace") options.line_faults.pace_baud = static_cast<int>(std::min(*value, 1e9));
-            if (arg == "--seed") options.seed = static_cast<std::uint32_t>(*value);
-        } else if (arg == "--az-mapping" && has_value) {
-            const auto mapping = birdcage::sim::parse_az_mapping(argv[++i]);
-            if (!mapping) {
-                usage();
-                return 2;
-            }
-            options.az_mapping = *mapping;
-        } else if (arg == "--az-wrap-point" && has_value) {
-            const auto value = number(argv[++i]);
-            if (!value || !std::isfinite(*value)) {
-                usage();
-                return 2;
-            }
-            options.az_wrap_point = *value;
-        } else if (arg == "--invert") {
-            options.line_faults.inverted_polarity = true;
-        } else if (arg == "--ignore-input") {
-            options.line_faults.ignore_input = true;
-        } else if (arg == "--replay" && has_value) {
-            options.transcript_path = argv[++i];
-            if (options.replay == birdcage::sim::ReplayMode::off) options.replay = birdcage::sim::ReplayMode::strict;
-        } else if (arg == "--lenient") {
-            options.replay = birdcage::sim::ReplayMode::lenient;
-        } else if (arg == "--booting") {
-            options.already_booted = false;
-        } else if (arg == "--search") {
-            options.search_running = true;
-        } else if (arg == "--trace") {
-            options.trace = [](bool from_client, std::string_view bytes) {
-                std::cerr << (from_client ? "<< " : ">> ") << birdcage::sim::escape_chunk(bytes) << '\n';
-            };
-        } else {
-            usage();
-            return 2;
+        if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
+            print_help();
+            return 0;
         }
     }
-    if (options.replay != birdcage::sim::ReplayMode::off && options.transcript_path.empty()) {
-        usage();
+    Options options;
+    try {
+        options = parse(argc, argv);
+    } catch (const UsageError& error) {
+        std::cerr << "birdcage-sim: " << error.message << '\n';
         return 2;
     }
     if (!have_variant && !options.transcript_path.empty()) {
@@ -127,7 +306,7 @@ int main(int argc, char** argv)
         }
     }
     if (!have_variant) {
-        usage();
+        std::cerr << "birdcage-sim: --variant is required (hal205|g2|hal000|pro|carryout2003; see --help)\n";
         return 2;
     }
 

@@ -12,7 +12,7 @@ struct Bump {
     double amplitude;  // counts above the floor
 };
 
-// Positions: /work/shared/data/g2-ku-skyscan/satellite_data.csv (Gpredict look angles at
+// Positions: winegard-sky-scan example/satellite_data.csv (Gpredict look angles at
 // Davidson's site). Amplitudes: non-negative least-squares fit of Gaussian beams (sigma 2.9 deg
 // on sky, i.e. the ~7 deg FWHM of firmware.md §11.2) plus a 401-count floor to scan_data.txt
 // (5371 points, rms residual 8.6 counts). Satellites the fit gave no power are omitted.

@@ -115,6 +115,8 @@ std::vector<BootStep> g2_boot(const Engine& engine)
         steps.push_back({K::line, "Antenna Facing Front"});
     }
     steps.push_back({K::line, "Boot Complete"});
+    steps.push_back({K::ready, ""});
+    steps.push_back({K::pause, "", 0, 0.0, engine.options.late_boot_line_delay});
     steps.push_back({K::line, "Loc Startup: IDU NOT Present"});
     return steps;
 }
@@ -228,19 +230,19 @@ constexpr AxisParams carryout_el{10.0, 20.0, 20.0, 90.0, 0};
 const VariantProfile profiles[] = {
     {Variant::travler_hal000, "hal000", 57600, &hal000_root, PositionFormat::travler, false, false, false, false,
      false, false, SearchStop::os_kill, false, travler_az, travler_el, travler_skew, 15.0, 90.0, no_stall, 0.0, 0.0,
-     0.0, 127, -1, -1, 0, travler_nvs_table, travler_boot},
+     0.0, 127, -1, -1, 0, travler_nvs_table, travler_boot, true},
     {Variant::travler_hal205, "hal205", 57600, &hal205_root, PositionFormat::travler, false, false, false, false,
      false, false, SearchStop::ngsearch_stop, false, travler_az, travler_el, travler_skew, 15.0, 90.0, no_stall, 0.0,
-     0.0, 0.0, 127, -1, -1, 0, travler_nvs_table, travler_boot},
+     0.0, 0.0, 127, -1, -1, 0, travler_nvs_table, travler_boot, true},
     {Variant::travler_pro, "pro", 57600, &pro_idu_root, PositionFormat::travler, false, false, false, false, false,
      false, SearchStop::os_kill, false, travler_az, travler_el, travler_skew, 12.0, 90.0, 75.0, 0.0, 0.0, 0.0, 127,
-     -1, -1, 10, travler_pro_nvs_table, travler_boot},
+     -1, -1, 10, travler_pro_nvs_table, travler_boot, true},
     {Variant::carryout2003, "carryout2003", 57600, &carryout_root, PositionFormat::none, false, false, false, true,
      false, false, SearchStop::runs_out, false, carryout_az, carryout_el, unused_axis, 22.0, 73.0, no_stall, 22.0,
-     0.0, 0.0, -1, 102, -1, 0, carryout2003_nvs_table, carryout_boot},
+     0.0, 0.0, -1, 102, -1, 0, carryout2003_nvs_table, carryout_boot, false},
     {Variant::carryout_g2, "g2", 115200, &g2_root, PositionFormat::g2, true, true, true, false, true, true,
      SearchStop::nvs_disable_tracker, true, g2_az, g2_el, unused_axis, 18.0, 65.0, no_stall, 18.0, 0.0, 65.0, 101,
-     102, 20, 0, g2_nvs_table, g2_boot},
+     102, 20, 0, g2_nvs_table, g2_boot, true},
 };
 
 }  // namespace

@@ -513,9 +513,10 @@ TEST_CASE("Carryout 2003: target/g prints live centidegrees the rotor client can
     CHECK(console.position().el == Approx(50.0));
 }
 
-TEST_CASE("Carryout 2003: g aborted by the next byte - EL 22..73 - search runs out", "[console][carryout2003]")
+TEST_CASE("Carryout 2003: g aborted by the next byte (switch) - EL 22..73 - search runs out", "[console][carryout2003]")
 {
     Options options = options_for(Variant::carryout2003);
+    options.g_aborts_on_input = true;
     options.search_running = true;
     options.carryout_search_seconds = 30.0;
     Console console(options);

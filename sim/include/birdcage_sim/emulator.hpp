@@ -1,5 +1,5 @@
 // birdcage dish emulator: a pty that behaves like the serial console of a Winegard motorized
-// dish. Written from /work/shared/notes/firmware.md (section numbers cited as §n), independently
+// dish. Written from the firmware notes (section numbers cited as §n), independently
 // of the backend in src/, so that it can act as the test oracle.
 #pragma once
 
@@ -19,9 +19,12 @@ enum class Variant { travler_hal000, travler_hal205, travler_pro, carryout2003, 
 std::optional<Variant> parse_variant(std::string_view name);
 const char* variant_name(Variant);
 
-// Switches for behaviour firmware.md §14 lists as unknown. Defaults are the most plausible
-// reading of the notes; text marked INVENTED is not known firmware output.
-enum class LineEnding { crlf, lf };          // §14 HAL0.6, G2.10; bare CR reply "CR LF then TRK>" (§6.1)
+// Switches for behaviour the firmware notes (§14, Appendix C) leave open. Defaults are the most
+// plausible reading of the notes; text marked INVENTED is not known firmware output.
+// Output line ending. §14 HAL0.6, G2.10: unknown; CR LF from birdcage's bare-CR probe ("CR LF then
+// TRK>", §6.1). LF CR is a common embedded-shell habit; CR alone breaks travler_init.py's
+// readline (§3.6) and is offered only to try that.
+enum class LineEnding { crlf, lf, lfcr, cr };
 enum class AzReport { displayed, mechanical };  // §14 G2.4 (and §3.3: `a` may show the wrap)
 enum class OutOfRange { clamp, reject };     // §14 HAL0.4, G2.6; §3.4 "unreliable below 15"
 enum class MoveAck { immediate, after_motion };  // §14 G2.3
@@ -41,6 +44,25 @@ enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete lin
 //                position at 0 the dish stops and reverses mid-track", §6.3 `w`/`sw`).
 enum class AzMapping { nearest, literal, wrap_manager };
 std::optional<AzMapping> parse_az_mapping(std::string_view name);   // "nearest", "literal", "wrap_manager"
+// `?` listing layout. Only the G2's is documented: `Enter <cmd> - Description` per line plus the
+// usage line `help [<command>]` (§6.3). No source shows a Trav'ler or 2003 Carryout listing
+// verbatim (§3.3, §8.3 say only that `?` lists the commands), so the others are the shapes a
+// firmware console plausibly prints, each filled from the same menu table.
+enum class HelpLayout {
+    described,    // `Enter <a> - Angle ...` per command, `Enter <q> - ...`, `help [<command>]`
+    words,        // bare command words, one per line
+    one_line,     // all words on one line, space-separated
+    comma_line,   // all words on one line, `, `-separated
+    colon_table,  // `a            : Angle ...` (word padded to the longest)
+    tab_table,    // `a<TAB>Angle ...`
+};
+// What `h` prints when the AZ axis has homed (§14 G2.8). The G2 02.02.48's wrap line is known
+// from its boot log (§6.2 item 11); mjlangan's G2+ client waits for `AZ - Angle: 1 Wrap: 0` (§7.1,
+// shape inferred from its regex).
+enum class HomeReport { wrap_limits, g2plus_status };
+// Trav'ler `a` reply (§14 HAL0.3): birdcage documents one line `AZ = .. EL = .. SK = ..` (§3.3);
+// the upstream client's patterns would also find the fields on separate lines.
+enum class TravlerPositionLayout { one_line, line_per_axis };
 // Transcript replay (docs/transcripts.md): strict stops at the first unexpected command and reports
 // it through Emulator::replay_failure(); lenient hands the session over to the model console.
 enum class ReplayMode { off, strict, lenient };
@@ -76,6 +98,7 @@ struct Options {
     LineFaults line_faults;       // initial line faults (see Emulator fault injection)
 
     // --- unknown-behaviour switches -----------------------------------------------------
+    // Every switch below is listed in sim/README.md with its CLI flag, evidence and alternatives.
     bool echo = true;             // §6.1 (G2: strong evidence), §3.1 / §14 (others: hints only)
     LineEnding line_ending = LineEnding::crlf;
     // §14 HAL0.4 / G2.6: the text is undocumented. INVENTED default. Empty = print nothing.
@@ -89,16 +112,24 @@ struct Options {
     // false: a position query issued while moving is answered once the dish has stopped.
     bool answer_position_while_moving = true;
     AzReport az_report = AzReport::displayed;
-    // §2 / §3.5: any byte received during `g` aborts it. §8.5 says the 2003 Carryout's scans
-    // send `q` right after `g` and still move, so this may be false there.
-    bool g_aborts_on_input = true;
-    // §6.5 vs §14 G2.2: `q` at TRK> kills the shell (console dead until power cycle).
+    // §2 / §3.5: any byte received during `g` aborts it (the Trav'ler README). Unset = the
+    // variant's default: yes, except on the 2003 Carryout, whose scan client sends `q` right after
+    // every 1-degree `g` and still maps the sky (§8.5, §11.1, §14 CO.3).
+    std::optional<bool> g_aborts_on_input;
+    // §6.5 vs §14 G2.2: `q` at TRK> kills the shell (console dead until power cycle: birdcage, who
+    // had a G2 on the bench). false = "harmless": the prompt is reprinted, as Davidson's home.py
+    // needs (it sends `q` first and succeeds only if every reply ends in `>`, §6.6). Counted as a
+    // hazard either way.
     bool g2_root_q_kills_shell = true;
     // G2 with already_booted: axes calibrated (true) or reading INT_MAX until `h` (false), §6.4.
     bool g2_homed = true;
     // §6.2 caveat / §14 G2.7: does boot homing run when NVS 20 (Disable Tracker Proc) is TRUE?
     bool g2_boot_homes = true;
+    HomeReport home_report = HomeReport::wrap_limits;
     PromptStyle prompt_style = PromptStyle::named;  // Trav'ler, Pro, Carryout 2003 only
+    // §14 HAL0.1: a space after `>`? Davidson's G2 transcript shows typed text right after the
+    // prompt (`TRK>nvs`, §6.1): no space.
+    bool prompt_space = false;
     BootMarker hal205_boot_marker = BootMarker::no_gps;  // §4.2
     bool hal205_accepts_mot = false;  // §14 HAL2.05.4: does `mot` work besides `motor`?
     // §14 Pro.2: does `q` at the ODU root return to the IDU console? The Pro client sends
@@ -107,6 +138,9 @@ struct Options {
     // §8.2: the 2003 Carryout's search cannot be stopped from the console; it ends by itself
     // (calibration + search take 10-15 min). Simulated seconds of wandering.
     double carryout_search_seconds = 600.0;
+    // §14 CO.1: period of the `g` live line, unknown. INVENTED 4 Hz; carryout_rotor.py needs one
+    // within 1 s and 100 bytes (§8.4).
+    double carryout_live_line_period = 0.25;
     double rssi_floor = 401.0;  // §11.2 (Davidson ~400 with lnbdc odu; birdcage ~500, §14 G2.14)
     // Azimuth target mapping (see AzMapping). Default nearest: the only reading under which the
     // travel beyond 360 (Trav'ler 0..455, G2 446.66, §1, §6.4) is of use to the 0..360 targets
@@ -114,6 +148,38 @@ struct Options {
     // "sometimes" happens, i.e. a fault, and §3.4 as "usually 360 or 455".
     AzMapping az_mapping = AzMapping::nearest;
     double az_wrap_point = 0.0;  // wrap_manager: display azimuth of the wrap point (0 = north)
+    // Position replies (§14 HAL0.3, G2.10): decimals (every client needs at least one, Appendix C),
+    // leading spaces (birdcage's demo indents by 4, §6.3), Trav'ler field layout.
+    int position_decimals = 2;
+    int position_indent = 0;
+    TravlerPositionLayout travler_position_layout = TravlerPositionLayout::one_line;
+
+    // `?` listing (§6.3, §3.3, §8.3). Upper case applies to the command words only.
+    HelpLayout help_layout = HelpLayout::described;
+    bool help_upper_case = false;
+
+    // --- boot timing and unsolicited output (§14 HAL0.5, G2.7) ---------------------------
+    // Simulated seconds between boot lines. INVENTED: no source gives boot timing.
+    double boot_line_gap = 0.05;
+    // All dish output leaves at the variant's baud rate, 10 bits per byte, in SIMULATED time
+    // (LineFaults::pace_baud is the real-time wire version). Off: a reply is there at once, as
+    // Console tests expect; a real UART always paces.
+    bool pace_at_line_rate = false;
+    // Simulated seconds between the completion line and the late boot lines after it (G2:
+    // `Boot Complete`, then `Loc Startup: IDU NOT Present`, §6.2 item 13). Input arriving after
+    // the completion line is kept and answered once the late lines and the boot prompt are out;
+    // input before it is lost (nothing reads the UART yet, INVENTED).
+    double late_boot_line_delay = 0.05;
+    // Input dropped for this many simulated seconds after the last boot line. 0: accepted at
+    // once, as travler_init.py needs (it writes right after `NoGPS`, §3.6); nothing in the notes
+    // supports a deaf window, it exists to try a client against one.
+    double boot_input_drop = 0.0;
+    // An unsolicited line every idle_line_period simulated seconds once booted (0 = never, the
+    // default: the 2003 Carryout shows a "blank screen" on connect, §8.1, and no G2 transcript
+    // shows periodic output). The G2 does print asynchronous lines (`Loc Startup: ...` after
+    // boot, `AZ MOTOR STALLED`, §6.2, §6.3), so a stray line at idle is plausible.
+    std::string idle_line;
+    double idle_line_period = 0.0;
 
     // --- transcript replay ------------------------------------------------------------------
     // With a mode other than off, the dish answers from this transcript (recorded timing divided

@@ -922,8 +922,15 @@ void Controller::cancel_pending() {
         const auto reply = session_.transact("", menu_step_timeout);
         note_live_output(reply.value.lines);
         if (!reply.value.prompt.empty()) {
-            emit(options_.log, LogLevel::verbose, "stop: sent a line ending to abort the running g");
-            finish_leg("aborted by stop");
+            // Some firmware reads the byte only once the move is over (firmware notes 8.5): a
+            // prompt after a live line at the target is an arrival, not an abort.
+            const bool arrived = last_position_ &&
+                                 axis_error(Axis::azimuth, last_position_->az, in_flight_->target.az) <= profile_.arrival_tolerance &&
+                                 axis_error(Axis::elevation, last_position_->el, in_flight_->target.el) <= profile_.arrival_tolerance;
+            emit(options_.log, LogLevel::verbose,
+                 arrived ? "stop: the running g had reached its target; the line ending did not abort it"
+                         : "stop: sent a line ending to abort the running g");
+            finish_leg(arrived ? "arrived" : "aborted by stop");
         }
     }
 }

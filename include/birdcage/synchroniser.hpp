@@ -68,7 +68,7 @@ public:
 private:
     struct Heard {
         std::string raw;          // every byte, as received
-        std::size_t text_end = 0; // raw up to the end of its last chunk of text (noise after it ignored)
+        std::size_t text_end = 0; // raw up to the end of its last text line or clean prompt (noise after it ignored)
         std::string_view text() const { return std::string_view(raw).substr(0, text_end); }
         bool failed = false;
         Status failure;

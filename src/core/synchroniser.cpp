@@ -22,6 +22,12 @@ bool is_line_end(char c) { return c == '\r' || c == '\n'; }
 // dish never prints unprintable bytes, so a line needs (almost) none to count as text.
 bool is_text_line(std::size_t text_bytes, std::size_t noise_bytes) { return text_bytes > 0 && noise_bytes * 4 <= text_bytes; }
 
+// The length of the prompt a noisy line starts with (`MOT>` then line noise), 0 if none.
+std::size_t prompt_before_noise(std::string_view line) {
+    const std::size_t close = line.find('>');
+    return close != std::string_view::npos && looks_like_prompt(line.substr(0, close + 1)) ? close + 1 : 0;
+}
+
 bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
     return std::any_of(markers.begin(), markers.end(),
                        [&](std::string_view marker) { return line.find(marker) != std::string_view::npos; });
@@ -170,9 +176,11 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
     Heard heard;
     std::array<char, 512> buffer{};
     Clock::time_point wait_until = std::min(limit, now() + first_byte_within);
-    // The line being received: its printable and its noise bytes.
+    // The line being received: where it starts, its printable and its noise bytes.
+    std::size_t line_start = 0;
     std::size_t line_text = 0;
     std::size_t line_noise = 0;
+    std::size_t lines_end = 0;   // the end of the last line of text
     for (;;) {
         const auto got = transport_.read(buffer.data(), buffer.size(), wait_until);
         if (!got) {
@@ -189,15 +197,18 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
         heard.raw.append(bytes);
         // Only the console's text keeps a reply open: a line of text when its line ending arrives,
         // or a clean prompt being the line so far. Line noise never does, however long it lasts,
-        // so "quiet" comes on a line that is never silent; noise after a prompt does not hide it.
+        // so "quiet" comes on a line that is never silent.
         bool spoke = false;
         for (std::size_t i = heard.raw.size() - bytes.size(); i < heard.raw.size(); ++i) {
             const char c = heard.raw[i];
             if (is_line_end(c)) {
                 if (is_text_line(line_text, line_noise)) {
-                    heard.text_end = i + 1;
+                    lines_end = i + 1;
                     spoke = true;
+                } else if (const std::size_t prompt = prompt_before_noise(std::string_view(heard.raw).substr(line_start, i - line_start))) {
+                    lines_end = line_start + prompt;
                 }
+                line_start = i + 1;
                 line_text = 0;
                 line_noise = 0;
             } else if (is_text_byte(static_cast<unsigned char>(c))) {
@@ -206,9 +217,19 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
                 ++line_noise;
             }
         }
-        if (line_noise == 0 && line_text > 0 && looks_like_prompt(std::string_view(heard.raw).substr(heard.raw.size() - line_text))) {
+        // Where the text ends within the line being received: a clean line is text (a prompt, or
+        // a line still arriving, which hides any prompt before it); a line that runs into noise
+        // bytes is noise, except a prompt it starts with (a dish never prints an unprintable
+        // byte, so its prompt ended there, as the framer's rule 3c says).
+        const std::string_view line = std::string_view(heard.raw).substr(line_start);
+        const std::size_t previous_end = heard.text_end;
+        heard.text_end = lines_end;
+        if (line_noise == 0 && line_text > 0) {
             heard.text_end = heard.raw.size();
-            spoke = true;
+            spoke = spoke || looks_like_prompt(line);
+        } else if (const std::size_t prompt = line_noise > 0 ? prompt_before_noise(line) : 0) {
+            heard.text_end = line_start + prompt;
+            spoke = spoke || heard.text_end > previous_end;
         }
         if (spoke) {
             wait_until = std::min(limit, now() + gap);

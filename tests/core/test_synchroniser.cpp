@@ -337,3 +337,22 @@ TEST_CASE("sync: under steady noise a late boot line after a stale prompt still 
     CHECK(pokes == 3);
     CHECK(synced.value.last_boot_line == "Loc Startup: IDU NOT Present");
 }
+
+TEST_CASE("sync: noise after a prompt leaves it the prompt; text after it on its line does not") {
+    SECTION("prompt, then noise read with it and after it, a noise line ending among it") {
+        FakeTransport wire([](const std::string&) -> Commands {
+            return {"\r\nMOT>k\x9aQ", "\x01\r7\xfe", "\xe0"};
+        });
+        ConsoleSynchroniser sync(wire, g2_settings(), {}, frozen);
+        const auto synced = sync.synchronise();
+        INFO(synced.status.message);
+        REQUIRE(synced);
+        CHECK(synced.value.prompt == "MOT>");
+        CHECK(wire.commands() == Commands{"", ""});
+    }
+    SECTION("two prompts run together (fuzz finding): the line is text, not a prompt") {
+        FakeTransport wire([](const std::string&) -> Commands { return {"\r\nTRK>", "TRK>"}; });
+        ConsoleSynchroniser sync(wire, g2_settings(10s), {}, frozen);
+        CHECK_FALSE(sync.synchronise());
+    }
+}

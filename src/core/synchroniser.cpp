@@ -22,10 +22,20 @@ bool is_line_end(char c) { return c == '\r' || c == '\n'; }
 // dish never prints unprintable bytes, so a line needs (almost) none to count as text.
 bool is_text_line(std::size_t text_bytes, std::size_t noise_bytes) { return text_bytes > 0 && noise_bytes * 4 <= text_bytes; }
 
-// The length of the prompt a noisy line starts with (`MOT>` then line noise), 0 if none.
+// The length of the prompt `line` starts with when the rest of it is line noise (mostly
+// unprintable bytes, as a noisy idle bus sends after the prompt); 0 otherwise. A prompt followed
+// by text with a stray noise byte in it is no prompt: the console is still printing.
 std::size_t prompt_before_noise(std::string_view line) {
     const std::size_t close = line.find('>');
-    return close != std::string_view::npos && looks_like_prompt(line.substr(0, close + 1)) ? close + 1 : 0;
+    if (close == std::string_view::npos || !looks_like_prompt(line.substr(0, close + 1))) {
+        return 0;
+    }
+    std::size_t text = 0;
+    std::size_t noise = 0;
+    for (char c : line.substr(close + 1)) {
+        ++(is_text_byte(static_cast<unsigned char>(c)) ? text : noise);
+    }
+    return noise > 0 && !is_text_line(text, noise) ? close + 1 : 0;
 }
 
 bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
@@ -202,11 +212,11 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
         for (std::size_t i = heard.raw.size() - bytes.size(); i < heard.raw.size(); ++i) {
             const char c = heard.raw[i];
             if (is_line_end(c)) {
-                if (is_text_line(line_text, line_noise)) {
+                if (const std::size_t prompt = prompt_before_noise(std::string_view(heard.raw).substr(line_start, i - line_start))) {
+                    lines_end = line_start + prompt;
+                } else if (is_text_line(line_text, line_noise)) {
                     lines_end = i + 1;
                     spoke = true;
-                } else if (const std::size_t prompt = prompt_before_noise(std::string_view(heard.raw).substr(line_start, i - line_start))) {
-                    lines_end = line_start + prompt;
                 }
                 line_start = i + 1;
                 line_text = 0;
@@ -218,9 +228,9 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
             }
         }
         // Where the text ends within the line being received: a clean line is text (a prompt, or
-        // a line still arriving, which hides any prompt before it); a line that runs into noise
-        // bytes is noise, except a prompt it starts with (a dish never prints an unprintable
-        // byte, so its prompt ended there, as the framer's rule 3c says).
+        // a line still arriving, which hides any prompt before it); a prompt followed by noise
+        // bytes is the prompt (a dish never prints an unprintable byte, so its prompt ended
+        // there, as the framer's rule 3c says); other lines count as for is_text_line.
         const std::string_view line = std::string_view(heard.raw).substr(line_start);
         const std::size_t previous_end = heard.text_end;
         heard.text_end = lines_end;
@@ -230,6 +240,8 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
         } else if (const std::size_t prompt = line_noise > 0 ? prompt_before_noise(line) : 0) {
             heard.text_end = line_start + prompt;
             spoke = spoke || heard.text_end > previous_end;
+        } else if (is_text_line(line_text, line_noise)) {
+            heard.text_end = heard.raw.size();
         }
         if (spoke) {
             wait_until = std::min(limit, now() + gap);

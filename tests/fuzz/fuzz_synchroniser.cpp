@@ -114,9 +114,9 @@ private:
     std::size_t reads_ = 0;
 };
 
-// After the last `prompt` in `output` comes no console text: neither printable text on the
-// prompt's own line without a noise byte among it, nor a later line of mostly printable bytes.
-// Line noise (random bytes, most of them unprintable) may follow a prompt.
+// After the last `prompt` in `output` comes no console text: on the prompt's own line neither
+// clean printable text (one space aside) nor mostly printable text around a noise byte; no later
+// line of mostly printable bytes. Line noise (random bytes, most of them unprintable) may follow.
 bool prompt_ends_text(std::string_view output, std::string_view prompt) {
     const std::size_t at = output.rfind(prompt);
     if (at == std::string_view::npos) {
@@ -127,7 +127,10 @@ bool prompt_ends_text(std::string_view output, std::string_view prompt) {
     std::size_t noise = 0;
     bool prompt_line = true;
     auto is_text_segment = [&] {
-        return prompt_line ? text > 0 && noise == 0 && !(text == 1 && rest.front() == ' ') : text > 0 && noise * 4 <= text;
+        if (prompt_line && noise == 0 && text == 1 && rest.front() == ' ') {
+            return false;
+        }
+        return text > 0 && noise * 4 <= text;
     };
     for (char c : rest) {
         if (c == '\r' || c == '\n') {

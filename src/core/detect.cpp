@@ -123,6 +123,17 @@ bool names_a_g2_only_command(const HelpListing& help) {
     });
 }
 
+// A G2-only command named anywhere in what the console printed (listings, descriptions, stray
+// lines): a console that ever showed one may be a G2, whatever its latest listing says.
+bool g2_command_heard(const std::vector<std::string>& lines) {
+    const HelpListing heard = parse_help_listing(lines);
+    const auto all = detection_clues();
+    return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
+        return clue.source == ClueSource::help_command && clue.variant == VariantId::carryout_g2 &&
+               heard.words.count(lower(clue.text)) > 0;
+    });
+}
+
 // The one root where detection may send `q`: a listing that positively shows a Trav'ler (or Pro
 // ODU) root, mot, os and nvs, with no G2-only command. There `q` is the upstream Trav'ler
 // clients' own harmless idiom, sent first at whatever prompt (firmware notes 2, 3.6); it kills
@@ -259,15 +270,15 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
     };
     // `q`, then the console must come into sync again before anything is concluded. `menu` tells
     // the hazard guard where the caller recognised the console to be. A G2-only command in the
-    // listing at the G2 root shape keeps the guard's own verdict (root: `q` refused), whatever
-    // the caller concluded.
+    // listing, or anywhere in the output, at the G2 root shape keeps the guard's own verdict
+    // (root: `q` refused), whatever the caller concluded.
     auto leave_menu = [&](const std::string& menu) -> Status {
         if (auto heard = session.listen(probe_profile().quiet_gap); !heard.value.lines.empty() || !heard.value.prompt.empty()) {
             return Status{Errc::protocol, "auto-detect: the console printed more (\"" +
                                               escape_bytes(heard.value.lines.empty() ? heard.value.prompt : heard.value.lines.back()) +
                                               "\") while its menu was being left; not sending q"};
         }
-        if (!(is_g2_root_shape(evidence.prompt) && names_a_g2_only_command(evidence.help))) {
+        if (!(is_g2_root_shape(evidence.prompt) && (names_a_g2_only_command(evidence.help) || g2_command_heard(evidence.lines)))) {
             session.set_menu(menu);   // recognised by the caller (see the rules at the top)
         }
         if (auto q = session.transact("q", help_timeout); !q && q.status.code != Errc::timeout) {
@@ -306,7 +317,8 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
                 // listing positively shows a Trav'ler/ODU root (shows_travler_root), where `q` is
                 // the upstream clients' harmless idiom (firmware notes 2), and nothing else hints
                 // at a G2. It tells a Pro left in its ODU console from a HAL 0.0.00.
-                if (no_trace_of_g2 && shows_travler_root(evidence.help) && !evidence.prompt.empty() && reply_on_same_prompt) {
+                if (no_trace_of_g2 && shows_travler_root(evidence.help) && !g2_command_heard(evidence.lines) &&
+                    !evidence.prompt.empty() && reply_on_same_prompt) {
                     if (Status left = leave_menu("travler root"); !left) {
                         return {{}, left};
                     }

@@ -301,3 +301,15 @@ TEST_CASE("detect: at TRK> any G2-only command in the listing means no q, and th
     CHECK(q.status.code == Errc::hazard);
     CHECK(std::find(console.commands().begin(), console.commands().end(), "q") == console.commands().end());
 }
+
+TEST_CASE("detect: a G2-only command printed anywhere earlier means no q at TRK> (fuzz finding)") {
+    // The latest listing looks like a Trav'ler root, but the console printed a G2 listing line
+    // before: it may be a G2, where `q` at TRK> kills the shell.
+    MenuConsole dish;
+    dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\n";
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    wire.push_input("Enter <a3981> - A3981 menu\r\nTRK>");
+    (void)detect_variant(wire, {}, 60s);
+    const Commands& sent = wire.commands();
+    CHECK(std::find(sent.begin(), sent.end(), "q") == sent.end());
+}

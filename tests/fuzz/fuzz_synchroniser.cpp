@@ -114,14 +114,12 @@ private:
     std::size_t reads_ = 0;
 };
 
-// After the last `prompt` in `output` comes no console text: on the prompt's own line neither
-// clean printable text (one space aside) nor mostly printable text around a noise byte; no later
-// line of mostly printable bytes. Line noise (random bytes, most of them unprintable) may follow.
-bool prompt_ends_text(std::string_view output, std::string_view prompt) {
-    const std::size_t at = output.rfind(prompt);
-    if (at == std::string_view::npos) {
-        return false;
-    }
+// After `prompt`, at one of its places in `output`, comes no console text: on the prompt's own
+// line neither clean printable text (one space aside) nor mostly printable text around noise
+// bytes; no later line of mostly printable bytes. Line noise (random bytes, most of them
+// unprintable, possibly with a `TRK>` among them) may follow. Any place will do: a reply read
+// after a poke starts a line of its own, wherever the output before it stopped.
+bool ends_text_at(std::string_view output, std::size_t at, std::string_view prompt) {
     const std::string_view rest = output.substr(at + prompt.size());
     std::size_t text = 0;
     std::size_t noise = 0;
@@ -146,6 +144,15 @@ bool prompt_ends_text(std::string_view output, std::string_view prompt) {
         }
     }
     return !is_text_segment();
+}
+
+bool prompt_ends_text(std::string_view output, std::string_view prompt) {
+    for (std::size_t at = output.find(prompt); at != std::string_view::npos; at = output.find(prompt, at + 1)) {
+        if (ends_text_at(output, at, prompt)) {
+            return true;
+        }
+    }
+    return false;
 }
 
 }  // namespace

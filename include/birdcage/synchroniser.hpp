@@ -6,7 +6,9 @@
 // It never trusts a single line: it drains stale input, waits until the console has been quiet,
 // sends a line ending, waits for quiet again and takes the prompt only from the END of that reply
 // (a stale `TRK>` followed by a late boot line is no prompt), and acts on a prompt only once two
-// consecutive pokes ended on the same one.
+// consecutive pokes ended on the same one. "Quiet" means no console text: line noise (random
+// bytes from an idle RS-485 bus, which may never stop) neither keeps a reply open nor hides a
+// prompt it follows.
 #pragma once
 
 #include <chrono>

@@ -307,8 +307,10 @@ void ConsoleSynchroniser::report_progress(const ConsoleSnapshot& snapshot, Clock
     if (!announced_wait_) {
         announced_wait_ = true;
         emit(log_, LogLevel::warning,
-             "the console does not answer yet; waiting for the dish to finish booting (up to " +
-                 seconds_text(settings_.budget) + ")");
+             (snapshot.last_boot_line.empty()
+                  ? std::string("the console does not answer yet")
+                  : "the dish is booting (\"" + escape_bytes(snapshot.last_boot_line) + "\")") +
+                 "; waiting for it to finish (up to " + seconds_text(settings_.budget) + ")");
         return;
     }
     if (elapsed < next_progress_) {
@@ -368,6 +370,10 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         if (unsolicited.text_end > 0) {
             candidate.clear();
             probe_answer.clear();
+            // A dish that prints its boot log for minutes is waited for too: say so.
+            if (booting()) {
+                report_progress(snapshot, started);
+            }
             continue;
         }
         if (now() >= limit) {

@@ -162,6 +162,28 @@ TEST_CASE("sync: while boot output is in progress the console is only listened t
     CHECK(synced.value.boot_heard);
 }
 
+TEST_CASE("sync: a dish that prints its boot log for minutes is announced and reported every 30 s") {
+    FakeTransport wire;
+    bool booted = false;   // a booting dish ignores its input
+    wire.set_responder([&](const std::string&) -> Commands { return booted ? Commands{"\r\nTRK>"} : Commands{}; });
+    wire.push_input("Bootloader v1.01\r\n");
+    for (int i = 0; i < 12; ++i) {
+        wire.push_delayed("Motor init: homing step " + std::to_string(i) + "\r\n", 2);
+    }
+    wire.push_delayed("Boot Complete\r\n", 2);
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(900s), [&](LogLevel l, const std::string& m) {
+        log.lines.emplace_back(l, m);
+        booted = booted || m.find("Boot Complete") != std::string::npos;
+    }, frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == "TRK>");
+    CHECK(log.count("the dish is booting (\"Bootloader v1.01\"); waiting for it to finish (up to 900 s)") == 1);
+    REQUIRE(synced.value.waited >= 30s);
+    CHECK(log.count("still waiting for the dish to boot: 30 s; last boot output \"Motor init: homing step") == 1);
+}
+
 TEST_CASE("sync: a silent console is waited for with progress every 30 s, then the reason") {
     FakeTransport wire;   // never says anything
     Logged log;
@@ -169,7 +191,7 @@ TEST_CASE("sync: a silent console is waited for with progress every 30 s, then t
     const auto synced = sync.synchronise();
     REQUIRE_FALSE(synced);
     CHECK(synced.status.code == Errc::timeout);
-    CHECK(log.count("waiting for the dish to finish booting (up to 100 s)") == 1);
+    CHECK(log.count("the console does not answer yet; waiting for it to finish (up to 100 s)") == 1);
     CHECK(log.count("still waiting for the dish to boot: 30 s") == 1);
     CHECK(log.count("still waiting for the dish to boot: 60 s") == 1);
     CHECK(log.count("still waiting for the dish to boot: 90 s") == 1);

@@ -356,6 +356,9 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         return fail_io(stale.failure);
     }
     absorb(stale.raw, snapshot);
+    if (booting()) {
+        report_progress(snapshot, started);   // opened mid-boot: say so at once
+    }
 
     std::string candidate;                  // a prompt seen once; a second poke must end on it too
     std::vector<std::string> probe_answer;  // the probe's reply once; a second must repeat it

@@ -220,6 +220,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .tracker_disable_nvs_index = 20,
         .help_signature = g2_help,
         .predictive_by_default = true,
+        .receiver_menu = "dvb",
     },
 }};
 

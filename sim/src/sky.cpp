@@ -8,7 +8,8 @@
 // - 18 V (`lnbdc stb`, the boot default): the LNB receives the other polarisation, which nobody
 //   has scanned. The model keeps the floor and the satellites' positions and swaps what is strong:
 //   a satellite strong at 13 V (>= 30 counts) leaks a fifth of it (cross-polar isolation ~7 dB of
-//   a small dish), and a satellite the 13 V fit found weak or silent carries 60 counts. An
+//   a small dish), and a slot (satellites within 3 degrees) the 13 V fit found weak or silent
+//   carries 60 counts. An
 //   invented but explicit rule: the point is that the voltage visibly changes the sky, and a test
 //   can tell which polarisation the dish listens to.
 // - Each 20 ms read adds Gaussian noise of 8 counts, so `rssi 10` scatters by ~2.5 counts like
@@ -51,6 +52,7 @@ constexpr double scan_floor = 401.0;   // the fitted floor of scan_data.txt
 constexpr double beam_sigma_deg = 2.9;
 constexpr double strong_13v = 30.0;
 constexpr double cross_polar_fraction = 0.2;
+constexpr double slot_radius_deg = 3.0;
 constexpr double other_polarisation_amplitude = 60.0;
 constexpr double sample_noise = 8.0;
 
@@ -118,9 +120,15 @@ std::vector<Satellite> parse_catalogue() {
         for (const Bump& b : fitted_13v) {
             if (std::abs(b.az - s.az) < 0.005 && std::abs(b.el - s.el) < 0.005) s.amplitude_13v = b.amplitude;
         }
-        s.amplitude_18v = s.amplitude_13v >= strong_13v ? cross_polar_fraction * s.amplitude_13v
-                                                         : other_polarisation_amplitude;
         out.push_back(std::move(s));
+    }
+    // Co-located satellites share one orbital slot (one beam): a slot with a strong satellite is
+    // strong on that polarisation, so all its satellites only leak on the other one.
+    for (Satellite& s : out) {
+        const bool strong_slot = std::any_of(out.begin(), out.end(), [&](const Satellite& other) {
+            return other.amplitude_13v >= strong_13v && std::hypot(other.az - s.az, other.el - s.el) <= slot_radius_deg;
+        });
+        s.amplitude_18v = strong_slot ? cross_polar_fraction * s.amplitude_13v : other_polarisation_amplitude;
     }
     return out;
 }

@@ -13,7 +13,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
 #include <thread>
+
+#include <unistd.h>
 
 using namespace std::chrono_literals;
 using birdcage::sim::LnbSupply;
@@ -175,4 +180,103 @@ TEST_CASE("G2: stock rotctl with the backend preloaded reads RSSI directly from 
     // The boot default 18 V: the cross-polar leak of the strong cluster at 174/43.
     const SkyModel sky(0, 401.0);
     CHECK(std::fabs(values.front() - sky.expected_rssi(174.0, 43.0, LnbSupply::stb_18v)) <= kReadingTolerance);
+}
+
+namespace {
+
+struct ScanRow {
+    double az, el, value;
+};
+
+std::vector<ScanRow> read_csv(const std::string& path) {
+    std::ifstream in(path);
+    std::vector<ScanRow> rows;
+    std::string line;
+    std::getline(in, line);   // header
+    while (std::getline(in, line)) {
+        ScanRow r{};
+        if (std::sscanf(line.c_str(), "%lf,%lf,%lf", &r.az, &r.el, &r.value) == 3) rows.push_back(r);
+    }
+    return rows;
+}
+
+// The strongest direction of the model inside a box, on a fine lattice.
+std::pair<double, double> model_peak(const SkyModel& sky, double az0, double az1, double el0, double el1) {
+    std::pair<double, double> best{az0, el0};
+    double best_value = -1;
+    for (double az = az0; az <= az1; az += 0.25) {
+        for (double el = el0; el <= el1; el += 0.25) {
+            const double v = sky.expected_rssi(az, el, LnbSupply::odu_13v);
+            if (v > best_value) {
+                best_value = v;
+                best = {az, el};
+            }
+        }
+    }
+    return best;
+}
+
+std::string scan_path(const char* what) {
+    return "/tmp/birdcage-e2e-skyscan-" + std::string(what) + "-" + std::to_string(::getpid()) + ".csv";
+}
+
+}  // namespace
+
+TEST_CASE("birdcage-skyscan on the emulator finds its satellites within one grid step", "[e2e][receiver][skyscan]") {
+    const auto options = e2e::dish_options(Variant::carryout_g2, 166.0, 37.0, 100.0);
+    const SkyModel sky(0, options.rssi_floor);
+    e2e::Rig rig(options, kG2);
+    const std::string csv = scan_path("peaks");
+    const double sim_started = rig.dish().sim_time();
+    const auto result = e2e::run({BIRDCAGE_SKYSCAN_PATH, "--port", std::to_string(rig.port()), "--az", "166:206:2",
+                                  "--el", "35:49:2", "--lnb", "13", "--out", csv},
+                                 {}, 300s);
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    const double sim_seconds = rig.dish().sim_time() - sim_started;
+    const auto rows = read_csv(csv);
+    REQUIRE(rows.size() == 21u * 8u);
+    // Two satellite clusters in the box: DIRECTV's (~174/43) and ECHOSTAR 14's (~201/41).
+    for (const auto& [az0, az1] : {std::pair{166.0, 186.0}, std::pair{190.0, 206.0}}) {
+        const auto expected = model_peak(sky, az0, az1, 35.0, 49.0);
+        const auto best = *std::max_element(rows.begin(), rows.end(), [&](const ScanRow& a, const ScanRow& b) {
+            const bool a_in = a.az >= az0 && a.az <= az1, b_in = b.az >= az0 && b.az <= az1;
+            return a_in != b_in ? b_in : a.value < b.value;
+        });
+        INFO("model peak " << expected.first << "/" << expected.second << ", scan peak " << best.az << "/" << best.el);
+        CHECK(std::fabs(best.az - expected.first) <= 2.0);
+        CHECK(std::fabs(best.el - expected.second) <= 2.0);
+        CHECK(best.value > options.rssi_floor + 100.0);
+    }
+    WARN("skyscan of 168 points: " << sim_seconds << " s of dish time (= real speed)");
+    no_streaming_or_hazard(rig);
+    std::remove(csv.c_str());
+}
+
+TEST_CASE("birdcage-skyscan resumes after a kill without losing or repeating a point", "[e2e][receiver][skyscan]") {
+    e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 120.0, 30.0, 100.0), kG2);
+    const std::string csv = scan_path("resume");
+    const std::vector<std::string> scan = {BIRDCAGE_SKYSCAN_PATH, "--port", std::to_string(rig.port()), "--az",
+                                           "120:130:2", "--el", "30:40:2", "--out", csv};
+    {
+        e2e::Child first(scan, {}, scan_path("resume-log"));
+        REQUIRE(e2e::wait_until([&] { return read_csv(csv).size() >= 10; }, 120s));
+    }   // SIGTERM mid-scan
+    const std::size_t before = read_csv(csv).size();
+    CHECK(before < 36u);
+    std::vector<std::string> again = scan;
+    again.push_back("--resume");
+    const auto result = e2e::run(again, {}, 300s);
+    INFO(result.err);
+    REQUIRE(result.exit_code == 0);
+    CHECK(result.err.find(std::to_string(before) + " of 36 points already") != std::string::npos);
+    const auto rows = read_csv(csv);
+    CHECK(rows.size() == 36u);
+    std::set<std::pair<long, long>> points;
+    for (const auto& r : rows) points.insert({std::lround(r.az * 100), std::lround(r.el * 100)});
+    CHECK(points.size() == 36u);
+    for (double az = 120; az <= 130; az += 2)
+        for (double el = 30; el <= 40; el += 2) CHECK(points.count({std::lround(az * 100), std::lround(el * 100)}) == 1);
+    std::remove(csv.c_str());
+    std::remove(scan_path("resume-log").c_str());
 }

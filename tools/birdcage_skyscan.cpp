@@ -30,6 +30,9 @@ Scans the sky with a Winegard dish through a running rotctld that has the birdca
 loaded (e.g. `LD_PRELOAD=libhamlib-winegard.so rotctld -m 90105 -r /dev/ttyUSB0`), and writes
 one CSV row `az,el,value,time` per grid point as soon as it is measured.
 
+Start that rotctld with `-C pointing=none`: in the G2's default predictive mode a scan's
+stepping targets look like a slow satellite and the dish is aimed ahead of them.
+
 Why rotctld and not the serial port: rotctld owns the port while it runs (a second opener would
 interleave bytes with it), and the backend already enters the tuner menu between moves, guards
 the hazards and keeps the cable wrap; a scan can then run next to a tracking client. It speaks
@@ -125,9 +128,14 @@ double az_distance(double a, double b) { return std::fabs(std::remainder(a - b, 
 
 // Waits until two successive `p` agree with the target: set_position returns at once, and a
 // reading asked before the move starts would measure the old direction.
+// A dish that rests elsewhere for this long has been aimed elsewhere (pointing=predictive).
+constexpr auto resting_elsewhere = std::chrono::seconds(5);
+
 bool arrive(Rotctld& rot, const sc::Point& target, double tolerance) {
     const auto deadline = Clock::now() + std::chrono::minutes(3);
     int agreeing = 0;
+    std::pair<double, double> last{-1000, -1000};
+    auto last_change = Clock::now();
     while (Clock::now() < deadline) {
         const auto p = rot.ask("p", 2);
         if (!p) return false;
@@ -135,6 +143,14 @@ bool arrive(Rotctld& rot, const sc::Point& target, double tolerance) {
             const double az = std::atof((*p)[0].c_str()), el = std::atof((*p)[1].c_str());
             agreeing = az_distance(az, target.az) <= tolerance && std::fabs(el - target.el) <= tolerance ? agreeing + 1 : 0;
             if (agreeing >= 2) return true;
+            if (std::pair{az, el} != last) {
+                last = {az, el};
+                last_change = Clock::now();
+            } else if (Clock::now() - last_change > resting_elsewhere) {
+                std::fprintf(stderr, "\nbirdcage-skyscan: the dish rests at %.2f %.2f instead; was rotctld started "
+                                     "with -C pointing=none?\n", az, el);
+                return false;
+            }
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }

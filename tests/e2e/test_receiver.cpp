@@ -225,7 +225,7 @@ std::string scan_path(const char* what) {
 TEST_CASE("birdcage-skyscan on the emulator finds its satellites within one grid step", "[e2e][receiver][skyscan]") {
     const auto options = e2e::dish_options(Variant::carryout_g2, 166.0, 37.0, 100.0);
     const SkyModel sky(0, options.rssi_floor);
-    e2e::Rig rig(options, kG2);
+    e2e::Rig rig(options, kG2, {"-C", "pointing=none"});
     const std::string csv = scan_path("peaks");
     const double sim_started = rig.dish().sim_time();
     const auto result = e2e::run({BIRDCAGE_SKYSCAN_PATH, "--port", std::to_string(rig.port()), "--az", "166:206:2",
@@ -254,7 +254,7 @@ TEST_CASE("birdcage-skyscan on the emulator finds its satellites within one grid
 }
 
 TEST_CASE("birdcage-skyscan resumes after a kill without losing or repeating a point", "[e2e][receiver][skyscan]") {
-    e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 120.0, 30.0, 100.0), kG2);
+    e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 120.0, 30.0, 100.0), kG2, {"-C", "pointing=none"});
     const std::string csv = scan_path("resume");
     const std::vector<std::string> scan = {BIRDCAGE_SKYSCAN_PATH, "--port", std::to_string(rig.port()), "--az",
                                            "120:130:2", "--el", "30:40:2", "--out", csv};

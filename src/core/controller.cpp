@@ -135,6 +135,31 @@ Status Controller::leave_submenus() {
     return Status{Errc::protocol, "could not reach the root menu (last prompt " + session_.last_prompt() + ")"};
 }
 
+Status Controller::in_submenu(std::string_view menu, const std::function<Status(ConsoleSession&)>& work) {
+    if (in_flight_) {
+        return {Errc::busy, "a leg is in flight; the motor menu must stay open"};
+    }
+    if (Status left = leave_submenus(); !left) {
+        return left;
+    }
+    Status worked = Status::ok();
+    if (const auto entered = session_.transact(menu, menu_step_timeout); !entered) {
+        worked = entered.status;
+    } else {
+        worked = work(session_);
+    }
+    // Back to the motor menu even when the work failed: the next leg must find it open.
+    Status back = leave_submenus();
+    if (back) {
+        back = run_steps(profile_.motor_menu_entry, "returning to the motor menu");
+    }
+    if (!back) {
+        emit(options_.log, LogLevel::warning, "could not return to the motor menu from " + std::string(menu) + ": " + back.message);
+        return back;
+    }
+    return worked;
+}
+
 Status Controller::check_homing() {
     if (!profile_.has(quirk_requires_homing) || !unhomed_) {
         return Status::ok();

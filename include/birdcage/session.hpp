@@ -60,6 +60,9 @@ public:
     }
     // The most recent boot line seen anywhere (transact, listen or stale input).
     const std::string& last_boot_line() const { return last_boot_line_; }
+    // The last bytes the console sent, raw (line noise and text the framer dropped included): for
+    // decisions that must not miss evidence whatever shape it arrived in.
+    const std::string& recent_output() const { return recent_output_; }
 
     void set_allow_nvs_write(bool allow) { allow_nvs_write_ = allow; }
     // The controller reports the homing state it learnt from position replies; the guard uses it.
@@ -84,6 +87,7 @@ private:
     enum class ReadOutcome { data, timeout, failed };
 
     ReadOutcome read_some(Collected& into, Deadline deadline, Status& failure);
+    void note_raw(std::string_view bytes);
     void handle_event(const FrameEvent& event, Collected& into);
     Status drain_stale(Collected& stale);
     void note_prompt(const std::string& prompt);
@@ -97,6 +101,8 @@ private:
     std::string last_prompt_;
     bool reboot_seen_ = false;
     std::string last_boot_line_;
+    static constexpr std::size_t recent_output_limit = 8192;
+    std::string recent_output_;
     bool allow_nvs_write_ = false;
     bool axes_unhomed_ = false;
 };

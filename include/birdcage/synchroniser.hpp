@@ -66,6 +66,8 @@ public:
     ConsoleSynchroniser(Transport& transport, SyncSettings settings, LogSink log, ClockSource clock = {});
 
     Result<ConsoleSnapshot> synchronise();
+    // The last bytes heard, raw (noise included), oldest first.
+    const std::string& recent_output() const { return recent_; }
 
 private:
     struct Heard {

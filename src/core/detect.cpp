@@ -134,6 +134,18 @@ bool g2_command_heard(const std::vector<std::string>& lines) {
     });
 }
 
+// Any G2 clue (a boot line, a G2-only command or prompt; not the shared `TRK>` shape) anywhere in
+// the raw output, even run into noise or a prompt: the exception `q` below is refused on the
+// faintest sign of a G2. A false alarm only costs the Pro check (the 75 deg cap then stays).
+bool g2_text_in(std::string_view raw) {
+    const std::string text = lower(raw);
+    const auto all = detection_clues();
+    return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
+        return clue.variant == VariantId::carryout_g2 && !is_g2_root_shape(clue.text) &&
+               text.find(lower(clue.text)) != std::string::npos;
+    });
+}
+
 // The one root where detection may send `q`: a listing that positively shows a Trav'ler (or Pro
 // ODU) root, mot, os and nvs, with no G2-only command. There `q` is the upstream Trav'ler
 // clients' own harmless idiom, sent first at whatever prompt (firmware notes 2, 3.6); it kills
@@ -265,6 +277,10 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
         }
         help_lines = help.value.lines;
         evidence.lines.insert(evidence.lines.end(), help.value.lines.begin(), help.value.lines.end());
+        // The session keeps boot lines out of a reply; they are evidence all the same.
+        if (!session.last_boot_line().empty()) {
+            evidence.lines.push_back(session.last_boot_line());
+        }
         reply_on_same_prompt = trimmed(help.value.prompt) == evidence.prompt;
         return Status::ok();
     };
@@ -318,7 +334,8 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
                 // the upstream clients' harmless idiom (firmware notes 2), and nothing else hints
                 // at a G2. It tells a Pro left in its ODU console from a HAL 0.0.00.
                 if (no_trace_of_g2 && shows_travler_root(evidence.help) && !g2_command_heard(evidence.lines) &&
-                    !evidence.prompt.empty() && reply_on_same_prompt) {
+                    !session.reboot_seen() && !g2_text_in(session.recent_output()) && !evidence.prompt.empty() &&
+                    reply_on_same_prompt) {
                     if (Status left = leave_menu("travler root"); !left) {
                         return {{}, left};
                     }

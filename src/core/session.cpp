@@ -33,6 +33,7 @@ Result<ConsoleSnapshot> ConsoleSession::synchronise(const SyncSettings& settings
     framer_.reset();
     ConsoleSynchroniser synchroniser(transport_, settings, log_);
     auto synced = synchroniser.synchronise();
+    note_raw(synchroniser.recent_output());
     if (synced.value.boot_heard) {
         reboot_seen_ = true;
         last_boot_line_ = synced.value.last_boot_line;
@@ -99,6 +100,13 @@ void ConsoleSession::handle_event(const FrameEvent& event, Collected& into) {
     }
 }
 
+void ConsoleSession::note_raw(std::string_view bytes) {
+    recent_output_.append(bytes);
+    if (recent_output_.size() > recent_output_limit) {
+        recent_output_.erase(0, recent_output_.size() - recent_output_limit);
+    }
+}
+
 ConsoleSession::ReadOutcome ConsoleSession::read_some(Collected& into, Deadline deadline, Status& failure) {
     std::array<char, 512> buffer{};
     const auto got = transport_.read(buffer.data(), buffer.size(), deadline);
@@ -111,6 +119,7 @@ ConsoleSession::ReadOutcome ConsoleSession::read_some(Collected& into, Deadline 
     }
     const std::string_view bytes(buffer.data(), got.value);
     emit(log_, LogLevel::trace, "RES " + escape_bytes(bytes));
+    note_raw(bytes);
     for (const auto& event : framer_.feed(bytes)) {
         handle_event(event, into);
     }

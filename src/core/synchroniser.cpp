@@ -10,7 +10,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr std::size_t recent_limit = 2048;   // bytes of output kept for the give-up message
+constexpr std::size_t recent_limit = 8192;   // bytes of output kept for the give-up message and recent_output()
 constexpr std::size_t lines_quoted = 4;
 constexpr std::size_t baud_sample = 256;     // bytes judged by the wrong-baud check
 
@@ -308,9 +308,9 @@ void ConsoleSynchroniser::report_progress(const ConsoleSnapshot& snapshot, Clock
         announced_wait_ = true;
         emit(log_, LogLevel::warning,
              (snapshot.last_boot_line.empty()
-                  ? std::string("the console does not answer yet")
-                  : "the dish is booting (\"" + escape_bytes(snapshot.last_boot_line) + "\")") +
-                 "; waiting for it to finish (up to " + seconds_text(settings_.budget) + ")");
+                  ? std::string("the console does not answer yet; waiting for the dish to finish booting")
+                  : "the dish is booting (\"" + escape_bytes(snapshot.last_boot_line) + "\"); waiting for it to finish") +
+                 " (up to " + seconds_text(settings_.budget) + ")");
         return;
     }
     if (elapsed < next_progress_) {

@@ -134,7 +134,7 @@ TEST_CASE("controller G2: rotctld started during boot survives the late Loc Star
     // Never `q` at the root, and `mot` only after the prompt was confirmed.
     const auto& sent = wire.commands();
     CHECK(std::find(sent.begin(), sent.end(), "q") == sent.end());
-    CHECK(log.has(LogLevel::warning, "waiting for the dish to finish booting"));
+    CHECK(log.has(LogLevel::warning, "the dish is booting (\"Motor init: System=12Inch, master=40000 steps\"); waiting for it to finish"));
 }
 
 TEST_CASE("sync: while boot output is in progress the console is only listened to") {
@@ -191,7 +191,7 @@ TEST_CASE("sync: a silent console is waited for with progress every 30 s, then t
     const auto synced = sync.synchronise();
     REQUIRE_FALSE(synced);
     CHECK(synced.status.code == Errc::timeout);
-    CHECK(log.count("the console does not answer yet; waiting for it to finish (up to 100 s)") == 1);
+    CHECK(log.count("the console does not answer yet; waiting for the dish to finish booting (up to 100 s)") == 1);
     CHECK(log.count("still waiting for the dish to boot: 30 s") == 1);
     CHECK(log.count("still waiting for the dish to boot: 60 s") == 1);
     CHECK(log.count("still waiting for the dish to boot: 90 s") == 1);

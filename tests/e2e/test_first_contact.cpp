@@ -84,6 +84,11 @@ HelpLayout other_help_layout(const VariantRow& v, int which) {
     return kOtherHelpLayouts[(2 * index + static_cast<std::size_t>(which)) % kOtherHelpLayouts.size()];
 }
 
+// Timings that compete with the backend's own windows (its quiet gap and reply windows are real
+// time, because the line is) are stated in real seconds and scaled into the emulator's simulated
+// ones; otherwise at 50x a one-second gap on the console would shrink to 20 ms.
+double real_seconds(const Options& o, double seconds) { return seconds * o.time_scale; }
+
 // Two alternative readings of the firmware notes' open questions (sim/README.md, "Switches").
 // Together they flip every switch that bears on first contact; a switch a variant does not have
 // is simply ignored by the emulator for that variant. Left out on purpose: g2_homed and
@@ -96,7 +101,8 @@ std::vector<Profile> profiles_for(const VariantRow& v) {
     return {
         {"defaults", [](Options&) {}},
         // A quiet, minimal console: no echo, LF, silent on unknown commands, `>` prompts followed
-        // by a space, bare upper-case help words, slow boot lines, every binary switch flipped.
+        // by a space, bare upper-case help words, boot lines 0.3 s apart and the late one 0.3 s
+        // after the completion line, every binary switch flipped.
         {"terse",
          [g_aborts_by_default, terse_help](Options& o) {
              o.echo = false;
@@ -120,13 +126,13 @@ std::vector<Profile> profiles_for(const VariantRow& v) {
              o.travler_position_layout = birdcage::sim::TravlerPositionLayout::line_per_axis;
              o.help_layout = terse_help;
              o.help_upper_case = true;
-             o.boot_line_gap = 0.5;
+             o.boot_line_gap = real_seconds(o, 0.3);
              o.pace_at_line_rate = true;
-             o.late_boot_line_delay = 0.5;
+             o.late_boot_line_delay = real_seconds(o, 0.3);
          }},
         // A talkative console: CR-only line endings, an unknown-command text with `>` in it,
-        // another help layout, indented three-decimal positions, an unsolicited status line now
-        // and then, boot lines in one burst with the late line long after, a short deaf window
+        // another help layout, indented three-decimal positions, an unsolicited status line every
+        // 2 s, boot lines in one burst with the late line 1 s after, the invented 50 ms deaf window
         // after boot, output paced at the line rate, a firmware wrap manager with its wrap at north.
         {"chatty",
          [chatty_help](Options& o) {
@@ -138,10 +144,10 @@ std::vector<Profile> profiles_for(const VariantRow& v) {
              o.az_mapping = birdcage::sim::AzMapping::wrap_manager;
              o.az_wrap_point = 0.0;
              o.idle_line = "Loc Startup: IDU NOT Present";
-             o.idle_line_period = 10.0;
+             o.idle_line_period = real_seconds(o, 2.0);
              o.boot_line_gap = 0.0;
-             o.late_boot_line_delay = 2.0;
-             o.boot_input_drop = 0.05;
+             o.late_boot_line_delay = real_seconds(o, 1.0);
+             o.boot_input_drop = real_seconds(o, 0.05);
              o.pace_at_line_rate = true;
              o.carryout_live_line_period = 0.1;
              o.rssi_floor = 500.0;

@@ -23,6 +23,7 @@
 
 #include "birdcage/framer.hpp"
 #include "birdcage/protocol.hpp"
+#include "birdcage/synchroniser.hpp"
 #include "birdcage/transport.hpp"
 #include "birdcage/variants.hpp"
 #include "birdcage_sim/transcript.hpp"
@@ -39,6 +40,8 @@ constexpr auto baud_listen = 600ms;      // after a bare CR, for a console to sa
 constexpr auto reply_timeout = 3000ms;   // one command's reply, up to its prompt
 constexpr auto quiet_after_prompt = 80ms;  // a prompt only counts if nothing follows it
 constexpr const char* nonsense_word = "xyzzyq";  // harmless: no firmware documents it
+// A dish probed right after power-on may take minutes to boot (the G2's search, firmware notes 6.2).
+constexpr auto sync_budget = 300s;
 
 std::optional<int> int_arg(const char* text)
 {
@@ -288,8 +291,8 @@ bool answers(birdcage::Transport& port)
     return printable >= 2 && printable * 10 >= static_cast<long>(heard.size()) * 8;
 }
 
-int run_probe(const std::string& path, std::optional<int> baud, const birdcage::FirmwareProfile& profile, bool force_fd,
-              bool force)
+int run_probe(const std::string& path, std::optional<int> baud, const birdcage::FirmwareProfile& profile,
+              const birdcage::FirmwareProfile& sync_profile, bool force_fd, bool force)
 {
     std::unique_ptr<birdcage::Transport> port;
     std::vector<int> tried;
@@ -316,7 +319,19 @@ int run_probe(const std::string& path, std::optional<int> baud, const birdcage::
 
     const Guard guard(profile, force);
     Probe probe(*port, guard);
-    const auto resync = probe.send("");
+    // The one console synchroniser of the backend's open paths: a booting, noisy or stale console
+    // is brought to a confirmed prompt before anything but line endings (and `?`) is sent. Without
+    // --variant the console is judged as auto-detect does, from no assumption about its prompts.
+    const birdcage::LogSink to_stderr = [](birdcage::LogLevel level, const std::string& message) {
+        if (level == birdcage::LogLevel::error || level == birdcage::LogLevel::warning)
+            std::cerr << "birdcage-probe: " << message << '\n';
+    };
+    birdcage::ConsoleSynchroniser synchroniser(
+        *port, birdcage::console_sync_settings(sync_profile, std::chrono::duration_cast<std::chrono::milliseconds>(sync_budget)),
+        to_stderr);
+    const auto synced = synchroniser.synchronise();
+    if (!synced) std::cerr << "birdcage-probe: the console did not come into sync: " << synced.status.message << '\n';
+    probe.prompt = synced.value.prompt;
     const std::string root_prompt = probe.prompt;
 
     const auto nonsense = probe.send(nonsense_word);
@@ -364,7 +379,7 @@ int run_probe(const std::string& path, std::optional<int> baud, const birdcage::
                   << ", \"reason\": " << json_string(probe.refused[i].second) << "}";
     std::cout << (probe.refused.empty() ? "" : "\n  ") << "],\n  \"final_prompt\": " << json_string(probe.prompt)
               << "\n}\n";
-    return resync && !root_prompt.empty() ? 0 : 1;
+    return synced && !root_prompt.empty() ? 0 : 1;
 }
 
 // ---- record -------------------------------------------------------------------------------------
@@ -538,5 +553,5 @@ int main(int argc, char** argv)
     }
     const auto& profile = birdcage::profile(variant);
     if (record) return run_record(port, baud.value_or(variant_given ? profile.baud : 115200), profile, force_fd, force, output, source);
-    return run_probe(port, baud, profile, force_fd, force);
+    return run_probe(port, baud, profile, variant_given ? profile : birdcage::probe_profile(), force_fd, force);
 }

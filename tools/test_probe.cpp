@@ -84,3 +84,19 @@ TEST_CASE("birdcage-probe record tees a piped session into a transcript and refu
     CHECK(dish.hazards_received() == 0);
     CHECK(dish.shell_alive());
 }
+
+TEST_CASE("birdcage-probe without --variant waits for a booting G2 through the console synchroniser")
+{
+    sim::Options options;
+    options.variant = sim::Variant::carryout_g2;
+    options.time_scale = 10.0;
+    options.already_booted = false;
+    sim::Emulator dish(options);
+    const std::string report = run(std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --baud 115200");
+
+    // The root prompt is the one confirmed after the boot, not a stale line read mid-boot.
+    CHECK_THAT(report, Catch::Contains("\"root_prompt\": \"TRK>\""));
+    CHECK_THAT(report, Catch::Contains("{\"name\": \"mot\", \"prompt\": \"MOT>\""));
+    CHECK(dish.hazards_received() == 0);
+    CHECK(dish.shell_alive());
+}

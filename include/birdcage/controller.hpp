@@ -91,6 +91,13 @@ public:
     // transcript golden files (sim/transcripts/*.chk) pin.
     std::string describe_wrap() const;
 
+    // True while a leg has been sent and not yet arrived: the console must stay in the motor menu.
+    bool leg_in_flight() const { return in_flight_.has_value(); }
+    // The one way into a submenu other than the motor menu: from the motor menu through the root
+    // into `menu`, `work` there, then back into the motor menu whatever `work` returned. Refused
+    // (Errc::busy) while a leg is in flight; legs not yet sent stay queued.
+    Status in_submenu(std::string_view menu, const std::function<Status(ConsoleSession&)>& work);
+
     double el_min() const { return el_min_; }
     double el_max() const { return el_max_; }
     bool initialised() const { return initialised_; }

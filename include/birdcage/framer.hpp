@@ -33,7 +33,7 @@ public:
     void expect_echo(std::string_view command);
 
     // Feeds one chunk as it arrived. A prompt is recognised only at the end of a chunk (nothing
-    // followed it yet) or as a whole line.
+    // followed it yet), as a whole line, or at the start of a line that runs into line noise.
     std::vector<FrameEvent> feed(std::string_view bytes);
 
     // The unterminated text held back so far (for diagnostics).
@@ -45,6 +45,7 @@ public:
 private:
     void finish_line(std::vector<FrameEvent>& events);
     void flush_noise(std::vector<FrameEvent>& events);
+    void end_prompt_at_noise(std::vector<FrameEvent>& events);
 
     const FirmwareProfile& profile_;
     std::string partial_;

@@ -11,6 +11,7 @@
 #include "birdcage/detect.hpp"
 #include "birdcage/errors.hpp"
 #include "birdcage/pointing.hpp"
+#include "birdcage/receiver.hpp"
 #include "birdcage/transport.hpp"
 
 #include <chrono>
@@ -96,6 +97,14 @@ public:
     // Homes the axes (G2: h 1, h 0) in the worker; Errc::unsupported where the firmware cannot.
     Status reset();
 
+    // Receiver (receiver.hpp): taken by the worker between legs, so position() keeps answering from
+    // the position model and queued legs wait; the caller blocks until the reading is done.
+    // Errc::unsupported on variants without a tuner.
+    Result<RssiReading> read_signal(int samples);
+    Status set_lnb_supply(LnbSupply supply);
+    // The supply last set (the boot default until then, and again after the dish rebooted).
+    LnbSupply lnb_supply() const;
+
     bool idle() const;
     // True while the worker re-initialises the dish (after a reboot, hang-up or lost sync).
     bool recovering() const;
@@ -109,6 +118,8 @@ public:
 
 private:
     void run();
+    Status run_between_legs(std::function<Status(Controller&)> work, std::chrono::milliseconds timeout);
+    void run_receiver_job();
     void publish_locked(const Controller& controller, const Status& step);
     Status detect();
     void enter_recovery_locked(std::string reason);
@@ -152,6 +163,14 @@ private:
     bool unhomed_ = false;
     bool shutdown_requested_ = false;
     std::optional<AzEl> latest_target_;   // the client's last target (resumed after a recovery)
+    struct ReceiverJob {
+        std::function<Status(Controller&)> work;
+        Status result;
+        bool started = false, done = false;
+    };
+    std::shared_ptr<ReceiverJob> receiver_job_;   // one at a time; rotctld serialises its clients
+    std::condition_variable receiver_done_;
+    LnbSupply lnb_supply_ = lnb_boot_default;
     // Snapshot from the worker to callers.
     std::optional<AzEl> position_;
     std::optional<Controller::LegMotion> leg_motion_;   // the move in flight (position model)

@@ -6,7 +6,9 @@
 // It never trusts a single line: it drains stale input, waits until the console has been quiet,
 // sends a line ending, waits for quiet again and takes the prompt only from the END of that reply
 // (a stale `TRK>` followed by a late boot line is no prompt), and acts on a prompt only once two
-// consecutive pokes ended on the same one.
+// consecutive pokes ended on the same one. "Quiet" means no console text: line noise (random
+// bytes from an idle RS-485 bus, which may never stop) neither keeps a reply open nor hides a
+// prompt it follows.
 #pragma once
 
 #include <chrono>
@@ -68,7 +70,7 @@ public:
 private:
     struct Heard {
         std::string raw;          // every byte, as received
-        std::size_t text_end = 0; // raw up to the end of its last chunk of text (noise after it ignored)
+        std::size_t text_end = 0; // raw up to the end of its last text line or clean prompt (noise after it ignored)
         std::string_view text() const { return std::string_view(raw).substr(0, text_end); }
         bool failed = false;
         Status failure;

@@ -110,6 +110,11 @@ struct FirmwareProfile {
     // trails an extrapolated aim and the client's corrections then fight it.
     bool predictive_by_default;
 
+    // The submenu holding the satellite tuner (G2 `dvb`, firmware.md 6.3), entered from the root
+    // menu; empty = the variant has no tuner we can read. Read by: Controller::in_submenu() callers
+    // (receiver.cpp).
+    std::string_view receiver_menu = {};
+
     bool has(Quirk quirk) const { return (quirks & quirk) != 0; }
     bool prompt_known() const { return !motor_prompt.empty(); }
 };

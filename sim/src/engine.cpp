@@ -343,7 +343,7 @@ void Engine::start_boot()
     nvs.load_saved();
     apply_nvs_limits();
     nvs_cursor = -1;
-    lnb_mode = "STB";
+    lnb_supply = LnbSupply::stb_18v;
     stall_arms_ = {};  // an injected stall meant for the interrupted move does not hit homing
     if (profile.needs_homing) homed = {false, false};
     boot_steps_ = profile.boot_script(*this);

@@ -148,7 +148,8 @@ struct Engine {
     Busy busy;
     NvsTable nvs;
     int nvs_cursor = -1;
-    std::string lnb_mode = "STB";  // §6.2 item 8
+    // §6.2 item 8: the boot log says `Enabled LNB STB`; what the sky model hears.
+    LnbSupply lnb_supply = LnbSupply::stb_18v;
     unsigned motor_stalls = 0;     // injected stalls that have happened
 
 private:

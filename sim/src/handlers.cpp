@@ -393,7 +393,7 @@ void dvb_rssi(Engine& e, const Args& args)
         long sum = 0;
         int current = 0;
         for (int i = 0; i < reads; ++i) {
-            current = engine.sky.read(engine.displayed_az(), engine.motors.axis(axis_el).position());
+            current = engine.sky.read(engine.displayed_az(), engine.motors.axis(axis_el).position(), engine.lnb_supply);
             sum += current;
         }
         engine.print_line(format("iterations:%d  interval(msec):20", reads));
@@ -405,9 +405,9 @@ void dvb_lnbdc(Engine& e, const Args& args)
 {
     // §6.3: reply text undocumented; prints nothing.
     if (args.size() == 2 && args[1] == "odu") {
-        e.lnb_mode = "ODU";
+        e.lnb_supply = LnbSupply::odu_13v;
     } else if (args.size() == 2 && args[1] == "stb") {
-        e.lnb_mode = "STB";
+        e.lnb_supply = LnbSupply::stb_18v;
     } else {
         e.unknown_command();
     }
@@ -422,7 +422,7 @@ void dvb_config(Engine& e, const Args&)
 
 void dvb_quick_lock(Engine& e, const Args&)
 {
-    e.print_line(format("Lock:0  rssi:%d  cnt:0", e.sky.read(e.displayed_az(), e.motors.axis(axis_el).position())));
+    e.print_line(format("Lock:0  rssi:%d  cnt:0", e.sky.read(e.displayed_az(), e.motors.axis(axis_el).position(), e.lnb_supply)));
 }
 
 void hazard_only(Engine& e, const Args&) { e.count_hazard(); }

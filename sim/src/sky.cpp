@@ -1,9 +1,34 @@
+// The sky a G2 sees, from Davidson's real scan (firmware notes §11.2):
+//
+// - 13 V (`lnbdc odu`), the setting the scan was taken with: inside the scanned grid (AZ 110..240,
+//   EL 18..58, 1 degree) the value is the measurement itself, bilinearly interpolated, so a scan of
+//   the emulator reproduces the real heatmap, noise floor and beam shapes included. Outside it: the
+//   floor plus the satellite belt, a Gaussian beam (sigma 2.9 degrees on sky, the ~7 degree FWHM
+//   of §11.2) per catalogue satellite with the amplitude a least-squares fit to the scan gave it.
+// - 18 V (`lnbdc stb`, the boot default): the LNB receives the other polarisation, which nobody
+//   has scanned. The model keeps the floor and the satellites' positions and swaps what is strong:
+//   a satellite strong at 13 V (>= 30 counts) leaks a fifth of it (cross-polar isolation ~7 dB of
+//   a small dish), and a slot (satellites within 3 degrees) the 13 V fit found weak or silent
+//   carries 60 counts. An
+//   invented but explicit rule: the point is that the voltage visibly changes the sky, and a test
+//   can tell which polarisation the dish listens to.
+// - Each 20 ms read adds Gaussian noise of 8 counts, so `rssi 10` scatters by ~2.5 counts like
+//   the real averages; deterministic per seed.
 #include "birdcage_sim/sky.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <sstream>
+#include <stdexcept>
 
 namespace birdcage::sim {
+namespace sky_data {
+extern const char* const scan;
+extern const char* const catalogue;
+}  // namespace sky_data
+
 namespace {
 
 struct Bump {
@@ -12,11 +37,10 @@ struct Bump {
     double amplitude;  // counts above the floor
 };
 
-// Positions: winegard-sky-scan example/satellite_data.csv (Gpredict look angles at
-// Davidson's site). Amplitudes: non-negative least-squares fit of Gaussian beams (sigma 2.9 deg
-// on sky, i.e. the ~7 deg FWHM of firmware.md §11.2) plus a 401-count floor to scan_data.txt
-// (5371 points, rms residual 8.6 counts). Satellites the fit gave no power are omitted.
-constexpr Bump sky_bumps[] = {
+// Non-negative least-squares fit of Gaussian beams at the catalogue positions plus a 401-count
+// floor to scan_data.txt (5371 points, rms residual 8.6 counts). Satellites the fit gave no power
+// are absent (amplitude 0 at 13 V).
+constexpr Bump fitted_13v[] = {
     {124.12, 26.21, 27.6}, {124.26, 26.30, 49.2}, {124.41, 26.40, 52.7}, {135.69, 33.44, 88.4},
     {140.22, 35.71, 79.8}, {145.15, 37.73, 13.3}, {146.83, 38.37, 18.0}, {150.57, 40.01, 10.5},
     {159.26, 41.90, 3.3},  {159.32, 41.85, 14.0}, {171.56, 43.61, 83.3}, {176.95, 43.95, 73.7},
@@ -24,28 +48,125 @@ constexpr Bump sky_bumps[] = {
     {201.85, 41.66, 45.4}, {204.63, 41.00, 18.5}, {212.71, 38.53, 18.7}, {215.27, 37.59, 10.9},
     {224.66, 30.18, 14.7}, {237.42, 25.10, 4.7},
 };
+constexpr double scan_floor = 401.0;   // the fitted floor of scan_data.txt
 constexpr double beam_sigma_deg = 2.9;
+constexpr double strong_13v = 30.0;
+constexpr double cross_polar_fraction = 0.2;
+constexpr double slot_radius_deg = 3.0;
+constexpr double other_polarisation_amplitude = 60.0;
+constexpr double sample_noise = 8.0;
+
+struct Grid {
+    std::vector<double> az, el;   // ascending axes
+    std::vector<double> value;    // az-major: value[i * el.size() + j]
+
+    double at(std::size_t i, std::size_t j) const { return value[i * el.size() + j]; }
+    bool contains(double a, double e) const {
+        return !az.empty() && a >= az.front() && a <= az.back() && e >= el.front() && e <= el.back();
+    }
+    double interpolate(double a, double e) const {
+        const auto cell = [](const std::vector<double>& axis, double x) {
+            const auto upper = std::upper_bound(axis.begin(), axis.end(), x);
+            const std::size_t hi = std::clamp<std::size_t>(static_cast<std::size_t>(upper - axis.begin()), 1, axis.size() - 1);
+            const double t = (x - axis[hi - 1]) / (axis[hi] - axis[hi - 1]);
+            return std::pair{hi - 1, std::clamp(t, 0.0, 1.0)};
+        };
+        const auto [i, ta] = cell(az, a);
+        const auto [j, te] = cell(el, e);
+        const double low = at(i, j) * (1 - te) + at(i, j + 1) * te;
+        const double high = at(i + 1, j) * (1 - te) + at(i + 1, j + 1) * te;
+        return low * (1 - ta) + high * ta;
+    }
+};
+
+Grid parse_grid() {
+    std::map<std::pair<double, double>, double> points;
+    std::istringstream in(sky_data::scan);
+    double a = 0, e = 0, v = 0;
+    while (in >> a >> e >> v) {
+        points[{a, e}] = v;
+    }
+    Grid grid;
+    for (const auto& [key, value] : points) {
+        if (grid.az.empty() || grid.az.back() != key.first) grid.az.push_back(key.first);
+        if (std::find(grid.el.begin(), grid.el.end(), key.second) == grid.el.end()) grid.el.push_back(key.second);
+    }
+    std::sort(grid.el.begin(), grid.el.end());
+    if (grid.az.size() < 2 || grid.el.size() < 2 || points.size() != grid.az.size() * grid.el.size()) {
+        throw std::runtime_error("sky model: the embedded scan is not a complete grid");
+    }
+    for (const auto& entry : points) grid.value.push_back(entry.second);   // map order is az-major
+    return grid;
+}
+
+const Grid& measured() {
+    static const Grid grid = parse_grid();
+    return grid;
+}
+
+std::vector<Satellite> parse_catalogue() {
+    std::vector<Satellite> out;
+    std::istringstream in(sky_data::catalogue);
+    std::string line;
+    while (std::getline(in, line)) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        const auto second = line.rfind(',');
+        const auto first = second == std::string::npos ? std::string::npos : line.rfind(',', second - 1);
+        if (first == std::string::npos) continue;
+        Satellite s;
+        s.name = line.substr(0, first);
+        s.az = std::stod(line.substr(first + 1, second - first - 1));
+        s.el = std::stod(line.substr(second + 1));
+        for (const Bump& b : fitted_13v) {
+            if (std::abs(b.az - s.az) < 0.005 && std::abs(b.el - s.el) < 0.005) s.amplitude_13v = b.amplitude;
+        }
+        out.push_back(std::move(s));
+    }
+    // Co-located satellites share one orbital slot (one beam): a slot with a strong satellite is
+    // strong on that polarisation, so all its satellites only leak on the other one.
+    for (Satellite& s : out) {
+        const bool strong_slot = std::any_of(out.begin(), out.end(), [&](const Satellite& other) {
+            return other.amplitude_13v >= strong_13v && std::hypot(other.az - s.az, other.el - s.el) <= slot_radius_deg;
+        });
+        s.amplitude_18v = strong_slot ? cross_polar_fraction * s.amplitude_13v : other_polarisation_amplitude;
+    }
+    return out;
+}
+
+double beam(double az, double el, const Satellite& s) {
+    double daz = std::remainder(az - s.az, 360.0) * std::cos(s.el * std::numbers::pi / 180.0);
+    const double del = el - s.el;
+    return std::exp(-(daz * daz + del * del) / (2.0 * beam_sigma_deg * beam_sigma_deg));
+}
 
 }  // namespace
 
+const std::vector<Satellite>& SkyModel::satellites() {
+    static const std::vector<Satellite> catalogue = parse_catalogue();
+    return catalogue;
+}
+
+bool SkyModel::inside_measured_grid(double az, double el) { return measured().contains(az, el); }
+
 SkyModel::SkyModel(std::uint32_t seed, double floor) : floor_(floor), rng_(seed) {}
 
-double SkyModel::expected_rssi(double az, double el) const
+double SkyModel::expected_rssi(double az, double el, LnbSupply supply) const
 {
+    az = std::fmod(std::fmod(az, 360.0) + 360.0, 360.0);
+    if (supply == LnbSupply::odu_13v && measured().contains(az, el)) {
+        return measured().interpolate(az, el) - scan_floor + floor_;
+    }
     double value = floor_;
-    for (const Bump& bump : sky_bumps) {
-        double daz = std::remainder(az - bump.az, 360.0);
-        daz *= std::cos(bump.el * std::numbers::pi / 180.0);
-        const double del = el - bump.el;
-        value += bump.amplitude * std::exp(-(daz * daz + del * del) / (2.0 * beam_sigma_deg * beam_sigma_deg));
+    for (const Satellite& s : satellites()) {
+        value += (supply == LnbSupply::odu_13v ? s.amplitude_13v : s.amplitude_18v) * beam(az, el, s);
     }
     return value;
 }
 
-int SkyModel::read(double az, double el)
+int SkyModel::read(double az, double el, LnbSupply supply)
 {
-    std::normal_distribution<double> noise(0.0, 1.5);
-    return static_cast<int>(std::lround(expected_rssi(az, el) + noise(rng_)));
+    std::normal_distribution<double> noise(0.0, sample_noise);
+    return static_cast<int>(std::lround(expected_rssi(az, el, supply) + noise(rng_)));
 }
 
 }  // namespace birdcage::sim

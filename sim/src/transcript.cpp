@@ -29,6 +29,8 @@ std::string_view trim(std::string_view text)
     return text;
 }
 
+constexpr double max_delay_ms = 24.0 * 3600.0 * 1000.0;
+
 // `@+120ms`, `@+0.5ms`, `@+2s`; returns milliseconds.
 std::optional<double> parse_delay(std::string_view token)
 {
@@ -49,12 +51,15 @@ std::optional<double> parse_delay(std::string_view token)
     const double value = std::strtod(number.c_str(), &end);
     if (number.empty() || end != number.c_str() + number.size() || !std::isfinite(value) || value < 0.0)
         return std::nullopt;
+    // No console pauses for a day between two chunks; a larger number is a typo, and it would not
+    // print back as the same number.
+    if (value * scale > max_delay_ms) return std::nullopt;
     return value * scale;
 }
 
 std::string format_delay(double ms)
 {
-    char text[32];
+    char text[48];
     if (ms == std::floor(ms)) std::snprintf(text, sizeof text, "@+%.0fms", ms);
     else std::snprintf(text, sizeof text, "@+%.1fms", ms);
     return text;
@@ -125,7 +130,10 @@ std::string format_entry(const TranscriptEntry& entry)
     if (entry.reconstructed) line += '~';
     line += ' ';
     if (entry.delay_ms > 0.0) line += format_delay(entry.delay_ms) + ' ';
-    line += escape_chunk(entry.bytes);
+    std::string bytes = escape_chunk(entry.bytes);
+    // Chunk bytes that begin like a timing token would be read back as one.
+    if (bytes.rfind("@+", 0) == 0) bytes.replace(0, 1, "\\x40");
+    line += bytes;
     return line;
 }
 

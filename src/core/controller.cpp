@@ -135,6 +135,31 @@ Status Controller::leave_submenus() {
     return Status{Errc::protocol, "could not reach the root menu (last prompt " + session_.last_prompt() + ")"};
 }
 
+Status Controller::in_submenu(std::string_view menu, const std::function<Status(ConsoleSession&)>& work) {
+    if (in_flight_) {
+        return {Errc::busy, "a leg is in flight; the motor menu must stay open"};
+    }
+    if (Status left = leave_submenus(); !left) {
+        return left;
+    }
+    Status worked = Status::ok();
+    if (const auto entered = session_.transact(menu, menu_step_timeout); !entered) {
+        worked = entered.status;
+    } else {
+        worked = work(session_);
+    }
+    // Back to the motor menu even when the work failed: the next leg must find it open.
+    Status back = leave_submenus();
+    if (back) {
+        back = run_steps(profile_.motor_menu_entry, "returning to the motor menu");
+    }
+    if (!back) {
+        emit(options_.log, LogLevel::warning, "could not return to the motor menu from " + std::string(menu) + ": " + back.message);
+        return back;
+    }
+    return worked;
+}
+
 Status Controller::check_homing() {
     if (!profile_.has(quirk_requires_homing) || !unhomed_) {
         return Status::ok();
@@ -922,8 +947,15 @@ void Controller::cancel_pending() {
         const auto reply = session_.transact("", menu_step_timeout);
         note_live_output(reply.value.lines);
         if (!reply.value.prompt.empty()) {
-            emit(options_.log, LogLevel::verbose, "stop: sent a line ending to abort the running g");
-            finish_leg("aborted by stop");
+            // Some firmware reads the byte only once the move is over (firmware notes 8.5): a
+            // prompt after a live line at the target is an arrival, not an abort.
+            const bool arrived = last_position_ &&
+                                 axis_error(Axis::azimuth, last_position_->az, in_flight_->target.az) <= profile_.arrival_tolerance &&
+                                 axis_error(Axis::elevation, last_position_->el, in_flight_->target.el) <= profile_.arrival_tolerance;
+            emit(options_.log, LogLevel::verbose,
+                 arrived ? "stop: the running g had reached its target; the line ending did not abort it"
+                         : "stop: sent a line ending to abort the running g");
+            finish_leg(arrived ? "arrived" : "aborted by stop");
         }
     }
 }

@@ -114,6 +114,35 @@ bool names_a_root_command(const HelpListing& help) {
 
 bool is_g2_root_shape(std::string_view prompt) { return lower(prompt) == lower(profile(VariantId::carryout_g2).root_prompt); }
 
+// A command of the G2's root listing that no other firmware lists (the G2's listing clues).
+bool names_a_g2_only_command(const HelpListing& help) {
+    const auto all = detection_clues();
+    return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
+        return clue.source == ClueSource::help_command && clue.variant == VariantId::carryout_g2 &&
+               help.commands.count(lower(clue.text)) > 0;
+    });
+}
+
+// A G2-only command named anywhere in what the console printed (listings, descriptions, stray
+// lines): a console that ever showed one may be a G2, whatever its latest listing says.
+bool g2_command_heard(const std::vector<std::string>& lines) {
+    const HelpListing heard = parse_help_listing(lines);
+    const auto all = detection_clues();
+    return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
+        return clue.source == ClueSource::help_command && clue.variant == VariantId::carryout_g2 &&
+               heard.words.count(lower(clue.text)) > 0;
+    });
+}
+
+// The one root where detection may send `q`: a listing that positively shows a Trav'ler (or Pro
+// ODU) root, mot, os and nvs, with no G2-only command. There `q` is the upstream Trav'ler
+// clients' own harmless idiom, sent first at whatever prompt (firmware notes 2, 3.6); it kills
+// only the G2's shell, and a G2 root always lists G2-only commands (firmware notes 6.3).
+bool shows_travler_root(const HelpListing& help) {
+    return help.commands.count("mot") > 0 && help.commands.count("os") > 0 && help.commands.count("nvs") > 0 &&
+           !names_a_g2_only_command(help);
+}
+
 }  // namespace
 
 HelpListing parse_help_listing(const std::vector<std::string>& lines) {
@@ -239,14 +268,19 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
         reply_on_same_prompt = trimmed(help.value.prompt) == evidence.prompt;
         return Status::ok();
     };
-    // `q`, then the console must come into sync again before anything is concluded.
-    auto leave_menu = [&]() -> Status {
+    // `q`, then the console must come into sync again before anything is concluded. `menu` tells
+    // the hazard guard where the caller recognised the console to be. A G2-only command in the
+    // listing, or anywhere in the output, at the G2 root shape keeps the guard's own verdict
+    // (root: `q` refused), whatever the caller concluded.
+    auto leave_menu = [&](const std::string& menu) -> Status {
         if (auto heard = session.listen(probe_profile().quiet_gap); !heard.value.lines.empty() || !heard.value.prompt.empty()) {
             return Status{Errc::protocol, "auto-detect: the console printed more (\"" +
                                               escape_bytes(heard.value.lines.empty() ? heard.value.prompt : heard.value.lines.back()) +
                                               "\") while its menu was being left; not sending q"};
         }
-        session.set_menu("submenu");   // recognised by the caller (see the rules at the top)
+        if (!(is_g2_root_shape(evidence.prompt) && (names_a_g2_only_command(evidence.help) || g2_command_heard(evidence.lines)))) {
+            session.set_menu(menu);   // recognised by the caller (see the rules at the top)
+        }
         if (auto q = session.transact("q", help_timeout); !q && q.status.code != Errc::timeout) {
             return q.status;
         }
@@ -279,8 +313,13 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
             // The `TRK>` shape alone is no trace: the HAL 0.0.00 init sends `q` at its root anyway.
             const bool no_trace_of_g2 = score_of(ranking, VariantId::carryout_g2) <= (is_g2_root_shape(evidence.prompt) ? 1 : 0);
             if (winner->variant == VariantId::travler_hal000) {
-                if (no_trace_of_g2 && !evidence.prompt.empty() && reply_on_same_prompt) {
-                    if (Status left = leave_menu(); !left) {
+                // The only `q` at a root, even one shaped like the G2's `TRK>`: allowed because the
+                // listing positively shows a Trav'ler/ODU root (shows_travler_root), where `q` is
+                // the upstream clients' harmless idiom (firmware notes 2), and nothing else hints
+                // at a G2. It tells a Pro left in its ODU console from a HAL 0.0.00.
+                if (no_trace_of_g2 && shows_travler_root(evidence.help) && !g2_command_heard(evidence.lines) &&
+                    !evidence.prompt.empty() && reply_on_same_prompt) {
+                    if (Status left = leave_menu("travler root"); !left) {
                         return {{}, left};
                     }
                     if (Status read = read_help(); !read) {
@@ -310,7 +349,7 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
             break;
         }
         emit(log, LogLevel::verbose, "auto-detect: " + evidence.prompt + " is a submenu (its ? names no root command); leaving it with q");
-        if (Status left = leave_menu(); !left) {
+        if (Status left = leave_menu("submenu"); !left) {
             return {{}, left};
         }
     }

@@ -8,8 +8,10 @@
 //  3. A prompt is an optional run of [A-Z0-9_] followed by '>' and at most one space (`TRK>`,
 //     `MOT>`, `A3981>`, `>`). The firmware prints it last and then waits, so it is recognised only
 //     (a) as the whole unterminated line at the end of a chunk, when nothing followed it yet, or
-//     (b) as a whole line of its own. Help lines such as `Enter <a3981> - ...` contain '>' but are
-//     not prompts because the whole line does not match.
+//     (b) as a whole line of its own, or (c) as the start of a line that runs into an unprintable
+//     byte (noise read in the same chunk as the prompt: a dish never prints such a byte, so its
+//     line ended at the prompt; printable noise between the two is noise too). Help lines such
+//     as `Enter <a3981> - ...` contain '>' but are not prompts: the whole line does not match.
 //  4. The firmware echoes typed characters (G2 evidence, firmware.md 6.1; unknown elsewhere).
 //     The first complete line equal to the command sent, optionally preceded by a prompt
 //     (`TRK>nvs`), is the echo. A console that does not echo simply never produces that line.
@@ -106,6 +108,27 @@ void ConsoleFramer::finish_line(std::vector<FrameEvent>& events) {
     }
 }
 
+void ConsoleFramer::end_prompt_at_noise(std::vector<FrameEvent>& events) {
+    const std::size_t length = leading_prompt_length(partial_);
+    if (length == 0) {
+        return;
+    }
+    std::string_view after = std::string_view(partial_).substr(length);
+    // Our command's echo after the prompt (`TRK>nvs`) may still be arriving.
+    if (echo_pending_ && std::string_view(expected_echo_).starts_with(after)) {
+        return;
+    }
+    std::string prompt = partial_.substr(0, length);
+    if (after.starts_with(' ')) {
+        prompt += ' ';
+        after.remove_prefix(1);
+    }
+    flush_noise(events);
+    events.push_back({FrameEvent::Kind::prompt, std::move(prompt)});
+    noise_ += after;
+    partial_.clear();
+}
+
 std::vector<FrameEvent> ConsoleFramer::feed(std::string_view bytes) {
     std::vector<FrameEvent> events;
     for (char c : bytes) {
@@ -115,6 +138,7 @@ std::vector<FrameEvent> ConsoleFramer::feed(std::string_view bytes) {
         } else if (is_text_byte(byte)) {
             partial_ += c;
         } else {
+            end_prompt_at_noise(events);
             noise_ += c;
         }
     }

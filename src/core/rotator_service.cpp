@@ -6,6 +6,12 @@
 #include <utility>
 
 namespace birdcage {
+namespace {
+
+// How long a receiver request may wait for the leg in flight: a full G2 azimuth slew (~40 s).
+constexpr std::chrono::milliseconds receiver_wait_for_leg{45000};
+
+} // namespace
 
 RotatorService::RotatorService(std::unique_ptr<Transport> transport, ControllerOptions options,
                                ServiceTiming timing, TransportFactory reopen)
@@ -67,6 +73,72 @@ void RotatorService::shutdown() {
     if (worker_.joinable()) {
         worker_.join();
     }
+    {
+        std::lock_guard lock(mutex_);
+        if (receiver_job_) {
+            receiver_job_->result = Status{Errc::not_initialised, "the rotator was closed"};
+            receiver_job_->done = true;
+            receiver_job_.reset();
+        }
+    }
+    receiver_done_.notify_all();
+}
+
+Status RotatorService::run_between_legs(std::function<Status(Controller&)> work, std::chrono::milliseconds timeout) {
+    auto job = std::make_shared<ReceiverJob>();
+    job->work = std::move(work);
+    std::unique_lock lock(mutex_);
+    if (!controller_ || !worker_.joinable()) {
+        return {Errc::not_initialised, "rotator is not open"};
+    }
+    if (controller_->profile().receiver_menu.empty()) {
+        // Answered here: no need to wait for the dish to learn it has no tuner.
+        return {Errc::unsupported, std::string(controller_->profile().display_name) + " has no satellite tuner"};
+    }
+    if (receiver_job_) {
+        return {Errc::busy, "another receiver request is in progress"};
+    }
+    receiver_job_ = job;
+    wake_.notify_all();
+    // The leg in flight ends first (a long slew takes tens of seconds); then the job itself.
+    if (!receiver_done_.wait_for(lock, timeout, [&] { return job->done; })) {
+        if (!job->started) {
+            receiver_job_.reset();
+            return {Errc::busy, "the dish did not finish its move in time for the receiver request"};
+        }
+        receiver_done_.wait(lock, [&] { return job->done; });   // the work is bounded by its own timeouts
+    }
+    return job->result;
+}
+
+Result<RssiReading> RotatorService::read_signal(int samples) {
+    Result<RssiReading> reading{{}, Status{Errc::protocol, "no reading"}};
+    const Status done = run_between_legs(
+        [&reading, samples](Controller& controller) {
+            reading = birdcage::read_signal(controller, samples);
+            return reading.status;
+        },
+        receiver_wait_for_leg + rssi_timeout(samples));
+    if (!done) {
+        return {{}, done};
+    }
+    return reading;
+}
+
+Status RotatorService::set_lnb_supply(LnbSupply supply) {
+    const Status done =
+        run_between_legs([supply](Controller& controller) { return apply_lnb_supply(controller, supply); },
+                         receiver_wait_for_leg + rssi_timeout(1));
+    if (done) {
+        std::lock_guard lock(mutex_);
+        lnb_supply_ = supply;
+    }
+    return done;
+}
+
+LnbSupply RotatorService::lnb_supply() const {
+    std::lock_guard lock(mutex_);
+    return lnb_supply_;
 }
 
 Status RotatorService::set_target(AzEl target) {
@@ -456,6 +528,7 @@ void RotatorService::run() {
         const bool home = home_requested_;
         const bool recovering = recovering_;
         const std::optional<AzEl> resume = latest_target_;
+        const std::shared_ptr<ReceiverJob> job = receiver_job_;
         lock.unlock();
 
         // Only this thread touches the controller (and through it the transport) after start().
@@ -495,10 +568,26 @@ void RotatorService::run() {
                 std::lock_guard done(mutex_);
                 home_requested_ = false;
             }
+            // A receiver job waits for the leg in flight; legs still queued wait for the job.
+            const bool run_job = step && job && !home && !controller_->leg_in_flight();
+            if (run_job) {
+                {
+                    std::lock_guard started(mutex_);
+                    job->started = true;
+                }
+                step = job->work(*controller_);
+                {
+                    std::lock_guard done(mutex_);
+                    job->result = step;
+                    job->done = true;
+                    receiver_job_.reset();
+                }
+                receiver_done_.notify_all();
+            }
             if (step && !target && !home) {
                 step = steer();
             }
-            talked = target || home || cancel || !controller_->idle();
+            talked = target || home || cancel || run_job || !controller_->idle();
             if (step) {
                 step = controller_->service();
             }
@@ -550,6 +639,7 @@ void RotatorService::run() {
         }
         if (recovered) {
             recovering_ = false;
+            lnb_supply_ = lnb_boot_default;   // a reboot restores the boot default
             ++recoveries_;
         } else if (recovering && !step) {
             recovery_reason_ = step.message;
@@ -576,8 +666,10 @@ void RotatorService::run() {
             period = recover_because ? std::chrono::milliseconds{0} : backoff_;
         }
         wake_.wait_for(lock, period, [this] {
-            return shutdown_requested_ || ((posted_target_.has_value() || cancel_requested_ || home_requested_) &&
-                                           !recovering_);
+            return shutdown_requested_ ||
+                   ((posted_target_.has_value() || cancel_requested_ || home_requested_ ||
+                     (receiver_job_ && !receiver_job_->started)) &&
+                    !recovering_);
         });
     }
 }

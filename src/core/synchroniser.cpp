@@ -17,12 +17,25 @@ constexpr std::size_t baud_sample = 256;     // bytes judged by the wrong-baud c
 bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || byte == '\t'; }
 bool is_line_end(char c) { return c == '\r' || c == '\n'; }
 
-// A chunk that is mostly text (printable or line structure) rather than line noise: an idle
-// RS-485 bus can produce random bytes without end, a third of them printable by chance.
-bool has_text(std::string_view bytes) {
-    const auto text = std::count_if(bytes.begin(), bytes.end(),
-                                    [](char c) { return is_line_end(c) || is_text_byte(static_cast<unsigned char>(c)); });
-    return text * 2 > static_cast<std::ptrdiff_t>(bytes.size());
+// A line of console text rather than line noise: an idle RS-485 bus can produce random bytes
+// without end, a third of them printable by chance, and once in a while a CR or LF among them. A
+// dish never prints unprintable bytes, so a line needs (almost) none to count as text.
+bool is_text_line(std::size_t text_bytes, std::size_t noise_bytes) { return text_bytes > 0 && noise_bytes * 4 <= text_bytes; }
+
+// The length of the prompt `line` starts with when the rest of it is line noise (mostly
+// unprintable bytes, as a noisy idle bus sends after the prompt); 0 otherwise. A prompt followed
+// by text with a stray noise byte in it is no prompt: the console is still printing.
+std::size_t prompt_before_noise(std::string_view line) {
+    const std::size_t close = line.find('>');
+    if (close == std::string_view::npos || !looks_like_prompt(line.substr(0, close + 1))) {
+        return 0;
+    }
+    std::size_t text = 0;
+    std::size_t noise = 0;
+    for (char c : line.substr(close + 1)) {
+        ++(is_text_byte(static_cast<unsigned char>(c)) ? text : noise);
+    }
+    return noise > 0 && !is_text_line(text, noise) ? close + 1 : 0;
 }
 
 bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
@@ -30,21 +43,25 @@ bool contains_any(std::string_view line, std::span<const std::string_view> marke
                        [&](std::string_view marker) { return line.find(marker) != std::string_view::npos; });
 }
 
-// Lines of `raw` with noise bytes removed; empty lines dropped.
+// The text lines of `raw` (is_text_line), noise bytes removed; empty and noise lines dropped.
 std::vector<std::string> printable_lines(std::string_view raw) {
     std::vector<std::string> lines;
     std::string line;
+    std::size_t noise = 0;
     auto finish = [&] {
-        if (line.find_first_not_of(" \t") != std::string::npos) {
+        if (line.find_first_not_of(" \t") != std::string::npos && is_text_line(line.size(), noise)) {
             lines.push_back(line);
         }
         line.clear();
+        noise = 0;
     };
     for (char c : raw) {
         if (is_line_end(c)) {
             finish();
         } else if (is_text_byte(static_cast<unsigned char>(c))) {
             line += c;
+        } else {
+            ++noise;
         }
     }
     finish();
@@ -169,6 +186,11 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
     Heard heard;
     std::array<char, 512> buffer{};
     Clock::time_point wait_until = std::min(limit, now() + first_byte_within);
+    // The line being received: where it starts, its printable and its noise bytes.
+    std::size_t line_start = 0;
+    std::size_t line_text = 0;
+    std::size_t line_noise = 0;
+    std::size_t lines_end = 0;   // the end of the last line of text
     for (;;) {
         const auto got = transport_.read(buffer.data(), buffer.size(), wait_until);
         if (!got) {
@@ -183,8 +205,45 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
         const std::string_view bytes(buffer.data(), got.value);
         emit(log_, LogLevel::trace, "RES " + escape_bytes(bytes));
         heard.raw.append(bytes);
-        if (has_text(bytes)) {   // line noise neither keeps a reply open nor ends one
+        // Only the console's text keeps a reply open: a line of text when its line ending arrives,
+        // or a clean prompt being the line so far. Line noise never does, however long it lasts,
+        // so "quiet" comes on a line that is never silent.
+        bool spoke = false;
+        for (std::size_t i = heard.raw.size() - bytes.size(); i < heard.raw.size(); ++i) {
+            const char c = heard.raw[i];
+            if (is_line_end(c)) {
+                if (const std::size_t prompt = prompt_before_noise(std::string_view(heard.raw).substr(line_start, i - line_start))) {
+                    lines_end = line_start + prompt;
+                } else if (is_text_line(line_text, line_noise)) {
+                    lines_end = i + 1;
+                    spoke = true;
+                }
+                line_start = i + 1;
+                line_text = 0;
+                line_noise = 0;
+            } else if (is_text_byte(static_cast<unsigned char>(c))) {
+                ++line_text;
+            } else {
+                ++line_noise;
+            }
+        }
+        // Where the text ends within the line being received: a clean line is text (a prompt, or
+        // a line still arriving, which hides any prompt before it); a prompt followed by noise
+        // bytes is the prompt (a dish never prints an unprintable byte, so its prompt ended
+        // there, as the framer's rule 3c says); other lines count as for is_text_line.
+        const std::string_view line = std::string_view(heard.raw).substr(line_start);
+        const std::size_t previous_end = heard.text_end;
+        heard.text_end = lines_end;
+        if (line_noise == 0 && line_text > 0) {
             heard.text_end = heard.raw.size();
+            spoke = spoke || looks_like_prompt(line);
+        } else if (const std::size_t prompt = line_noise > 0 ? prompt_before_noise(line) : 0) {
+            heard.text_end = line_start + prompt;
+            spoke = spoke || heard.text_end > previous_end;
+        } else if (is_text_line(line_text, line_noise)) {
+            heard.text_end = heard.raw.size();
+        }
+        if (spoke) {
             wait_until = std::min(limit, now() + gap);
         }
         if (now() >= limit) {
@@ -248,8 +307,10 @@ void ConsoleSynchroniser::report_progress(const ConsoleSnapshot& snapshot, Clock
     if (!announced_wait_) {
         announced_wait_ = true;
         emit(log_, LogLevel::warning,
-             "the console does not answer yet; waiting for the dish to finish booting (up to " +
-                 seconds_text(settings_.budget) + ")");
+             (snapshot.last_boot_line.empty()
+                  ? std::string("the console does not answer yet")
+                  : "the dish is booting (\"" + escape_bytes(snapshot.last_boot_line) + "\")") +
+                 "; waiting for it to finish (up to " + seconds_text(settings_.budget) + ")");
         return;
     }
     if (elapsed < next_progress_) {
@@ -295,6 +356,9 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         return fail_io(stale.failure);
     }
     absorb(stale.raw, snapshot);
+    if (booting()) {
+        report_progress(snapshot, started);   // opened mid-boot: say so at once
+    }
 
     std::string candidate;                  // a prompt seen once; a second poke must end on it too
     std::vector<std::string> probe_answer;  // the probe's reply once; a second must repeat it
@@ -309,6 +373,10 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         if (unsolicited.text_end > 0) {
             candidate.clear();
             probe_answer.clear();
+            // A dish that prints its boot log for minutes is waited for too: say so.
+            if (booting()) {
+                report_progress(snapshot, started);
+            }
             continue;
         }
         if (now() >= limit) {

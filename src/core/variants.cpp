@@ -253,6 +253,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .home_commands = g2_home,
         .tracker_disable_nvs_index = 20,
         .predictive_by_default = true,
+        .receiver_menu = "dvb",
     },
 }};
 

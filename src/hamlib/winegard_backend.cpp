@@ -6,6 +6,7 @@
 
 #include "birdcage/errors.hpp"
 #include "birdcage/log.hpp"
+#include "birdcage/receiver.hpp"
 #include "birdcage/rotator_service.hpp"
 #include "birdcage/transport.hpp"
 #include "birdcage/variants.hpp"
@@ -53,6 +54,7 @@ struct WinegardPriv {
     birdcage::ControllerOptions options;
     birdcage::PointingOptions pointing;   // mode unset: the variant's default
     double time_scale = 1.0;   // emulator runs only: the backend's clock runs this many times faster
+    int rssi_samples = birdcage::rssi_default_samples;   // ext level RSSI_SAMPLES
     std::unique_ptr<birdcage::RotatorService> service;
     std::string info;
 };
@@ -500,6 +502,100 @@ extern "C" const char* winegard_get_info(ROT* rot) {
     return priv->info.c_str();
 }
 
+// Extension levels: the receiver (receiver.hpp) through stock rotctld's `v`/`V` (`v ?` lists them).
+// Every model lists them (the probe model learns its variant only at open); a variant without a
+// tuner answers -RIG_ENAVAIL.
+enum ExtLevelToken : int { tok_rssi = 101, tok_rssi_samples = 102, tok_lnb_volts = 103 };
+
+confparams ext_level(int token, const char* name, const char* label, const char* tooltip, float min, float max,
+                     float step) {
+    confparams c{};
+    c.token = token;
+    c.name = name;
+    c.label = label;
+    c.tooltip = tooltip;
+    c.dflt = "";
+    c.type = RIG_CONF_NUMERIC;
+    c.u.n.min = min;
+    c.u.n.max = max;
+    c.u.n.step = step;
+    return c;
+}
+
+const confparams* ext_levels() {
+    static const std::array<confparams, 4> levels = {
+        ext_level(tok_rssi, "RSSI", "Signal strength",
+                  "Tuner signal strength (ADC counts), the average of RSSI_SAMPLES reads at 20 ms; read only",
+                  0.0f, 65535.0f, 1.0f),
+        ext_level(tok_rssi_samples, "RSSI_SAMPLES", "RSSI samples", "Reads averaged per RSSI reading", 1.0f,
+                  static_cast<float>(birdcage::rssi_max_samples), 1.0f),
+        ext_level(tok_lnb_volts, "LNB", "LNB supply (V)",
+                  "LNB supply: 13 V (lnbdc odu, vertical) or 18 V (lnbdc stb, horizontal, the boot default)", 13.0f,
+                  18.0f, 5.0f),
+        confparams{},   // RIG_CONF_END
+    };
+    return levels.data();
+}
+
+extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t val) {
+    WinegardPriv* priv = priv_of(rot);
+    birdcage::RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    switch (token) {
+    case tok_rssi_samples: {
+        const double samples = static_cast<double>(val.f);
+        if (!std::isfinite(samples) || samples < 1.0 || samples > birdcage::rssi_max_samples) {
+            return report(__func__, {Errc::invalid_argument, "RSSI_SAMPLES is 1.." + std::to_string(birdcage::rssi_max_samples)});
+        }
+        priv->rssi_samples = static_cast<int>(std::lround(samples));
+        return RIG_OK;
+    }
+    case tok_lnb_volts: {
+        const auto supply = birdcage::lnb_supply_from_volts(static_cast<double>(val.f));
+        if (!supply) {
+            return report(__func__, supply.status);
+        }
+        rot_debug(RIG_DEBUG_VERBOSE, "winegard: LNB supply %d V\n", birdcage::lnb_volts(supply.value));
+        return report(__func__, service->set_lnb_supply(supply.value));
+    }
+    case tok_rssi:
+        return report(__func__, {Errc::invalid_argument, "RSSI is read only"});
+    default:
+        return -RIG_EINVAL;
+    }
+}
+
+extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* val) {
+    WinegardPriv* priv = priv_of(rot);
+    birdcage::RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    switch (token) {
+    case tok_rssi: {
+        const auto reading = service->read_signal(priv->rssi_samples);
+        if (!reading) {
+            return report(__func__, reading.status);
+        }
+        val->f = static_cast<float>(reading.value.average);
+        return RIG_OK;
+    }
+    case tok_rssi_samples:
+        val->f = static_cast<float>(priv->rssi_samples);
+        return RIG_OK;
+    case tok_lnb_volts:
+        if (service->profile().receiver_menu.empty()) {
+            return report(__func__, {Errc::unsupported, std::string(service->profile().display_name) + " has no satellite tuner"});
+        }
+        val->f = static_cast<float>(birdcage::lnb_volts(service->lnb_supply()));
+        return RIG_OK;
+    default:
+        return -RIG_EINVAL;
+    }
+}
+
 // Conf parameters per model: the defaults shown by `rotctl -L` are the variant's own values.
 struct VariantConf {
     std::array<std::string, kConfCount> defaults;
@@ -581,6 +677,9 @@ void fill_caps(RegisteredModel& m, const birdcage::FirmwareProfile& p) {
     c.get_status = winegard_get_status;
     c.macro_name = m.macro_name.c_str();
     c.get_conf2 = winegard_get_conf2;
+    c.extlevels = ext_levels();
+    c.set_ext_level = winegard_set_ext_level;
+    c.get_ext_level = winegard_get_ext_level;
 }
 
 } // namespace

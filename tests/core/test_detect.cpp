@@ -2,10 +2,13 @@
 // ranking, and the rule that `q` goes only to a positively recognised submenu.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <map>
 
 #include "birdcage/detect.hpp"
+#include "birdcage/session.hpp"
+#include "birdcage/synchroniser.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;
@@ -261,4 +264,52 @@ TEST_CASE("detect: a booting G2 is identified from its boot lines and prompt") {
     CHECK(found.value.variant == VariantId::carryout_g2);
     CHECK(found.value.evidence.find("boot line") != std::string::npos);
     CHECK(g2.q_at_root == 0);
+}
+
+TEST_CASE("detect: at TRK> a listing showing a Trav'ler root (mot, os, nvs, no G2-only command) gets one q") {
+    // The one root where detection sends `q` (firmware notes 2: the upstream Trav'ler clients' own
+    // idiom), even at the G2's root shape: it tells a Pro left in its ODU console from a HAL 0.0.00.
+    MenuConsole dish;
+    dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\n";
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    const auto found = detect_variant(wire, {}, 60s);
+    INFO(found.status.message);
+    REQUIRE(found);
+    CHECK(found.value.variant == VariantId::travler_hal000);
+    CHECK(found.value.maybe_pro_odu);
+    const Commands& sent = wire.commands();
+    CHECK(std::count(sent.begin(), sent.end(), "q") == 1);
+}
+
+TEST_CASE("detect: at TRK> any G2-only command in the listing means no q, and the guard refuses it") {
+    const std::string g2_only = GENERATE("a3981", "dipswitch", "latlon", "adc", "eeprom", "gpio", "peak", "step");
+    MenuConsole dish;
+    dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\nstow - Stow\r\n" + g2_only + " - menu\r\n";
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    (void)detect_variant(wire, {}, 60s);
+    const Commands& sent = wire.commands();
+    CHECK(std::find(sent.begin(), sent.end(), "q") == sent.end());
+    CHECK(dish.q_at_root == 0);
+
+    // The session's hazard guard, with the auto-detect profile at a confirmed TRK>: `q` never
+    // goes out, whatever the caller concluded.
+    FakeTransport console([&](const std::string& c) { return dish.respond(c); });
+    ConsoleSession session(console, probe_profile(), {});
+    REQUIRE(session.synchronise(console_sync_settings(probe_profile(), 10s)));
+    REQUIRE(session.menu() == "root");
+    const auto q = session.transact("q", 1s);
+    CHECK(q.status.code == Errc::hazard);
+    CHECK(std::find(console.commands().begin(), console.commands().end(), "q") == console.commands().end());
+}
+
+TEST_CASE("detect: a G2-only command printed anywhere earlier means no q at TRK> (fuzz finding)") {
+    // The latest listing looks like a Trav'ler root, but the console printed a G2 listing line
+    // before: it may be a G2, where `q` at TRK> kills the shell.
+    MenuConsole dish;
+    dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\n";
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    wire.push_input("Enter <a3981> - A3981 menu\r\nTRK>");
+    (void)detect_variant(wire, {}, 60s);
+    const Commands& sent = wire.commands();
+    CHECK(std::find(sent.begin(), sent.end(), "q") == sent.end());
 }

@@ -76,6 +76,12 @@ TEST_CASE("framer: named byte sequences") {
           {Kind::boot_line, "Loc Startup: IDU NOT Present"}, {Kind::prompt, "TRK>"}}},
         {"Trav'ler boot-complete lines", hal205(), {"Homing done\r\nNoGPS\r\nNo LNB Voltage\n"}, "",
          {{Kind::line, "Homing done"}, {Kind::boot_line, "NoGPS"}, {Kind::boot_line, "No LNB Voltage"}}},
+        {"a prompt read together with line noise after it (idle RS-485 bus)", g2(),
+         {"a 1 40.00\r\nAngle = 40.00\r\nMOT>I\"p\xC2\x1E}Z"}, "a 1 40.00",
+         {{Kind::echo, "a 1 40.00"}, {Kind::line, "Angle = 40.00"}, {Kind::prompt, "MOT>"}, {Kind::noise, "I\"p\xC2\x1E"}}},
+        {"our echo after a prompt is not cut at a noise byte", g2(), {"TRK>nv", std::string("\0s\r\nNVS>", 8)}, "nvs",
+         {{Kind::echo, "TRK>nvs"}, {Kind::noise, std::string(1, '\0')}, {Kind::prompt, "NVS>"}}},
+        {"printable noise with a '>' is no prompt", g2(), {"\r\nxy>\x9c"}, "", {{Kind::noise, "\x9c"}}},
         {"echo only once", g2(), {"a\r\na\r\nMOT>"}, "a", {{Kind::echo, "a"}, {Kind::line, "a"}, {Kind::prompt, "MOT>"}}},
         {"no echo from the console", hal205(), {"AZ = 1.00 EL = 2.00\r\n"}, "a", {{Kind::line, "AZ = 1.00 EL = 2.00"}}},
     };

@@ -162,6 +162,28 @@ TEST_CASE("sync: while boot output is in progress the console is only listened t
     CHECK(synced.value.boot_heard);
 }
 
+TEST_CASE("sync: a dish that prints its boot log for minutes is announced and reported every 30 s") {
+    FakeTransport wire;
+    bool booted = false;   // a booting dish ignores its input
+    wire.set_responder([&](const std::string&) -> Commands { return booted ? Commands{"\r\nTRK>"} : Commands{}; });
+    wire.push_input("Bootloader v1.01\r\n");
+    for (int i = 0; i < 12; ++i) {
+        wire.push_delayed("Motor init: homing step " + std::to_string(i) + "\r\n", 2);
+    }
+    wire.push_delayed("Boot Complete\r\n", 2);
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(900s), [&](LogLevel l, const std::string& m) {
+        log.lines.emplace_back(l, m);
+        booted = booted || m.find("Boot Complete") != std::string::npos;
+    }, frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == "TRK>");
+    CHECK(log.count("the dish is booting (\"Bootloader v1.01\"); waiting for it to finish (up to 900 s)") == 1);
+    REQUIRE(synced.value.waited >= 30s);
+    CHECK(log.count("still waiting for the dish to boot: 30 s; last boot output \"Motor init: homing step") == 1);
+}
+
 TEST_CASE("sync: a silent console is waited for with progress every 30 s, then the reason") {
     FakeTransport wire;   // never says anything
     Logged log;
@@ -169,7 +191,7 @@ TEST_CASE("sync: a silent console is waited for with progress every 30 s, then t
     const auto synced = sync.synchronise();
     REQUIRE_FALSE(synced);
     CHECK(synced.status.code == Errc::timeout);
-    CHECK(log.count("waiting for the dish to finish booting (up to 100 s)") == 1);
+    CHECK(log.count("the console does not answer yet; waiting for it to finish (up to 100 s)") == 1);
     CHECK(log.count("still waiting for the dish to boot: 30 s") == 1);
     CHECK(log.count("still waiting for the dish to boot: 60 s") == 1);
     CHECK(log.count("still waiting for the dish to boot: 90 s") == 1);
@@ -258,4 +280,101 @@ TEST_CASE("sync: boot chatter answering a prompt-less probe is not taken for a l
     });
     ConsoleSynchroniser sync(wire, console_sync_settings(profile(VariantId::travler_hal000), 20s), {}, frozen);
     CHECK_FALSE(sync.synchronise());
+}
+
+namespace {
+
+// A line that is never quiet: between the console's replies it carries random bytes at a steady
+// rate (a noisy idle RS-485 bus; the e2e fault test runs 200 B/s), one byte per read, with time
+// advancing by one byte interval per noise byte. The console's own replies arrive at once.
+class NoisyLine final : public Transport {
+public:
+    NoisyLine(FakeTransport& console, int bytes_per_second)
+        : console_(console), byte_interval_(std::chrono::microseconds(1'000'000 / bytes_per_second)) {}
+
+    Status write(std::string_view bytes, Deadline deadline) override { return console_.write(bytes, deadline); }
+    Result<std::size_t> read(char* buf, std::size_t n, Deadline deadline) override {
+        if (auto reply = console_.read(buf, n, now_)) {
+            return reply;
+        }
+        if (now_ + byte_interval_ > deadline) {
+            now_ = std::max(now_, deadline);
+            return {0, Status{Errc::timeout, "noisy line: deadline"}};
+        }
+        now_ += byte_interval_;
+        state_ = state_ * 1103515245u + 12345u;   // deterministic: the same bytes every run
+        buf[0] = static_cast<char>(state_ >> 24);
+        ++noise_bytes_;
+        return {1, Status::ok()};
+    }
+    void discard_input() override { console_.discard_input(); }
+
+    Clock::time_point now() const { return now_; }
+    std::size_t noise_bytes() const { return noise_bytes_; }
+
+private:
+    FakeTransport& console_;
+    Clock::duration byte_interval_;
+    Clock::time_point now_ = frozen();
+    std::uint32_t state_ = 1;
+    std::size_t noise_bytes_ = 0;
+};
+
+}  // namespace
+
+TEST_CASE("sync: a line that is never quiet still comes into sync (noise is not output)") {
+    // The e2e failure: under steady idle noise the recovery re-sync waited for a quiet gap that
+    // never came (every printable noise byte counted as the console speaking) and printable noise
+    // after the prompt hid it, so a re-initialisation never finished.
+    const int rate = GENERATE(200, 2000);
+    const bool echo = GENERATE(true, false);
+    FakeTransport console(prompt_console("MOT>", "\r\n", echo));
+    NoisyLine line(console, rate);
+    Logged log;
+    // The recovery slice (RotatorTiming::recovery_boot_slice).
+    ConsoleSynchroniser sync(line, g2_settings(5s), log.sink(), [&] { return line.now(); });
+    const auto synced = sync.synchronise();
+    INFO(synced.status.message);
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == "MOT>");
+    CHECK(console.commands() == Commands{"", ""});   // two pokes, nothing but line endings
+    CHECK(line.noise_bytes() > 100);
+    CHECK(std::none_of(synced.value.heard.begin(), synced.value.heard.end(),
+                       [](const std::string& l) { return l != "MOT>"; }));   // noise is never a line heard
+    CHECK(line.now() - frozen() < 3s);
+}
+
+TEST_CASE("sync: under steady noise a late boot line after a stale prompt still voids it") {
+    FakeTransport console;
+    int pokes = 0;
+    console.set_responder([&](const std::string&) -> Commands {
+        return {++pokes == 1 ? "\r\nTRK>\r\nLoc Startup: IDU NOT Present\r\n" : "\r\nTRK>"};
+    });
+    NoisyLine line(console, 200);
+    ConsoleSynchroniser sync(line, g2_settings(5s), {}, [&] { return line.now(); });
+    const auto synced = sync.synchronise();
+    INFO(synced.status.message);
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == "TRK>");
+    CHECK(pokes == 3);
+    CHECK(synced.value.last_boot_line == "Loc Startup: IDU NOT Present");
+}
+
+TEST_CASE("sync: noise after a prompt leaves it the prompt; text after it on its line does not") {
+    SECTION("prompt, then noise read with it and after it, a noise line ending among it") {
+        FakeTransport wire([](const std::string&) -> Commands {
+            return {"\r\nMOT>k\x9aQ", "\x01\r7\xfe", "\xe0"};
+        });
+        ConsoleSynchroniser sync(wire, g2_settings(), {}, frozen);
+        const auto synced = sync.synchronise();
+        INFO(synced.status.message);
+        REQUIRE(synced);
+        CHECK(synced.value.prompt == "MOT>");
+        CHECK(wire.commands() == Commands{"", ""});
+    }
+    SECTION("two prompts run together (fuzz finding): the line is text, not a prompt") {
+        FakeTransport wire([](const std::string&) -> Commands { return {"\r\nTRK>", "TRK>"}; });
+        ConsoleSynchroniser sync(wire, g2_settings(10s), {}, frozen);
+        CHECK_FALSE(sync.synchronise());
+    }
 }

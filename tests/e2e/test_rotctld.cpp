@@ -102,7 +102,11 @@ TEST_CASE("the default (predictive) pointing goes to a single target exactly, wi
 TEST_CASE("S stops the dish: the leg not yet sent is dropped", "[e2e][stop]") {
     for (const ModelUnderTest& m : kModels) {
         DYNAMIC_SECTION(m.name) {
-            e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, m.watchable_time_scale), m.model, {"-C", "leapfrog=0"});
+            auto options = e2e::dish_options(m.variant, 100.0, 30.0, m.watchable_time_scale);
+            // The 2003 Carryout's `g` stops on input only under one reading of the notes (sim/README:
+            // g_aborts_on_input); this test is about S under it, the next one about the other.
+            if (m.variant == Variant::carryout2003) options.g_aborts_on_input = true;
+            e2e::Rig rig(options, m.model, {"-C", "leapfrog=0"});
             // The first move sends azimuth first; elevation waits until azimuth has arrived.
             REQUIRE(rig.rotctl({"P", "280", "50"}).exit_code == 0);
             REQUIRE(e2e::wait_until([&] { return rig.dish().moving(); }, 10s));
@@ -118,6 +122,34 @@ TEST_CASE("S stops the dish: the leg not yet sent is dropped", "[e2e][stop]") {
             CHECK(rig.dish().hazards_received() == 0);
         }
     }
+}
+
+TEST_CASE("Carryout 2003 whose g ignores input: S lets the running move end, p reports where", "[e2e][stop]") {
+    // carryout_rotor.py and carryout_scan.py send `q` right after every `g` and still move the dish
+    // (firmware notes 8.5, 8.7), so this firmware may not abort `g` on input: then nothing can stop
+    // a move already under way, and the backend must neither pretend it did nor send it again.
+    const ModelUnderTest& m = kModels[3];
+    auto options = e2e::dish_options(m.variant, 100.0, 30.0, m.watchable_time_scale);
+    options.g_aborts_on_input = false;
+    e2e::Rig rig(options, m.model, {"-C", "leapfrog=0"});
+    REQUIRE(rig.rotctl({"P", "280", "50"}).exit_code == 0);
+    REQUIRE(e2e::wait_until([&] { return rig.dish().moving(); }, 10s));
+    REQUIRE(rig.rotctl({"S"}).exit_code == 0);
+    const std::size_t commands_at_stop = rig.dish().received_commands().size();
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 280.0, 50.0, 0.1); }, 30s));
+    CHECK(e2e::wait_until(
+        [&] {
+            const auto reply = rig.rotctl({"p"});
+            const auto values = e2e::numbers(reply.out);
+            return reply.exit_code == 0 && values.size() == 2 && e2e::angle_between(values[0], 280.0) < 0.2 &&
+                   std::fabs(values[1] - 50.0) < 0.2;
+        },
+        10s));
+    const auto commands = rig.dish().received_commands();
+    for (std::size_t i = commands_at_stop; i < commands.size(); ++i) {
+        CHECK(commands[i].rfind("g ", 0) != 0);
+    }
+    CHECK(rig.dish().hazards_received() == 0);
 }
 
 TEST_CASE("elevation is clamped to the variant's limits", "[e2e][limits]") {

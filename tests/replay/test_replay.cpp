@@ -120,6 +120,20 @@ TEST_CASE("transcript: a malformed line is reported with its line number")
     CHECK_THROWS_WITH(sim::parse_transcript("< @+fast x\n"), Catch::Contains("timing"));
 }
 
+TEST_CASE("transcript: what the fuzzer found formats back to the same entry (timing-like bytes, huge delays)")
+{
+    sim::TranscriptEntry entry;
+    entry.direction = sim::Direction::host_to_dish;
+    entry.bytes = "@+0mss cade:";
+    const auto again = sim::parse_transcript(sim::format_entry(entry) + "\n");
+    REQUIRE(again.entries.size() == 1);
+    CHECK(again.entries[0].bytes == entry.bytes);
+    CHECK(again.entries[0].delay_ms == 0.0);
+    // A delay no recording can have is a malformed line, not a number printed back differently.
+    CHECK_THROWS_WITH(sim::parse_transcript("> @+96655555555555560604613273883s x\n"), Catch::Contains("timing"));
+    CHECK(sim::parse_transcript("< @+86400s x\n").entries.at(0).delay_ms == 86400000.0);
+}
+
 TEST_CASE("transcript: the recorder writes what the parser reads back")
 {
     sim::TranscriptRecorder recorder(std::vector<std::pair<std::string, std::string>>{{"Variant", "g2"}});

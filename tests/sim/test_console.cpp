@@ -152,6 +152,7 @@ TEST_CASE("G2: `rssi 10` takes 0.2 s and yields six integers with its echo", "[c
     options.start_el = 43.0;
     Console console(options);
     send(console, "dvb\r");
+    send(console, "lnbdc odu\r");   // 13 V, the setting of the real scan (§11.2); boot default is 18 V
     CHECK(send(console, "rssi 10\r") == "rssi 10\r\n");  // still sampling
     const std::string reply = send(console, "", 0.25);
     REQUIRE(reply.ends_with("DVB>"));

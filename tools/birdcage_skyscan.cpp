@@ -1,0 +1,303 @@
+// birdcage-skyscan: scans an AZ/EL grid with the dish and streams `az,el,value,time` CSV rows.
+// Talks to a running rotctld (our backend loaded) over TCP; see usage() for why.
+#include "skyscan.hpp"
+
+#include <arpa/inet.h>
+#include <netdb.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+namespace sc = birdcage::skyscan;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+const char* const usage_text = R"(usage: birdcage-skyscan --az FROM:TO:STEP --el FROM:TO:STEP [options]
+       birdcage-skyscan --convert UPSTREAM_SCAN      (upstream `az el rssi` -> CSV on stdout)
+
+Scans the sky with a Winegard dish through a running rotctld that has the birdcage backend
+loaded (e.g. `LD_PRELOAD=libhamlib-winegard.so rotctld -m 90105 -r /dev/ttyUSB0`), and writes
+one CSV row `az,el,value,time` per grid point as soon as it is measured.
+
+Start that rotctld with `-C pointing=none`: in the G2's default predictive mode a scan's
+stepping targets look like a slow satellite and the dish is aimed ahead of them.
+
+Why rotctld and not the serial port: rotctld owns the port while it runs (a second opener would
+interleave bytes with it), and the backend already enters the tuner menu between moves, guards
+the hazards and keeps the cable wrap; a scan can then run next to a tracking client. It speaks
+rotctld's text protocol itself because Hamlib 4.5.4's NET rotator (`rotctl -m 2`) cannot name a
+backend's extension levels such as RSSI.
+
+  --az FROM:TO:STEP   azimuth columns (degrees), scanned in ascending order
+  --el FROM:TO:STEP   elevations; up in one column, down in the next (serpentine)
+  --samples N         reads averaged per point (RSSI_SAMPLES, 1..100; default 10)
+  --lnb 13|18         LNB supply before scanning (13 V = the upstream scans' setting)
+  --out FILE          write the CSV here (default: stdout)
+  --resume            keep FILE's rows (ours or the upstream format) and scan only the rest
+  --host H --port N   rotctld address (default 127.0.0.1 4533)
+  --tolerance DEG     arrival tolerance before reading (default 0.2)
+  --help              this text
+
+Progress and an ETA go to stderr. Only `P`, `p`, `V` and `v` are sent: never the firmware's
+own ADC `scan` (a documented deadlock).
+)";
+
+int usage_error(const std::string& message) {
+    std::cerr << "birdcage-skyscan: " << message << "\n(--help for usage)\n";
+    return 2;
+}
+
+class Rotctld {
+public:
+    bool connect_to(const std::string& host, int port) {
+        addrinfo hints{};
+        hints.ai_family = AF_UNSPEC;
+        hints.ai_socktype = SOCK_STREAM;
+        addrinfo* found = nullptr;
+        if (getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) return false;
+        for (addrinfo* a = found; a != nullptr; a = a->ai_next) {
+            fd_ = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
+            if (fd_ >= 0 && ::connect(fd_, a->ai_addr, a->ai_addrlen) == 0) break;
+            if (fd_ >= 0) ::close(fd_);
+            fd_ = -1;
+        }
+        freeaddrinfo(found);
+        return fd_ >= 0;
+    }
+    ~Rotctld() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    // Sends one command and returns `lines` reply lines; an `RPRT` line ends the reply early.
+    std::optional<std::vector<std::string>> ask(const std::string& command, int lines) {
+        const std::string out = command + "\n";
+        if (::send(fd_, out.data(), out.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(out.size())) return std::nullopt;
+        std::vector<std::string> reply;
+        while (static_cast<int>(reply.size()) < lines) {
+            const auto nl = pending_.find('\n');
+            if (nl != std::string::npos) {
+                reply.push_back(pending_.substr(0, nl));
+                pending_.erase(0, nl + 1);
+                if (reply.back().rfind("RPRT", 0) == 0) break;
+                continue;
+            }
+            char buffer[512];
+            const ssize_t got = ::recv(fd_, buffer, sizeof buffer, 0);
+            if (got <= 0) return std::nullopt;
+            pending_.append(buffer, static_cast<std::size_t>(got));
+        }
+        return reply;
+    }
+
+private:
+    int fd_ = -1;
+    std::string pending_;
+};
+
+bool is_error(const std::vector<std::string>& reply) {
+    return !reply.empty() && reply.front().rfind("RPRT", 0) == 0 && reply.front() != "RPRT 0";
+}
+
+std::string utc_now() {
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    char buffer[32];
+    std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return buffer;
+}
+
+std::string duration_text(double seconds) {
+    const long s = std::lround(std::max(0.0, seconds));
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+    return buffer;
+}
+
+double az_distance(double a, double b) { return std::fabs(std::remainder(a - b, 360.0)); }
+
+// Waits until two successive `p` agree with the target: set_position returns at once, and a
+// reading asked before the move starts would measure the old direction.
+// A dish that rests elsewhere for this long has been aimed elsewhere (pointing=predictive).
+constexpr auto resting_elsewhere = std::chrono::seconds(5);
+
+bool arrive(Rotctld& rot, const sc::Point& target, double tolerance) {
+    const auto deadline = Clock::now() + std::chrono::minutes(3);
+    int agreeing = 0;
+    std::pair<double, double> last{-1000, -1000};
+    auto last_change = Clock::now();
+    while (Clock::now() < deadline) {
+        const auto p = rot.ask("p", 2);
+        if (!p) return false;
+        if (p->size() == 2 && !is_error(*p)) {
+            const double az = std::atof((*p)[0].c_str()), el = std::atof((*p)[1].c_str());
+            agreeing = az_distance(az, target.az) <= tolerance && std::fabs(el - target.el) <= tolerance ? agreeing + 1 : 0;
+            if (agreeing >= 2) return true;
+            if (std::pair{az, el} != last) {
+                last = {az, el};
+                last_change = Clock::now();
+            } else if (Clock::now() - last_change > resting_elsewhere) {
+                std::fprintf(stderr, "\nbirdcage-skyscan: the dish rests at %.2f %.2f instead; was rotctld started "
+                                     "with -C pointing=none?\n", az, el);
+                return false;
+            }
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+}
+
+int convert(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        std::cerr << "birdcage-skyscan: cannot read " << path << "\n";
+        return 1;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    std::cout << "az,el,value,time\n";
+    for (const auto& row : sc::parse_scan(text.str())) std::cout << sc::format_row(row) << "\n";
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::optional<sc::Range> az, el;
+    int samples = 10;
+    std::optional<int> lnb;
+    std::string out_path, host = "127.0.0.1", convert_path;
+    int port = 4533;
+    bool resume = false;
+    double tolerance = 0.2;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&]() -> std::optional<std::string> {
+            if (i + 1 >= argc) return std::nullopt;
+            return std::string(argv[++i]);
+        };
+        if (arg == "--help" || arg == "-h") {
+            std::cout << usage_text;
+            return 0;
+        } else if (arg == "--resume") {
+            resume = true;
+        } else if (arg == "--az" || arg == "--el") {
+            const auto v = value();
+            const auto range = v ? sc::parse_range(*v) : std::nullopt;
+            if (!range) return usage_error(arg + " needs FROM:TO:STEP with FROM <= TO and STEP > 0");
+            (arg == "--az" ? az : el) = range;
+        } else if (arg == "--samples" || arg == "--lnb" || arg == "--port") {
+            const auto v = value();
+            char* end = nullptr;
+            const long n = v ? std::strtol(v->c_str(), &end, 10) : 0;
+            if (!v || *end != '\0') return usage_error(arg + " needs a whole number");
+            if (arg == "--samples") {
+                if (n < 1 || n > 100) return usage_error("--samples is 1..100");
+                samples = static_cast<int>(n);
+            } else if (arg == "--lnb") {
+                if (n != 13 && n != 18) return usage_error("--lnb is 13 or 18");
+                lnb = static_cast<int>(n);
+            } else {
+                if (n < 1 || n > 65535) return usage_error("--port is 1..65535");
+                port = static_cast<int>(n);
+            }
+        } else if (arg == "--out" || arg == "--host" || arg == "--convert" || arg == "--tolerance") {
+            const auto v = value();
+            if (!v) return usage_error(arg + " needs a value");
+            if (arg == "--out") out_path = *v;
+            if (arg == "--host") host = *v;
+            if (arg == "--convert") convert_path = *v;
+            if (arg == "--tolerance") {
+                tolerance = std::atof(v->c_str());
+                if (!(tolerance > 0)) return usage_error("--tolerance must be positive");
+            }
+        } else {
+            return usage_error("unknown argument " + arg);
+        }
+    }
+    if (!convert_path.empty()) return convert(convert_path);
+    if (!az || !el) return usage_error("--az and --el are required");
+    if (resume && out_path.empty()) return usage_error("--resume needs --out FILE");
+
+    const std::vector<sc::Point> plan = sc::serpentine(*az, *el);
+    std::vector<sc::Point> todo = plan;
+    std::ofstream file;
+    if (!out_path.empty()) {
+        std::string existing;
+        if (resume) {
+            std::ifstream in(out_path, std::ios::binary);
+            std::stringstream text;
+            text << in.rdbuf();
+            existing = text.str();
+            existing.resize(sc::complete_length(existing));   // drop a row cut off by the interruption
+            todo = sc::remaining(plan, sc::parse_scan(existing));
+        }
+        file.open(out_path, std::ios::binary | std::ios::trunc);
+        if (!file) {
+            std::cerr << "birdcage-skyscan: cannot write " << out_path << "\n";
+            return 1;
+        }
+        file << (existing.empty() ? "az,el,value,time\n" : existing);
+        file.flush();
+        std::cerr << "birdcage-skyscan: " << plan.size() - todo.size() << " of " << plan.size()
+                  << " points already in " << out_path << "\n";
+    } else {
+        std::cout << "az,el,value,time\n";
+    }
+    std::ostream& out = out_path.empty() ? std::cout : file;
+
+    Rotctld rot;
+    if (!rot.connect_to(host, port)) {
+        std::cerr << "birdcage-skyscan: cannot connect to rotctld at " << host << ":" << port << "\n";
+        return 1;
+    }
+    if (const auto r = rot.ask("V RSSI_SAMPLES " + std::to_string(samples), 1); !r || is_error(*r)) {
+        std::cerr << "birdcage-skyscan: rotctld refused RSSI_SAMPLES (" << (r && !r->empty() ? r->front() : "no answer")
+                  << "); is the birdcage backend loaded and the dish a G2?\n";
+        return 1;
+    }
+    if (lnb) {
+        if (const auto r = rot.ask("V LNB " + std::to_string(*lnb), 1); !r || is_error(*r)) {
+            std::cerr << "birdcage-skyscan: setting the LNB supply failed\n";
+            return 1;
+        }
+    }
+
+    const auto started = Clock::now();
+    for (std::size_t n = 0; n < todo.size(); ++n) {
+        const sc::Point& point = todo[n];
+        char target[64];
+        std::snprintf(target, sizeof target, "P %.2f %.2f", point.az, point.el);
+        const auto moved = rot.ask(target, 1);
+        if (!moved || is_error(*moved) || !arrive(rot, point, tolerance)) {
+            std::cerr << "\nbirdcage-skyscan: the dish did not reach " << target + 2 << "\n";
+            return 1;
+        }
+        const auto reading = rot.ask("v RSSI", 1);
+        if (!reading || reading->empty() || is_error(*reading)) {
+            std::cerr << "\nbirdcage-skyscan: no RSSI at " << target + 2 << " ("
+                      << (reading && !reading->empty() ? reading->front() : "connection lost") << ")\n";
+            return 1;
+        }
+        const sc::Row row{point.az, point.el, std::atof(reading->front().c_str()), utc_now()};
+        out << sc::format_row(row) << "\n";
+        out.flush();
+        const double elapsed = std::chrono::duration<double>(Clock::now() - started).count();
+        const double eta = elapsed / static_cast<double>(n + 1) * static_cast<double>(todo.size() - n - 1);
+        std::fprintf(stderr, "\rbirdcage-skyscan: %zu/%zu  az %7.2f el %6.2f  value %6g  ETA %s ", plan.size() - todo.size() + n + 1,
+                     plan.size(), point.az, point.el, row.value, duration_text(eta).c_str());
+    }
+    std::fprintf(stderr, "\nbirdcage-skyscan: done, %zu points in %s\n", todo.size(),
+                 duration_text(std::chrono::duration<double>(Clock::now() - started).count()).c_str());
+    return 0;
+}

@@ -60,7 +60,7 @@ constexpr std::array<std::string_view, 8> any_boot_marker{"NoGPS", "No LNB Volta
 // `TRK>` prompt, `mot`/`os` at a root, `NoGPS` on both Trav'ler HALs) only tip the balance.
 using V = VariantId;
 using S = ClueSource;
-constexpr std::array<DetectionClue, 36> clues{{
+constexpr std::array<DetectionClue, 37> clues{{
     // Boot lines (3.2, 4.2, 6.2).
     {S::boot_line, "Bootloader v", V::carryout_g2, 4},
     {S::boot_line, "Ant ID -", V::carryout_g2, 4},
@@ -96,6 +96,7 @@ constexpr std::array<DetectionClue, 36> clues{{
     {S::help_command, "odu", V::travler_pro, 6},
     {S::help_command, "target", V::carryout2003, 6},
     {S::help_command, "ngsearch", V::travler_hal205, 6},
+    {S::help_command, "motor", V::travler_hal205, 3},   // its motor menu (4.3); HAL 2.05 may list mot too
     {S::help_command, "mot", V::travler_hal000, 2},
     {S::help_command, "os", V::travler_hal000, 1},
     {S::help_command, "nvs", V::travler_hal000, 1},

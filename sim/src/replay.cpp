@@ -13,6 +13,13 @@ constexpr std::size_t context_chunks = 3;
 Replayer::Replayer(Transcript transcript, ReplayMode mode, std::string source)
     : transcript_(std::move(transcript)), mode_(mode), source_(std::move(source))
 {
+    // Until the recording shows a prompt, a poke after the dish's boot output is answered with the
+    // first prompt it shows at all: the root it comes up in.
+    for (const TranscriptEntry& entry : transcript_.entries) {
+        if (entry.direction != Direction::dish_to_host) continue;
+        note_prompt(entry.bytes);
+        if (!last_prompt_.empty()) break;
+    }
     pump();
 }
 
@@ -41,6 +48,7 @@ void Replayer::pump()
             const double due = last_event_ + entry.delay_ms / 1000.0;
             if (now_ < due) return;
             output_ += entry.bytes;
+            note_prompt(entry.bytes);
             last_event_ = due;
             ++next_;
             continue;
@@ -52,6 +60,7 @@ void Replayer::pump()
             ++matched_;
         }
         if (matched_ < entry.bytes.size() && used < input_.size()) {
+            if (matched_ == 0 && answer_poke()) continue;
             diverge(entry.bytes.substr(0, matched_) + input_, "");
             return;
         }
@@ -61,8 +70,39 @@ void Replayer::pump()
         last_event_ = now_;
         ++next_;
     }
-    if (replaying() && next_ == transcript_.entries.size() && !input_.empty())
-        diverge(std::exchange(input_, {}), "the transcript has ended");
+    while (replaying() && next_ == transcript_.entries.size() && !input_.empty())
+        if (!answer_poke()) diverge(std::exchange(input_, {}), "the transcript has ended");
+}
+
+// A client that does not trust a single line pokes the console (a bare line ending, or `?` where
+// prompts are unknown) until it has seen the same prompt twice; how many pokes a recording holds
+// depends on timing, not on the dish. An unrecorded poke is therefore answered the way the
+// firmware notes say a console answers it (6.1: a bare line ending at a prompt prints the prompt
+// again, here the last prompt recorded, or before any the first one the recording shows) and
+// the recording goes on. While recorded dish output is still due (the dish is busy, e.g. booting)
+// a poke gets no answer: a booting dish ignores its input. `?` is never answered from nothing; it
+// is ignored the same way.
+bool Replayer::answer_poke()
+{
+    static constexpr std::string_view pokes[] = {"\r\n", "\r", "\n", "?\r\n", "?\r", "?\n"};
+    for (std::string_view poke : pokes) {
+        if (input_.compare(0, poke.size(), poke) != 0) continue;
+        input_.erase(0, poke.size());
+        const bool busy = next_ < transcript_.entries.size() &&
+                          transcript_.entries[next_].direction == Direction::dish_to_host;
+        if (poke.front() != '?' && !busy && !last_prompt_.empty()) output_ += "\r\n" + last_prompt_;
+        ++pokes_answered_;
+        return true;
+    }
+    return false;
+}
+
+// The prompt a recorded dish chunk ends with (`WORD>`, after its last line ending), if any.
+void Replayer::note_prompt(std::string_view bytes)
+{
+    const std::size_t line_start = bytes.find_last_of("\r\n");
+    const std::string_view tail = bytes.substr(line_start == std::string_view::npos ? 0 : line_start + 1);
+    if (!tail.empty() && tail.back() == '>' && tail.find_first_of(" <") == std::string_view::npos) last_prompt_ = tail;
 }
 
 void Replayer::diverge(std::string received, const std::string& why)

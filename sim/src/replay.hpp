@@ -30,9 +30,13 @@ public:
     const std::optional<std::string>& failure() const { return failure_; }
     // Every chunk of the transcript has been matched or sent.
     bool complete() const { return next_ == transcript_.entries.size(); }
+    // Unrecorded pokes (bare line endings, `?`) answered from the firmware facts (see replay.cpp).
+    std::size_t pokes_answered() const { return pokes_answered_; }
 
 private:
     void pump();
+    bool answer_poke();
+    void note_prompt(std::string_view bytes);
     void diverge(std::string received, const std::string& why);
 
     Transcript transcript_;
@@ -46,6 +50,8 @@ private:
     double last_event_ = 0.0;     // when the previous chunk was sent or completely received
     std::optional<std::string> failure_;
     bool fell_back_ = false;
+    std::string last_prompt_;      // the prompt the recorded dish output last ended with
+    std::size_t pokes_answered_ = 0;
     std::string fallback_bytes_;
 };
 

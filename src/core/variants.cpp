@@ -1,4 +1,5 @@
-// The variant table. Facts and their provenance: ../shared/notes/firmware.md (section numbers below).
+// The variant table. Each fact cites a section (n.n) of the compiled firmware notes; what each row
+// means for a user is in docs/variants.md, the emulator's independent reading in sim/README.md.
 #include "birdcage/variants.hpp"
 
 #include <algorithm>

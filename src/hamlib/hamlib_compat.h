@@ -1,5 +1,7 @@
 /* Hides the Hamlib API differences between 4.5.4 (Debian bookworm) and 4.6 / 4.7 / master (C++ only).
- * Never touch rot->state directly: master removed it. See ../shared notes hamlib.md §3. */
+ * Never touch rot->state directly: Hamlib master moved the rotator state behind accessor macros
+ * (HAMLIB_ROTSTATE/HAMLIB_ROTPORT, 4.7+), so a backend that dereferences rot->state builds only
+ * against older releases. */
 #ifndef BIRDCAGE_HAMLIB_COMPAT_H
 #define BIRDCAGE_HAMLIB_COMPAT_H
 

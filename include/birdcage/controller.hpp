@@ -10,6 +10,7 @@
 
 #include "birdcage/az_mapping.hpp"
 #include "birdcage/azel.hpp"
+#include "birdcage/clock.hpp"
 #include "birdcage/errors.hpp"
 #include "birdcage/log.hpp"
 #include "birdcage/session.hpp"
@@ -33,9 +34,9 @@ struct ControllerOptions {
     std::string detection_note;                     // how the variant was identified (shown by describe())
     int line_baud = 0;                              // the rate the port was opened at (describe()); 0 = unknown
     LogSink log;
-    // Time source for motion bookkeeping (leg timeouts, poll pacing). Tests inject a fake clock;
-    // I/O deadlines always use the real steady clock.
-    std::function<Clock::time_point()> clock;
+    // The dish's time (clock.hpp): motion bookkeeping (leg budgets, poll pacing) runs on it;
+    // I/O deadlines on the serial line stay real.
+    DishClock clock;
 };
 
 class Controller {   // single-threaded; the lead's RotatorService calls it from one worker thread

@@ -80,7 +80,7 @@ Controller::Controller(Transport& transport, ControllerOptions options)
     }
 }
 
-Clock::time_point Controller::now() const { return options_.clock ? options_.clock() : Clock::now(); }
+Clock::time_point Controller::now() const { return options_.clock.now(); }
 
 Status Controller::run_steps(std::span<const ConsoleStep> steps, std::string_view purpose) {
     for (const auto& step : steps) {

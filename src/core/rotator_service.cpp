@@ -370,7 +370,7 @@ Status RotatorService::recover_once() {
 }
 
 Clock::time_point RotatorService::controller_now() const {
-    return options_.clock ? options_.clock() : Clock::now();
+    return options_.clock.now();
 }
 
 // The azimuth direction a pass is taking, for the controller's cable-wrap choice: the estimated

@@ -211,11 +211,7 @@ extern "C" int winegard_rot_open(ROT* rot) {
         // Against an emulator running k times faster: motion bookkeeping on a clock k times
         // faster, worker periods k times shorter; I/O deadlines stay real (the pty is real).
         const double scale = priv->time_scale;
-        const auto origin = birdcage::Clock::now();
-        options.clock = [origin, scale] {
-            const auto elapsed = std::chrono::duration<double>(birdcage::Clock::now() - origin) * scale;
-            return origin + std::chrono::duration_cast<birdcage::Clock::duration>(elapsed);
-        };
+        options.clock = birdcage::DishClock::scaled(scale);
         auto scaled = [scale](std::chrono::milliseconds period) {
             return std::max(std::chrono::milliseconds{1},
                             std::chrono::milliseconds(static_cast<long long>(period.count() / scale)));

@@ -25,7 +25,7 @@ ControllerOptions options_for(VariantId variant, FakeClock& clock, bool leapfrog
     ControllerOptions options{};
     options.variant = variant;
     options.leapfrog = leapfrog;
-    options.clock = clock.source();
+    options.clock = DishClock::manual(clock.source());
     return options;
 }
 

@@ -123,7 +123,7 @@ struct Bench {
         ControllerOptions options{};
         options.variant = variant;
         options.leapfrog = false;
-        options.clock = [this] { return clock.now; };
+        options.clock = DishClock::manual([this] { return clock.now; });
         options.log = [this](LogLevel, const std::string& message) { log.push_back(message); };
         controller.emplace(wire, options);
     }

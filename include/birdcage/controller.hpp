@@ -122,6 +122,9 @@ private:
         std::chrono::milliseconds budget{0};   // estimated time x 2 + margin
         std::optional<double> last_seen;       // the axis' position at the previous poll
         Clock::time_point last_change{};
+        // Combined `g` legs: a live position line was printed; the dish was not already at the target.
+        bool live_seen = false;
+        bool needs_motion = false;
     };
 
     Clock::time_point now() const;
@@ -137,6 +140,7 @@ private:
     Status service_combined_leg();
     void finish_leg(std::string_view how);
     void finish_combined_leg(std::string_view how);
+    Status lose_sync(const std::string& why);
     Result<AzEl> note_live_output(std::span<const std::string> lines);
     double leg_distance(const Leg& leg) const;
     Result<AzEl> ask_position(std::chrono::milliseconds timeout);
@@ -183,6 +187,10 @@ private:
     std::chrono::milliseconds boot_budget_{0};   // wait_for_boot()'s bound for this initialisation
     std::string leg_fault_;                      // see take_fault()
     std::string motor_menu_;                     // the session's menu at the end of initialize()
+    // This console prints live positions while `g` runs (a fact about the firmware: kept across
+    // re-initialisations); only then can their absence mean anything.
+    bool live_output_proven_ = false;
+    bool sync_lost_ = false;                     // the console is not where it was left (needs_reinit())
 };
 
 }  // namespace birdcage

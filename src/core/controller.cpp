@@ -30,6 +30,10 @@ constexpr double new_pass_jump_degrees = 30.0;
 constexpr double beyond_display_degrees = 0.5;
 // After a re-initialisation the mechanical estimate is kept if the dish still reads within this.
 constexpr double same_branch_recheck_degrees = 1.0;
+// The 2003 Carryout prints a live position line within this long after `g` starts a move: the
+// upstream client reads 1 s after writing `g` and parses one (firmware notes 8.4). A `g` that needed
+// a move and printed none in this window did not run as a move (the console is not in `target`).
+constexpr auto first_live_line_window = 1000ms;
 
 std::string degrees_text(double value) { return format_degrees(value); }
 
@@ -255,6 +259,7 @@ Status Controller::initialize() { return initialize_within(options_.boot_timeout
 Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
     boot_budget_ = boot_budget;
     initialised_ = false;
+    sync_lost_ = false;
     pending_.clear();
     in_flight_.reset();
     // Whatever was commanded before is void (a reboot stops the axes, a hang-up loses replies).
@@ -673,7 +678,8 @@ Status Controller::send_leg(Leg& leg) {
         commanded_az_ = leg.target.az;
         commanded_el_ = leg.target.el;
         // Live output that arrived with the reply is the first position sample.
-        note_live_output(reply.value.lines);
+        leg.live_seen = static_cast<bool>(note_live_output(reply.value.lines));
+        leg.needs_motion = distance > profile_.arrival_tolerance;
     } else if (leg.axis == Axis::azimuth) {
         commanded_az_ = leg.mech_az;
         leg.path_known = mech_az_.has_value();
@@ -690,7 +696,14 @@ Status Controller::send_leg(Leg& leg) {
          "sent " + command + " (estimated " + std::to_string(estimate.count()) + " ms)");
     in_flight_ = leg;
     if (leg.combined && reply && !reply.value.prompt.empty()) {
-        finish_combined_leg("ended (prompt after the move)");
+        // A prompt with no live line for a move that needed one proves nothing yet: the shell may
+        // run `g` in the background, or not be in `target` at all (service_combined_leg() decides).
+        if (in_flight_->live_seen || !in_flight_->needs_motion || !live_output_proven_) {
+            finish_combined_leg("ended (prompt after the move)");
+        }
+    }
+    if (leg.combined && leg.live_seen) {
+        live_output_proven_ = true;
     }
     return Status::ok();
 }
@@ -789,29 +802,45 @@ Status Controller::service_combined_leg() {
         return Status::ok();
     }
     last_poll_ = t;
-    // Sending anything during `g` would abort it on firmware with this quirk: listen instead.
-    const bool may_send = !profile_.has(quirk_g_aborts_on_input) && !profile_.position_query.empty();
-    Result<AzEl> sample;
-    if (may_send) {
-        sample = ask_position(query_timeout);
-    } else {
-        const auto heard = session_.listen(poll_interval);
-        if (!heard) {
-            finish_leg("abandoned: " + heard.status.message);
-            return heard.status;
-        }
-        sample = note_live_output(heard.value.lines);
-        if (!heard.value.prompt.empty()) {
-            finish_combined_leg("ended (prompt after the move)");
-            return Status::ok();
-        }
+    // Sending anything during `g` may abort it (firmware notes 2, 3.5; 8.5 leaves it open for the
+    // 2003 Carryout): listen instead.
+    const auto heard = session_.listen(poll_interval);
+    if (!heard) {
+        finish_leg("abandoned: " + heard.status.message);
+        return heard.status;
+    }
+    const Result<AzEl> sample = note_live_output(heard.value.lines);
+    if (sample) {
+        leg.live_seen = true;
+        live_output_proven_ = true;
     }
     if (sample && axis_error(Axis::azimuth, sample.value.az, leg.target.az) <= profile_.arrival_tolerance &&
         axis_error(Axis::elevation, sample.value.el, leg.target.el) <= profile_.arrival_tolerance) {
         finish_leg("arrived");
         return Status::ok();
     }
+    // A prompt after live output ends the move; one before any (the shell may run `g` in the
+    // background) ends it only where nothing else can (no move needed, no live output known).
+    if (!heard.value.prompt.empty() && (leg.live_seen || !leg.needs_motion || !live_output_proven_)) {
+        finish_combined_leg("ended (prompt after the move)");
+        return Status::ok();
+    }
+    // A silent reboot leaves the 2003 Carryout at its root, booting, with no boot line (8.1, 8.2),
+    // and a bare `>` prompt may look the same in every menu. What gives it away on any reading of
+    // the firmware: this console has printed live positions during `g` before, and now a `g` that
+    // needed a move printed none in the window the upstream client relies on, or its live output
+    // stopped short of the target with no prompt after it. Either way the console is not where the
+    // backend left it: re-initialise (needs_reinit()), which waits out a boot.
+    if (live_output_proven_ && leg.needs_motion && !leg.live_seen && t - leg.sent_at >= first_live_line_window) {
+        return lose_sync("the dish printed no live position within " +
+                         std::to_string(first_live_line_window.count()) + " ms of " +
+                         build_combined_move(leg.target) + ": it did not run the move");
+    }
     if (t - leg.sent_at > leg.budget) {
+        if (leg.live_seen) {
+            return lose_sync("the live position stopped at az " + degrees_text(last_position_->az) + " el " +
+                             degrees_text(last_position_->el) + ", short of the target, and no prompt followed");
+        }
         // No readback at rest: report the commanded position, and say so in describe().
         last_position_ = leg.target;
         last_position_at_ = t;
@@ -819,6 +848,14 @@ Status Controller::service_combined_leg() {
         finish_leg("assumed complete (estimated move time elapsed)");
     }
     return Status::ok();
+}
+
+Status Controller::lose_sync(const std::string& why) {
+    emit(options_.log, LogLevel::warning, why + "; the console is not where it was left (a silent reboot?): re-initialising");
+    finish_leg("abandoned");
+    pending_.clear();
+    sync_lost_ = true;
+    return Status{Errc::not_initialised, why};
 }
 
 Status Controller::service() {
@@ -961,7 +998,7 @@ void Controller::cancel_pending() {
 }
 
 bool Controller::needs_reinit() const {
-    if (!initialised_ || session_.reboot_seen()) {
+    if (!initialised_ || sync_lost_ || session_.reboot_seen()) {
         return true;
     }
     return !motor_menu_.empty() && !session_.menu().empty() && session_.menu() != motor_menu_;

@@ -327,8 +327,6 @@ struct OpenCell {
 const OpenCell kOpenCells[] = {
     {Variant::carryout_g2, "reboot mid-pass", "terse",
      "with move_ack=after_motion the target sent during recovery is lost (the dish stays at the slew)"},
-    {Variant::carryout2003, "reboot mid-pass", "terse",
-     "a silent reboot is not noticed: legs are 'assumed complete' and the next g goes to a booting dish"},
 };
 
 bool is_open(const VariantRow& v, const MeetingRow& m, const Profile& p) {

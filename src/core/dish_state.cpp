@@ -1,0 +1,62 @@
+#include "birdcage/dish_state.hpp"
+
+#include "birdcage/protocol.hpp"
+
+namespace birdcage {
+
+void DishState::record(AzEl position, Clock::time_point at, bool estimated) {
+    last_position = position;
+    last_position_at = at;
+    position_estimated = estimated;
+}
+
+PositionReader::PositionReader(ConsoleSession& session, const FirmwareProfile& profile, WrapTracker& wrap,
+                               DishState& state, std::function<Clock::time_point()> now)
+    : session_(session), profile_(profile), wrap_(wrap), state_(state), now_(std::move(now)) {}
+
+void PositionReader::record_reading(AzEl& reading) {
+    const auto t = now_();
+    wrap_.note_reading(reading.az, t);
+    reading.az = normalize_azimuth(reading.az);
+    state_.record(reading, t, false);
+}
+
+Result<AzEl> PositionReader::ask(std::chrono::milliseconds timeout) {
+    const auto complete = [this](std::span<const std::string> lines) {
+        return parse_position(profile_, lines).status.code != Errc::protocol;
+    };
+    const auto reply = session_.transact(profile_.position_query, timeout, complete);
+    state_.fault_reported = reply.status.code == Errc::protocol;   // the session's only protocol error: a fault line
+    if (state_.fault_reported) {
+        state_.fault = reply.status.message;
+    }
+    if (!reply && reply.status.code != Errc::protocol) {
+        return {{}, reply.status};
+    }
+    auto position = parse_position(profile_, reply.value.lines);
+    if (position.status.code == Errc::not_homed) {
+        state_.unhomed = true;
+        session_.set_axes_unhomed(true);
+        return position;
+    }
+    if (!position) {
+        return position;
+    }
+    state_.unhomed = false;
+    session_.set_axes_unhomed(false);
+    record_reading(position.value);
+    if (!reply) {
+        position.status = reply.status;   // a valid position, but the dish also reported a fault
+    }
+    return position;
+}
+
+Result<AzEl> PositionReader::note_live_output(std::span<const std::string> lines) {
+    auto sample = parse_carryout_live(lines);
+    if (sample) {
+        record_reading(sample.value);
+    }
+    return sample;
+}
+
+}  // namespace birdcage

@@ -1,0 +1,160 @@
+#include "birdcage/wrap_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "birdcage/protocol.hpp"
+
+namespace birdcage {
+namespace {
+
+// A reading this far outside 0..360 cannot be a displayed azimuth ("-0.00" and "360.00" can).
+constexpr double beyond_display_degrees = 0.5;
+// A mechanical reading may overshoot the travel's ends by this much (the motor coasts).
+constexpr double travel_slack_degrees = 1.0;
+// Readings beyond 0..360 in a row that prove the dish reports mechanical angles (one could be noise).
+constexpr int mechanical_proof_readings = 2;
+// After a re-initialisation the mechanical estimate is kept if the dish still reads within this.
+constexpr double same_branch_recheck_degrees = 1.0;
+// A target this far (display azimuth) from the previous one is a new pass or another satellite.
+constexpr double new_pass_jump_degrees = 30.0;
+
+std::string degrees_text(double value) { return format_degrees(value); }
+
+}  // namespace
+
+WrapTracker::WrapTracker(azmap::Travel travel, std::optional<azmap::Mapping> stated, LogSink log)
+    : travel_(travel), usable_(wrap::usable_window(travel.window)), learner_(travel, stated), log_(std::move(log)) {}
+
+void WrapTracker::note_reading(double reported, Clock::time_point at) {
+    reading_at_ = at;
+    ++readings_;
+    const wrap::Window& window = travel_.window;
+    const double display = normalize_azimuth(reported);
+    const bool beyond_display = reported < -beyond_display_degrees || reported >= 360.0 + beyond_display_degrees;
+    const bool inside_travel =
+        reported >= window.min - travel_slack_degrees && reported <= window.max + travel_slack_degrees;
+    if (beyond_display && inside_travel) {
+        // Only a mechanical report can read like this: it names the branch.
+        if (!reports_mechanical_ && ++beyond_display_readings_ >= mechanical_proof_readings) {
+            reports_mechanical_ = true;
+            emit(log_, LogLevel::verbose, "the dish reports its mechanical azimuth (read " + degrees_text(reported) +
+                                              "): readings are taken literally");
+        }
+        mechanical_ = reported;
+        recheck_branch_ = false;
+        return;
+    }
+    if (!beyond_display) {
+        beyond_display_readings_ = 0;
+    }
+    if (reports_mechanical_ && inside_travel) {
+        mechanical_ = reported;
+        recheck_branch_ = false;
+        return;
+    }
+    if (recheck_branch_ && mechanical_ &&
+        std::fabs(azimuth_difference(*mechanical_, display)) > same_branch_recheck_degrees) {
+        emit(log_, LogLevel::verbose,
+             "after (re)initialisation the dish reads azimuth " + degrees_text(display) + ", not " +
+                 degrees_text(normalize_azimuth(*mechanical_)) + ": it moved, its cable-wrap branch is assumed afresh");
+        mechanical_.reset();
+    }
+    recheck_branch_ = false;
+    if (!mechanical_) {
+        mechanical_ = wrap::start_branch(display, window);
+        if (wrap::branches(display, window).size() > 1) {
+            emit(log_, LogLevel::verbose,
+                 "azimuth " + degrees_text(display) + " has two cable-wrap branches; assuming mechanical " +
+                     degrees_text(*mechanical_) + " (the one nearest AZ 0)");
+        }
+        return;
+    }
+    mechanical_ = wrap::unwrap_reading(display, *mechanical_, window);
+}
+
+// The rule (tracking.md §2.3: no avoidable unwinds; unwind, when unavoidable, away from the
+// limit stops):
+//  - normally the target's branch nearest the previous target (continuity), if it lies inside
+//    the wrap window less the margins;
+//  - when a pass starts (the caller's rate hint is non-zero and the target is within
+//    pass_start_band_deg of el_min, rising), the branch nearest the previous target among those
+//    with room for a whole pass (pass_span_deg) ahead in the direction of motion, else the one
+//    with the most room ahead: the one unwind a pass that does not fit needs then happens at its
+//    end, as late and as low as possible, instead of near its culmination;
+//  - when the continuous branch lies outside the window (the limit is reached), the branch with
+//    the most room ahead in the direction of motion (the nearest without a rate hint).
+// A pass is started once: later targets of the same pass (same direction, no jump) keep
+// continuity, so the descent towards el_min at its end never triggers the pass-start rule.
+//
+// Continuity is measured from the branch of the previous target (not the dish's momentary
+// position, which may be half-way through a long slew to it), else where the azimuth leg in
+// flight ends, else the estimated mechanical azimuth, else the last command.
+double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps,
+                                  double el_min, std::optional<double> leg_end, std::optional<double> commanded) {
+    const int direction = az_rate_dps > 0.0 ? 1 : (az_rate_dps < 0.0 ? -1 : 0);
+    const bool jumped = previous && std::fabs(azimuth_difference(previous->az, wanted.az)) > new_pass_jump_degrees;
+    if (direction == 0 || jumped) {
+        pass_direction_.reset();
+    }
+    const bool new_pass = direction != 0 && pass_direction_ != direction;
+    const bool falling = previous && !jumped && wanted.el < previous->el - same_angle_degrees;
+    const bool pass_starting = new_pass && !falling && wanted.el <= el_min + wrap::pass_start_band_deg;
+    if (direction != 0) {
+        pass_direction_ = direction;
+    }
+    const wrap::Window plan = plan_window();
+    std::optional<double> reference = target_mechanical_;
+    for (const auto& candidate : {leg_end, mechanical_, commanded}) {
+        if (!reference) {
+            reference = candidate;
+        }
+    }
+    // Nothing read or commanded yet: continuity from the start assumption (wrap::start_branch()).
+    const wrap::Choice choice =
+        wrap::choose_branch(wanted.az, reference.value_or(std::clamp(0.0, plan.min, plan.max)), direction,
+                            pass_starting, plan);
+    if (choice.reason != wrap::Reason::continuous) {
+        std::string message = "azimuth " + degrees_text(wanted.az) + ": mechanical " +
+                              degrees_text(choice.mechanical) + " instead of " + degrees_text(choice.continuous) +
+                              " (" + std::string(wrap::reason_text(choice.reason));
+        if (direction != 0) {
+            message += "; " + degrees_text(wrap::room_ahead(choice.mechanical, direction, plan)) +
+                       " deg of room ahead " + (direction > 0 ? "clockwise" : "anticlockwise");
+        }
+        message += "; window " + degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")";
+        emit(log_, LogLevel::verbose, message);
+    }
+    target_mechanical_ = choice.mechanical;
+    return choice.mechanical;
+}
+
+void WrapTracker::forget_target() {
+    target_mechanical_.reset();
+    pass_direction_.reset();
+}
+
+std::string WrapTracker::describe() const {
+    const wrap::Window& window = travel_.window;
+    if (window.span() <= 360.0) {
+        return "azimuth 0..360, no cable-wrap overlap; azimuth mapping " + learner_.describe();
+    }
+    std::string text = "cable wrap " + degrees_text(window.min) + ".." + degrees_text(window.max) +
+                       " (commanded within " + degrees_text(usable_.min) + ".." + degrees_text(usable_.max) + ")";
+    if (mechanical_) {
+        text += "; mechanical az " + degrees_text(*mechanical_) +
+                (reports_mechanical_
+                     ? " (reported by the dish)"
+                     : " (from 0..360 readings; the branch at start was assumed to be the one nearest AZ 0: "
+                       "where the G2 homes, the reading itself on a window starting at 0)");
+    } else {
+        text += "; mechanical az unknown";
+    }
+    if (target_mechanical_) {
+        text += "; target mechanical az " + degrees_text(*target_mechanical_);
+    }
+    text += "; azimuth mapping " + learner_.describe();
+    return text;
+}
+
+}  // namespace birdcage

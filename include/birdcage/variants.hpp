@@ -19,19 +19,13 @@ enum class VariantId { travler_hal000, travler_hal205, travler_pro, carryout2003
 enum Quirk : std::uint32_t {
     quirk_none = 0,
     // `q` at the root prompt terminates the shell until a power cycle (G2 02.02.48, firmware.md 6.5).
-    // Read by: hazard_check().
+    // Read by: hazard_check(); detection treats this firmware's clues as a warning against `q`.
     quirk_q_at_root_kills_shell = 1u << 0,
-    // Any byte received while a `g` move runs aborts the move (firmware.md 2, 3.5).
-    // Read by: Controller::service_combined_leg().
-    quirk_g_aborts_on_input = 1u << 1,
-    // No command reports the resting position; only live output while `g` runs (Carryout 2003, 8.3).
-    // Read by: Controller::query_position().
-    quirk_no_position_query = 1u << 2,
     // Motor/NVS/OS commands live on the ODU console behind the IDU's `odu` tunnel, and where `q`
     // at the ODU root leads is unknown (Trav'ler Pro, 5.1). Read by: ConsoleSession::note_menu_after().
     quirk_odu_tunnel = 1u << 3,
     // Axes are uncalibrated after power-up until `h <id>` (G2 with NVS 20 TRUE, 6.4).
-    // Read by: Controller::check_homing().
+    // Read by: Controller::warn_if_unhomed().
     quirk_requires_homing = 1u << 4,
 };
 
@@ -48,7 +42,7 @@ enum class MoveAckFormat {
 
 enum class MoveStyle {
     per_axis_a,   // `a <id> <deg>`, one motor at a time
-    combined_g,   // `g <az> <el>` (aborts on any input)
+    combined_g,   // `g <az> <el>` in a menu of its own; live output while it runs (CombinedMoveDriver)
 };
 
 enum class MotionModel {
@@ -81,11 +75,10 @@ struct FirmwareProfile {
     std::span<const std::string_view> boot_complete_markers;  // substrings: boot has finished
     std::span<const std::string_view> reboot_markers;         // substrings: the dish is (re)booting
 
-    std::string_view position_query;  // empty when the variant has none
+    std::string_view position_query;  // empty when the variant has none (only live output while `g` runs)
     PositionFormat position_format;
     MoveAckFormat move_ack;
     MoveStyle move_style;
-    std::string_view combined_move_menu;  // submenu `g` lives in (Carryout 2003 `target`)
 
     double el_min, el_max;      // firmware/mechanical limits, degrees
     double az_min, az_max;      // travel including cable wrap, in the dish's own coordinates
@@ -114,6 +107,11 @@ struct FirmwareProfile {
     // menu; empty = the variant has no tuner we can read. Read by: Controller::in_submenu() callers
     // (receiver.cpp).
     std::string_view receiver_menu = {};
+
+    // The variant whose inner console (behind a tunnel) looks exactly like this variant's root:
+    // HAL 0.0.00's root is what a Trav'ler Pro shows inside its ODU console (firmware notes 5.1).
+    // Auto-detection that finds this variant sends the one `q` that tells the two apart.
+    std::optional<VariantId> also_shown_inside = std::nullopt;
 
     bool has(Quirk quirk) const { return (quirks & quirk) != 0; }
     bool prompt_known() const { return !motor_prompt.empty(); }

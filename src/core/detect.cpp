@@ -96,13 +96,19 @@ std::string listing_text(const HelpListing& help) {
     return text.empty() ? std::string("(nothing)") : text;
 }
 
-int score_of(const std::vector<VariantScore>& ranking, VariantId id) {
+// A firmware whose shell dies on `q` at its root (the G2, firmware notes 6.5): its clues are
+// warnings against `q`, whatever else the console looks like.
+bool q_at_root_kills(VariantId id) { return profile(id).has(quirk_q_at_root_kills_shell); }
+
+// The evidence for firmware whose root `q` kills its shell.
+int q_killer_score(const std::vector<VariantScore>& ranking) {
+    int score = 0;
     for (const auto& entry : ranking) {
-        if (entry.variant == id) {
-            return entry.score;
+        if (q_at_root_kills(entry.variant)) {
+            score += entry.score;
         }
     }
-    return 0;
+    return score;
 }
 
 bool names_a_root_command(const HelpListing& help) {
@@ -112,13 +118,19 @@ bool names_a_root_command(const HelpListing& help) {
     });
 }
 
-bool is_g2_root_shape(std::string_view prompt) { return lower(prompt) == lower(profile(VariantId::carryout_g2).root_prompt); }
+// The root prompt of a firmware whose root `q` kills its shell (`TRK>`): other firmware may share the shape.
+bool is_g2_root_shape(std::string_view prompt) {
+    const auto rows = all_profiles();
+    return std::any_of(rows.begin(), rows.end(), [&](const FirmwareProfile& row) {
+        return row.has(quirk_q_at_root_kills_shell) && !row.root_prompt.empty() && lower(prompt) == lower(row.root_prompt);
+    });
+}
 
 // A command of the G2's root listing that no other firmware lists (the G2's listing clues).
 bool names_a_g2_only_command(const HelpListing& help) {
     const auto all = detection_clues();
     return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
-        return clue.source == ClueSource::help_command && clue.variant == VariantId::carryout_g2 &&
+        return clue.source == ClueSource::help_command && q_at_root_kills(clue.variant) &&
                help.commands.count(lower(clue.text)) > 0;
     });
 }
@@ -129,7 +141,7 @@ bool g2_command_heard(const std::vector<std::string>& lines) {
     const HelpListing heard = parse_help_listing(lines);
     const auto all = detection_clues();
     return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
-        return clue.source == ClueSource::help_command && clue.variant == VariantId::carryout_g2 &&
+        return clue.source == ClueSource::help_command && q_at_root_kills(clue.variant) &&
                heard.words.count(lower(clue.text)) > 0;
     });
 }
@@ -141,7 +153,7 @@ bool g2_text_in(std::string_view raw) {
     const std::string text = lower(raw);
     const auto all = detection_clues();
     return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
-        return clue.variant == VariantId::carryout_g2 && !is_g2_root_shape(clue.text) &&
+        return q_at_root_kills(clue.variant) && !is_g2_root_shape(clue.text) &&
                text.find(lower(clue.text)) != std::string::npos;
     });
 }
@@ -327,8 +339,8 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
             d.variant = winner->variant;
             d.evidence = "auto-detected: " + summary({*winner});
             // The `TRK>` shape alone is no trace: the HAL 0.0.00 init sends `q` at its root anyway.
-            const bool no_trace_of_g2 = score_of(ranking, VariantId::carryout_g2) <= (is_g2_root_shape(evidence.prompt) ? 1 : 0);
-            if (winner->variant == VariantId::travler_hal000) {
+            const bool no_trace_of_g2 = q_killer_score(ranking) <= (is_g2_root_shape(evidence.prompt) ? 1 : 0);
+            if (const auto outer = profile(winner->variant).also_shown_inside) {
                 // The only `q` at a root, even one shaped like the G2's `TRK>`: allowed because the
                 // listing positively shows a Trav'ler/ODU root (shows_travler_root), where `q` is
                 // the upstream clients' harmless idiom (firmware notes 2), and nothing else hints
@@ -344,9 +356,10 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
                     }
                     evidence.help = parse_help_listing(help_lines);
                     const auto after = clear_winner(rank_evidence(evidence));
-                    if (after && after->variant == VariantId::travler_pro) {
-                        d.variant = VariantId::travler_pro;
-                        d.evidence += "; q from there led to the IDU console (? lists odu): a Trav'ler Pro";
+                    if (after && after->variant == *outer) {
+                        d.variant = *outer;
+                        d.evidence += "; q from there led to the IDU console (? lists odu): a " +
+                                      std::string(profile(*outer).display_name);
                     } else {
                         d.maybe_pro_odu = true;
                     }
@@ -354,7 +367,10 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
                     d.maybe_pro_odu = true;
                 }
                 if (d.maybe_pro_odu) {
-                    d.evidence += " (a Trav'ler Pro left inside its ODU console looks the same; elevation kept <= 75)";
+                    const FirmwareProfile& inside = profile(*outer);
+                    d.evidence += " (a " + std::string(inside.display_name) +
+                                  " left inside its ODU console looks the same; elevation kept <= " +
+                                  std::to_string(static_cast<int>(inside.el_max)) + ")";
                 }
             }
             emit(log, LogLevel::verbose, d.evidence);

@@ -65,7 +65,7 @@ TEST_CASE("variants: facts from firmware.md") {
     const auto& carryout = profile(VariantId::carryout2003);
     CHECK(carryout.el_min == 22.0);
     CHECK(carryout.el_max == 73.0);
-    CHECK(carryout.has(quirk_no_position_query));
+    CHECK(carryout.position_query.empty());
     CHECK(carryout.move_style == MoveStyle::combined_g);
     CHECK(carryout.motor_menu_entry[0].command == "target");
 }

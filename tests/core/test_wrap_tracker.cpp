@@ -1,0 +1,92 @@
+// The wrap tracker on its own: no console, no clock (times are passed in).
+#include <catch2/catch.hpp>
+
+#include "birdcage/wrap_tracker.hpp"
+
+using namespace birdcage;
+using namespace std::chrono_literals;
+
+namespace {
+
+const azmap::Travel g2_travel{{-423.33, 23.33}, true};
+const azmap::Travel travler_travel{{0.0, 455.0}, false};
+const Clock::time_point t0 = Clock::time_point{} + 1h;
+
+}  // namespace
+
+TEST_CASE("wrap tracker: the first displayed reading takes the branch nearest AZ 0, later ones follow the axis") {
+    WrapTracker tracker(g2_travel, std::nullopt, {});
+    CHECK_FALSE(tracker.mechanical());
+    tracker.note_reading(300.0, t0);
+    REQUIRE(tracker.mechanical());
+    CHECK(*tracker.mechanical() == Approx(-60.0));   // 300 = -60, the branch nearest 0
+    tracker.note_reading(200.0, t0 + 1s);
+    CHECK(*tracker.mechanical() == Approx(-160.0));
+    tracker.note_reading(100.0, t0 + 2s);              // +100 is beyond the travel: -260
+    CHECK(*tracker.mechanical() == Approx(-260.0));
+    tracker.note_reading(20.0, t0 + 3s);               // -340 is nearer -260 than +20 is
+    CHECK(*tracker.mechanical() == Approx(-340.0));
+    CHECK(tracker.readings() == 4);
+    CHECK_FALSE(tracker.reports_mechanical());
+}
+
+TEST_CASE("wrap tracker: two readings beyond 0..360 prove mechanical reports, taken literally after") {
+    WrapTracker tracker(g2_travel, std::nullopt, {});
+    tracker.note_reading(-100.0, t0);
+    CHECK_FALSE(tracker.reports_mechanical());
+    tracker.note_reading(-110.0, t0 + 1s);
+    CHECK(tracker.reports_mechanical());
+    tracker.note_reading(10.0, t0 + 2s);               // a displayed reading would unwrap to -350
+    CHECK(*tracker.mechanical() == Approx(10.0));
+}
+
+TEST_CASE("wrap tracker: after a re-initialisation the branch is kept only if the dish still reads it") {
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(50.0, t0);
+    tracker.note_reading(40.0, t0 + 2s);
+    const double before = *tracker.mechanical();
+    tracker.recheck_branch();
+    tracker.note_reading(40.2, t0 + 3s);
+    CHECK(*tracker.mechanical() == Approx(before + 0.2));    // same branch
+    tracker.recheck_branch();
+    tracker.note_reading(180.0, t0 + 4s);                    // it moved: the start assumption again
+    CHECK(*tracker.mechanical() == Approx(180.0));
+}
+
+TEST_CASE("wrap tracker: branch choice keeps continuity with the previous target and remembers it") {
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(350.0, t0);
+    const double first = tracker.choose_branch({355.0, 30.0}, std::nullopt, 0.0, 15.0, std::nullopt, std::nullopt);
+    CHECK(first == Approx(355.0));
+    // Crossing north clockwise: 5 deg is continued as mechanical 365, not an unwind to 5.
+    const double next = tracker.choose_branch({5.0, 30.0}, AzEl{355.0, 30.0}, 0.1, 15.0, std::nullopt, std::nullopt);
+    CHECK(next == Approx(365.0));
+    REQUIRE(tracker.target_mechanical());
+    CHECK(*tracker.target_mechanical() == Approx(365.0));
+    tracker.forget_target();
+    CHECK_FALSE(tracker.target_mechanical());
+}
+
+TEST_CASE("wrap tracker: a pass starting low picks the branch with room for the whole pass") {
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(300.0, t0);
+    // Rising at el_min, moving clockwise from 300: 300 has only 155 deg of room ahead, and the
+    // branch at -60 does not exist on 0..455, so the pass starts there anyway (most room ahead).
+    const double start = tracker.choose_branch({300.0, 16.0}, std::nullopt, 0.5, 15.0, std::nullopt, std::nullopt);
+    CHECK(start == Approx(300.0));
+    // Anticlockwise from 10, the branch at 370 has room ahead (down to 0); 10 has none.
+    WrapTracker other(travler_travel, std::nullopt, {});
+    other.note_reading(10.0, t0);
+    const double back = other.choose_branch({10.0, 16.0}, std::nullopt, -0.5, 15.0, std::nullopt, std::nullopt);
+    CHECK(back == Approx(370.0));
+}
+
+TEST_CASE("wrap tracker: a reading taken back restores the previous estimate") {
+    WrapTracker tracker(g2_travel, std::nullopt, {});
+    tracker.note_reading(90.0, t0);
+    const auto kept = tracker.mechanical();
+    tracker.note_reading(13.0, t0 + 1s);
+    tracker.restore_mechanical(kept);
+    CHECK(*tracker.mechanical() == Approx(*kept));
+    CHECK(tracker.describe().find("mechanical az") != std::string::npos);
+}

@@ -74,7 +74,14 @@ public:
     Status set_target(AzEl target, double az_rate_dps = 0.0);
     Status service();                 // one pump step (~every 50 ms)
     void cancel_pending();            // drops legs not yet sent; aborts a running `g` where input aborts it
-    Status home();                    // runs the variant's homing commands (blocking); unsupported if none
+    // Homing (Hamlib reset) without blocking: start_home() queues the variant's home commands
+    // (unsupported if none) and service() drives them, sending each and then reading the console
+    // a short slice per call until its prompt returns (the G2's `h` holds the shell until the
+    // axis is homed), bounded per command; last_position() is read again at the end. While it
+    // runs the console is busy: idle() and query_position() say so, targets set meanwhile wait.
+    Status start_home();
+    bool homing() const { return homing_.has_value(); }
+    Status home();                    // start_home(), then service() until it ends (blocking)
     AzEl park_position() const { return {profile_.park_az, profile_.park_el}; }
     bool unhomed() const { return state_.unhomed; }
     bool idle() const;
@@ -113,6 +120,8 @@ private:
     Status check_tracker_disabled();
     void forget_target();
     bool moved_on_its_own(const AzEl& before, const AzEl& now) const;
+    Status service_homing();
+    Status finish_homing();
 
     const FirmwareProfile& profile_;
     ControllerOptions options_;
@@ -124,6 +133,12 @@ private:
     MenuNavigator menus_;
     std::unique_ptr<MoveDriver> driver_;
     bool initialised_ = false;
+    struct HomingRun {
+        std::size_t next = 0;               // index into profile_.home_commands
+        bool awaiting_prompt = false;       // home_commands[next] was sent; its prompt has not come back
+        Clock::time_point sent_at{};
+    };
+    std::optional<HomingRun> homing_;
     bool tracker_enabled_ = false;      // G2 NVS 20 "Disable Tracker Proc?" read FALSE (describe())
     bool tracker_checked_ = false;
     std::chrono::milliseconds boot_budget_{0};   // wait_for_boot()'s bound for this initialisation

@@ -13,7 +13,12 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr auto query_timeout = 2000ms;          // `a`: ~60 bytes even at 57600 baud is ~11 ms
-constexpr auto home_timeout = 180000ms;         // `h <id>` blocks the shell until the axis is homed
+// `h <id>` blocks the shell until the axis is homed. Homing is motion, so the bound is dish time
+// (clock.hpp): the emulator's time scale shortens it as it shortens the homing.
+constexpr auto home_timeout = 180000ms;
+// While homing, one service() call reads the console this long (real time) for the prompt: short
+// enough that the caller's loop stays responsive, long enough not to spin.
+constexpr auto home_listen_slice = 100ms;
 constexpr auto skip_init_sync_budget = 5000ms;  // skip_init: the dish is said to be up already
 constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
 
@@ -114,7 +119,7 @@ Status Controller::check_tracker_disabled() {
     return Status::ok();
 }
 
-Status Controller::home() {
+Status Controller::start_home() {
     if (profile_.home_commands.empty()) {
         return Status{Errc::unsupported, std::string(profile_.display_name) +
                                              " has no homing command (it calibrates at power-up only)"};
@@ -122,16 +127,64 @@ Status Controller::home() {
     if (!initialised_) {
         return Status{Errc::not_initialised, "initialize() has not succeeded"};
     }
+    // Whatever was queued or in flight is void: homing recalibrates both axes.
     driver_->reset();
     forget_target();
     wrap_.forget_position();
-    for (const auto command : profile_.home_commands) {
-        emit(options_.log, LogLevel::verbose, "homing: " + std::string(command));
-        const auto reply = session_.transact(command, home_timeout);
-        if (!reply) {
-            return Status{reply.status.code, "homing (" + std::string(command) + "): " + reply.status.message};
+    homing_ = HomingRun{};
+    return Status::ok();
+}
+
+Status Controller::home() {
+    if (Status started = start_home(); !started) {
+        return started;
+    }
+    while (homing_) {
+        if (Status step = service(); !step) {
+            return step;
         }
     }
+    return Status::ok();
+}
+
+Status Controller::service_homing() {
+    HomingRun& run = *homing_;
+    if (run.next >= profile_.home_commands.size()) {
+        return finish_homing();
+    }
+    const std::string command(profile_.home_commands[run.next]);
+    const auto failed = [&](const Status& why) {
+        homing_.reset();
+        return Status{why.code, "homing (" + command + "): " + why.message};
+    };
+    Result<Reply> heard;
+    if (!run.awaiting_prompt) {
+        emit(options_.log, LogLevel::verbose, "homing: " + command);
+        heard = session_.transact(command, home_listen_slice);
+        run.sent_at = now();
+        run.awaiting_prompt = true;
+        if (!heard && heard.status.code != Errc::timeout) {
+            return failed(heard.status);
+        }
+    } else {
+        heard = session_.listen(home_listen_slice);
+        if (!heard) {
+            return failed(heard.status);
+        }
+    }
+    if (!heard.value.prompt.empty()) {
+        run.awaiting_prompt = false;
+        ++run.next;
+        return service_homing();   // the next command at once, or the end
+    }
+    if (now() - run.sent_at > home_timeout) {
+        return failed(Status{Errc::timeout, "no prompt within " + std::to_string(home_timeout.count()) + " ms"});
+    }
+    return Status::ok();
+}
+
+Status Controller::finish_homing() {
+    homing_.reset();
     state_.unhomed = false;
     session_.set_axes_unhomed(false);
     const auto position = reader_.ask(query_timeout);
@@ -175,6 +228,7 @@ Status Controller::open_motor_menu() {
 Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
     boot_budget_ = boot_budget;
     initialised_ = false;
+    homing_.reset();
     // Whatever was commanded before is void (a reboot stops the axes, a hang-up loses replies).
     driver_->reset();
     forget_target();
@@ -209,6 +263,9 @@ bool Controller::moved_on_its_own(const AzEl& before, const AzEl& now) const {
 }
 
 Result<AzEl> Controller::query_position() {
+    if (homing_) {
+        return {state_.last_position.value_or(AzEl{}), Status{Errc::busy, "homing: the console is busy until it ends"}};
+    }
     if (profile_.position_query.empty()) {
         if (state_.last_position) {
             return {*state_.last_position, Status::ok()};
@@ -294,11 +351,15 @@ void Controller::forget_target() {
 Status Controller::service() {
     if (initialised_ && session_.reboot_seen()) {
         initialised_ = false;
+        homing_.reset();
         driver_->reset();
         return Status{Errc::not_initialised, "the dish printed boot output: it rebooted; initialise again"};
     }
     if (!initialised_) {
         return idle() ? Status::ok() : Status{Errc::not_initialised, "initialize() has not succeeded"};
+    }
+    if (homing_) {
+        return service_homing();
     }
     return driver_->service();
 }
@@ -315,9 +376,10 @@ bool Controller::needs_reinit() const {
     return !motor_menu_.empty() && !session_.menu().empty() && session_.menu() != motor_menu_;
 }
 
-bool Controller::idle() const { return driver_->idle(); }
+bool Controller::idle() const { return !homing_ && driver_->idle(); }
 
-bool Controller::leg_in_flight() const { return driver_->leg_in_flight(); }
+// Homing holds the shell like a leg does: the console must stay in the motor menu.
+bool Controller::leg_in_flight() const { return homing_ || driver_->leg_in_flight(); }
 
 std::optional<LegMotion> Controller::leg_motion() const { return driver_->leg_motion(); }
 

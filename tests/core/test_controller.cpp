@@ -636,3 +636,85 @@ TEST_CASE("controller G2: a position that jumps at rest and does not repeat is r
     CHECK(noisy.value.az == Approx(123.45));
     CHECK(controller.last_position()->az == Approx(123.45));
 }
+
+// A G2 whose `h <axis>` holds the shell until the test says the axis is homed (firmware notes 6.4).
+struct HomingG2 {
+    FakeG2 dish;
+    std::vector<std::string> homes;
+    FakeTransport wire{[this](const std::string& c) {
+        if (c.rfind("h ", 0) == 0) {
+            homes.push_back(c);
+            return Commands{c + "\r\n"};   // no prompt until the axis is homed
+        }
+        return dish.respond(c);
+    }};
+    FakeClock clock;
+    Controller controller{wire, options_for(VariantId::carryout_g2, clock)};
+};
+
+TEST_CASE_METHOD(HomingG2, "controller G2: homing runs without blocking, one slice per service() call") {
+    dish.homed = false;
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.unhomed());
+    REQUIRE(controller.start_home());
+    CHECK(controller.homing());
+    CHECK_FALSE(controller.idle());
+    CHECK(controller.leg_in_flight());   // the shell is held: no submenu visits meanwhile
+
+    clock.now += 100ms;
+    REQUIRE(controller.service());
+    CHECK(homes == Commands{"h 1"});
+    const std::size_t after_h1 = wire.commands().size();
+    for (int call = 0; call < 5; ++call) {   // the axis is still homing: nothing else is sent
+        clock.now += 1s;
+        REQUIRE(controller.service());
+        CHECK(controller.homing());
+    }
+    CHECK(wire.commands().size() == after_h1);
+    CHECK(controller.query_position().status.code == Errc::busy);
+    CHECK(wire.commands().size() == after_h1);
+
+    wire.push_input("MOT>");   // elevation homed
+    REQUIRE(controller.service());
+    CHECK(homes == Commands{"h 1", "h 0"});
+    CHECK(controller.homing());
+
+    dish.homed = true;
+    dish.az = dish.target_az = 0.0;
+    dish.el = dish.target_el = 65.0;
+    wire.push_input("MOT>");   // azimuth homed
+    REQUIRE(controller.service());
+    CHECK_FALSE(controller.homing());
+    CHECK(controller.idle());
+    CHECK_FALSE(controller.unhomed());
+    REQUIRE(controller.last_position());
+    CHECK(controller.last_position()->az == Approx(0.0));
+    CHECK(controller.last_position()->el == Approx(65.0));
+}
+
+TEST_CASE_METHOD(HomingG2, "controller G2: a home whose prompt never returns gives up after its bound") {
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.start_home());
+    Status status = Status::ok();
+    int calls = 0;
+    for (; calls < 1000 && status && controller.homing(); ++calls) {
+        clock.now += 10s;
+        status = controller.service();
+    }
+    CHECK(status.code == Errc::timeout);
+    CHECK_FALSE(controller.homing());
+    CHECK(calls > 10);   // 180 s of dish time, not the first silent slice
+}
+
+TEST_CASE_METHOD(G2Bench, "controller G2: home() is the blocking form; a variant without homing refuses") {
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.home());
+    CHECK(contains(wire.commands(), "h 1"));
+    CHECK(contains(wire.commands(), "h 0"));
+    CHECK_FALSE(controller.homing());
+
+    FakeTravler travler;
+    FakeTransport wire2([&](const std::string& c) { return travler.respond(c); });
+    Controller hal205(wire2, options_for(VariantId::travler_hal205, clock));
+    CHECK(hal205.start_home().code == Errc::unsupported);
+}

@@ -546,9 +546,18 @@ void RotatorService::run() {
                          (resume ? "; resuming the last target" : ""));
                 if (resume) {
                     aim_.reset();   // the moves in flight were lost: steer again from the estimate
-                    step = pointing_.mode == PointingMode::predictive && predictor_.predict(controller_now())
-                               ? steer()
-                               : controller_->set_target(*resume);
+                    // A target posted while the worker was stuck in the failing step or recovering
+                    // never reached the estimator: take it as new, or the dish would return to
+                    // the one before it.
+                    const bool unseen = !client_target_ || client_target_->az != resume->az ||
+                                        client_target_->el != resume->el;
+                    if (unseen) {
+                        step = accept_target(*resume);
+                    } else {
+                        step = pointing_.mode == PointingMode::predictive && predictor_.predict(controller_now())
+                                   ? steer()
+                                   : controller_->set_target(*resume);
+                    }
                 }
             }
         } else {

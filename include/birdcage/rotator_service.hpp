@@ -106,6 +106,10 @@ public:
     LnbSupply lnb_supply() const;
 
     bool idle() const;
+    // True from reset() until the home has run: the console is held by the firmware's home
+    // command, so position() repeats the last reading taken before it (the dish cannot be asked)
+    // and targets posted meanwhile are moved to once the axes are homed.
+    bool homing() const;
     // True while the worker re-initialises the dish (after a reboot, hang-up or lost sync).
     bool recovering() const;
     // How many times the worker has recovered the dish (re-initialised it) since start().
@@ -175,6 +179,7 @@ private:
     std::optional<AzEl> position_;
     std::optional<Controller::LegMotion> leg_motion_;   // the move in flight (position model)
     bool idle_ = true;
+    bool homing_ = false;
     Status last_error_;
     std::string description_;
     bool recovering_ = false;

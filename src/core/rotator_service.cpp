@@ -150,7 +150,7 @@ Status RotatorService::set_target(AzEl target) {
         if (!worker_.joinable()) {
             return {Errc::not_initialised, "rotator is not open"};
         }
-        if (unhomed_ && !home_requested_) {
+        if (unhomed_ && !homing_) {
             return {Errc::not_homed, "the dish's axes are not homed (it reports INT_MAX); home them first with "
                                      "reset (rotctl: R 1)"};
         }
@@ -260,6 +260,7 @@ Status RotatorService::reset() {
         }
         posted_target_.reset();
         home_requested_ = true;
+        homing_ = true;
         idle_ = false;
     }
     wake_.notify_all();
@@ -269,6 +270,11 @@ Status RotatorService::reset() {
 bool RotatorService::idle() const {
     std::lock_guard lock(mutex_);
     return idle_;
+}
+
+bool RotatorService::homing() const {
+    std::lock_guard lock(mutex_);
+    return homing_;
 }
 
 bool RotatorService::recovering() const {
@@ -315,6 +321,7 @@ void RotatorService::publish_locked(const Controller& controller, const Status& 
     leg_motion_ = controller.leg_motion();
     // A target posted while the worker was busy keeps the service non-idle until it is taken.
     idle_ = controller.idle() && !posted_target_ && !home_requested_;
+    homing_ = controller.homing() || home_requested_;
     unhomed_ = controller.unhomed();
     last_error_ = step;
     description_ = controller.describe() + "; " + controller.describe_wrap() + "; pointing " +
@@ -571,9 +578,12 @@ void RotatorService::run() {
                 step = accept_target(*target);
             }
             if (home) {
+                // The home runs inside controller_->service() a short slice per step, so the
+                // mailbox keeps being read: `p` answers, `P` and `S` are taken, while it runs.
                 predictor_.reset();
                 aim_.reset();
-                step = controller_->home();
+                client_target_.reset();
+                step = controller_->start_home();
                 std::lock_guard done(mutex_);
                 home_requested_ = false;
             }

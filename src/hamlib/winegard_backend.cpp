@@ -486,7 +486,13 @@ extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
     if (service == nullptr) {
         return -RIG_EIO;
     }
-    *status = service->idle() ? ROT_STATUS_NONE : ROT_STATUS_MOVING;
+    // Hamlib has no "homing" flag: a home is reported as BUSY (the console is held by the
+    // firmware's home command, targets wait for it) and MOVING.
+    unsigned flags = service->idle() ? ROT_STATUS_NONE : ROT_STATUS_MOVING;
+    if (service->homing()) {
+        flags |= ROT_STATUS_BUSY | ROT_STATUS_MOVING;
+    }
+    *status = static_cast<rot_status_t>(flags);
     return RIG_OK;
 }
 
@@ -652,7 +658,7 @@ void fill_caps(RegisteredModel& m, const birdcage::FirmwareProfile& p) {
     c.post_write_delay = 0;
     c.timeout = 1000;
     c.retry = 0;
-    c.has_status = static_cast<rot_status_t>(ROT_STATUS_MOVING);
+    c.has_status = static_cast<rot_status_t>(ROT_STATUS_MOVING | ROT_STATUS_BUSY);
     c.min_az = kCapsMinAz;
     c.max_az = kCapsMaxAz;
     c.min_el = kCapsMinEl;

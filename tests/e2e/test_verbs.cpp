@@ -61,6 +61,36 @@ TEST_CASE("R: homing on the G2; RPRT -11 (not available) where the firmware has 
     }
 }
 
+TEST_CASE("G2: while R 1 homes, p answers, s says BUSY, and a P sent meanwhile is moved to after the home",
+          "[e2e][verbs][g2][homing]") {
+    Options o = e2e::dish_options(Variant::carryout_g2, 100.0, 30.0);
+    o.time_scale = 2.0;   // a home of several dish seconds: the client sees it run
+    e2e::Rig rig(o, 90105, {"-C", "leapfrog=0", "-C", "pointing=none"});
+    e2e::RotctldConnection client(rig.port());
+    REQUIRE(client.ask("R 1", 1) == "RPRT 0\n");
+    REQUIRE(e2e::wait_until([&] { return client.ask("s", 1).find("BUSY") != std::string::npos; }, 5s));
+    // The console is held by `h`: every p during the home must still answer with a position.
+    int answers_while_homing = 0;
+    std::string refused;
+    const bool home_ended = e2e::wait_until(
+        [&] {
+            const std::string position = client.ask("p", 2);
+            if (position.find("RPRT") != std::string::npos) refused = position;
+            if (answers_while_homing++ == 0) {
+                CHECK(client.ask("P 150 40", 1) == "RPRT 0\n");   // taken at once, moved to after the home
+            }
+            return client.ask("s", 1).find("BUSY") == std::string::npos;
+        },
+        60s);
+    REQUIRE(home_ended);
+    CHECK(refused.empty());
+    const auto commands = rig.dish().received_commands();
+    CHECK(any_command_starting(commands, "h 1"));
+    CHECK(any_command_starting(commands, "h 0"));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 150.0, 40.0); }, 30s));
+    CHECK(rig.dish().hazards_received() == 0);
+}
+
 TEST_CASE("G2 with unhomed axes: moves refused with a clear error until R homes them", "[e2e][verbs][g2][homing]") {
     Options o = e2e::dish_options(Variant::carryout_g2);
     SECTION("booted unhomed") { o.g2_homed = false; }

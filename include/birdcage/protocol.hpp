@@ -21,7 +21,6 @@ std::string format_degrees(double degrees);
 
 std::string build_axis_move(Axis axis, double degrees);   // "a 0 180.00"
 std::string build_combined_move(AzEl target);             // "g 180.00 45.00"
-std::string build_home(Axis axis);                        // "h 0"
 std::string build_nvs_dump(int index);                    // "d 20"  (G2 NVS>)
 std::string build_rssi(int samples);                      // "rssi 10" (G2 DVB>)
 

@@ -170,7 +170,6 @@ std::string build_combined_move(AzEl target) {
     return "g " + format_degrees(target.az) + " " + format_degrees(target.el);
 }
 
-std::string build_home(Axis axis) { return "h " + std::to_string(static_cast<int>(axis)); }
 
 std::string build_nvs_dump(int index) { return "d " + std::to_string(index); }
 

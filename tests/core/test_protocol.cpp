@@ -26,7 +26,6 @@ TEST_CASE("command builders") {
     CHECK(build_axis_move(Axis::azimuth, 180) == "a 0 180.00");
     CHECK(build_axis_move(Axis::elevation, 45.5) == "a 1 45.50");
     CHECK(build_combined_move({180, 45}) == "g 180.00 45.00");
-    CHECK(build_home(Axis::elevation) == "h 1");
     CHECK(build_nvs_dump(20) == "d 20");
     CHECK(build_rssi(10) == "rssi 10");
 }

@@ -96,16 +96,15 @@ struct Emulator::Impl {
         auto line_free_at = last;     // pacing: when the line has sent every byte given to it
         double noise_credit = 0.0;    // idle noise bytes due
         char buffer[4096];
+        // The pacing rate is read with the output it applies to (after poll(), under `mutex`):
+        // read before poll(), a set_output_pacing() made while the thread waited would let the
+        // next reply out unpaced. Before poll() only the previous rate decides whether to wait
+        // for POLLOUT.
+        int baud = 0;
+        auto byte_time = Clock::duration::zero();
         while (!stopping) {
             std::unique_lock io(io_mutex);
             const int fd = pty ? pty->master() : -1;
-            int baud = 0;
-            {
-                std::lock_guard lock(mutex);
-                baud = faults.pace_baud;
-            }
-            const auto byte_time = std::chrono::duration_cast<Clock::duration>(
-                std::chrono::duration<double>(baud > 0 ? 10.0 / baud : 0.0));
             const bool can_write = !wire.empty() && (baud <= 0 || Clock::now() >= line_free_at + byte_time);
 
             std::string received;
@@ -130,6 +129,9 @@ struct Emulator::Impl {
             std::string noise;
             {
                 std::lock_guard lock(mutex);
+                baud = faults.pace_baud;
+                byte_time = std::chrono::duration_cast<Clock::duration>(
+                    std::chrono::duration<double>(baud > 0 ? 10.0 / baud : 0.0));
                 std::string input;
                 if (faults.ignore_input) {
                     counters.ignored_bytes += received.size();
@@ -192,7 +194,11 @@ struct Emulator::Impl {
             const ssize_t count = ::write(fd, wire.data(), allowed);
             if (count > 0) {
                 wire.erase(0, static_cast<std::size_t>(count));
-                if (baud > 0) line_free_at += byte_time * count;
+                if (baud > 0) {
+                    line_free_at += byte_time * count;
+                    std::lock_guard lock(mutex);
+                    counters.paced_bytes += static_cast<std::uint64_t>(count);
+                }
             }
         }
     }

@@ -85,6 +85,7 @@ struct FaultCounters {
     std::uint64_t ignored_bytes = 0;  // client bytes lost to set_ignore_input or a hang-up
     std::uint64_t discarded_bytes = 0;  // dish bytes printed while the adapter was unplugged
     unsigned motor_stalls = 0;        // injected motor stalls that have happened
+    std::uint64_t paced_bytes = 0;    // bytes written at set_output_pacing's rate
 };
 
 struct Options {

@@ -229,18 +229,13 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     dish.start_az = options.window_s > 0.0 ? at_start.az : pass.aos_az();
     dish.start_el = std::clamp(at_start.el, v.el_min, v.el_max);
 
-    // One rig comes up at a time: e2e::free_tcp_port() releases the port it found, so two rigs
-    // starting together could be handed the same one.
     // The backend's clock runs at the emulator's pace (conf time_scale), so its polling and leg
     // chaining happen at the same simulated moments as they would at real time.
     std::vector<std::string> rotctld_args = spec.mode->rotctld_args;
     char scale_text[48];
     std::snprintf(scale_text, sizeof scale_text, "time_scale=%g", options.scale);
     rotctld_args.insert(rotctld_args.end(), {"-C", scale_text});
-    static std::mutex rig_start_mutex;
-    std::unique_lock start_lock(rig_start_mutex);
     e2e::Rig rig(dish, v.model, rotctld_args);
-    start_lock.unlock();
     const std::size_t commands_before = rig.dish().received_commands().size();
 
     bench::ClientSettings settings;

@@ -1,5 +1,6 @@
 #include "harness.hpp"
 
+#include <algorithm>
 #include <arpa/inet.h>
 #include <cerrno>
 #include <cmath>
@@ -223,20 +224,36 @@ std::vector<double> numbers(const std::string& text) {
     return out;
 }
 
-int free_tcp_port() {
-    const int fd = socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    addr.sin_port = 0;
-    if (bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-        close(fd);
-        throw std::runtime_error("cannot bind a loopback port");
+int listening_tcp_port(pid_t pid) {
+    // The process's socket inodes, from its fd links ("socket:[12345]").
+    std::vector<std::string> inodes;
+    const std::string fd_dir = "/proc/" + std::to_string(pid) + "/fd";
+    for (int fd = 0; fd < 256; ++fd) {
+        char target[64] = {};
+        const std::string link = fd_dir + "/" + std::to_string(fd);
+        const ssize_t length = readlink(link.c_str(), target, sizeof target - 1);
+        if (length > 9 && std::strncmp(target, "socket:[", 8) == 0) {
+            inodes.emplace_back(target + 8, static_cast<std::size_t>(length) - 9);
+        }
     }
-    socklen_t len = sizeof addr;
-    getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-    close(fd);
-    return ntohs(addr.sin_port);
+    // Its network namespace's TCP table: "sl local_address rem_address st ... inode"; a
+    // listening socket has state 0A; the local address is hex "ip:port".
+    std::ifstream table("/proc/" + std::to_string(pid) + "/net/tcp");
+    std::string line;
+    std::getline(table, line);   // header
+    while (std::getline(table, line)) {
+        std::istringstream fields(line);
+        std::string slot, local, remote, state, queues, timer, retransmits, uid, timeout, inode;
+        fields >> slot >> local >> remote >> state >> queues >> timer >> retransmits >> uid >> timeout >> inode;
+        if (state != "0A" || std::find(inodes.begin(), inodes.end(), inode) == inodes.end()) {
+            continue;
+        }
+        const auto colon = local.find(':');
+        if (colon != std::string::npos) {
+            return static_cast<int>(std::stoul(local.substr(colon + 1), nullptr, 16));
+        }
+    }
+    return 0;
 }
 
 namespace {
@@ -373,28 +390,25 @@ void type_into(birdcage::sim::Emulator& dish, const std::vector<std::string>& li
 
 Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args,
          const std::function<void(birdcage::sim::Emulator&)>& prepare)
-    : dish_(std::make_unique<birdcage::sim::Emulator>(std::move(dish))), port_(free_tcp_port()),
-      log_path_(temp_path("rotctld")) {
+    : dish_(std::make_unique<birdcage::sim::Emulator>(std::move(dish))), log_path_(temp_path("rotctld")) {
     if (prepare) {
         prepare(*dish_);
     }
     std::vector<std::string> argv = {"/usr/bin/rotctld", "-m", std::to_string(model),
                                      "-r", dish_->device_path(), "-T", "127.0.0.1",
-                                     "-t", std::to_string(port_), "-vvvv"};
+                                     "-t", "0", "-vvvv"};
     argv.insert(argv.end(), extra_rotctld_args.begin(), extra_rotctld_args.end());
     rotctld_ = std::make_unique<Child>(argv, preload_environment(), log_path_);
-    // rotctld opens the rotator (and so initialises the dish) before it listens.
+    // rotctld opens the rotator (and so initialises the dish) before it listens. It listens on a
+    // port the kernel picks (-t 0), read back from its own socket table: no other test's rotctld
+    // can hold it, which a port chosen here and released before rotctld binds cannot promise.
     const bool up = wait_until(
         [this] {
             if (!rotctld_->running()) {
                 return true;
             }
-            const int fd = connect_loopback(port_);
-            if (fd >= 0) {
-                close(fd);
-                return true;
-            }
-            return false;
+            port_ = listening_tcp_port(rotctld_->pid());
+            return port_ != 0;
         },
         60s);
     if (!up || !rotctld_->running()) {

@@ -50,7 +50,8 @@ private:
 // Waits until predicate() holds, checking every few milliseconds; false at the deadline.
 bool wait_until(const std::function<bool()>& predicate, std::chrono::milliseconds timeout);
 
-int free_tcp_port();
+// The TCP port a process listens on (its first listening socket); 0 while it listens on none.
+int listening_tcp_port(pid_t pid);
 
 // An emulator at (az, el), running time_scale times faster than real time.
 birdcage::sim::Options dish_options(birdcage::sim::Variant variant, double az = 100.0, double el = 30.0,

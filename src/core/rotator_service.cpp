@@ -154,9 +154,11 @@ Status RotatorService::set_target(AzEl target) {
             return {Errc::not_homed, "the dish's axes are not homed (it reports INT_MAX); home them first with "
                                      "reset (rotctl: R 1)"};
         }
+        // A stop posted before this target stays requested: the worker takes the stop first
+        // (dropping the old legs and the estimator's history), then this target, so `S` then `P`
+        // does what `P` says from a clean start however quickly they come.
         posted_target_ = target;
         latest_target_ = target;
-        cancel_requested_ = false;
         idle_ = false;
         fault_ = Status::ok();   // a new target is the client's answer to a fault (p still reports it once)
     }

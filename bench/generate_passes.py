@@ -20,7 +20,7 @@ import numpy as np
 from sgp4.api import WGS72, Satrec, jday
 from sgp4.propagation import gstime
 
-# Observer: the site tracking.md's SGP4 statistics use (45 N, 93 W), 250 m above the ellipsoid.
+# Observer: the site docs/tracking.md's SGP4 statistics use (45 N, 93 W), 250 m above the ellipsoid.
 SITE_LAT_DEG, SITE_LON_DEG, SITE_ALT_KM = 45.0, -93.0, 0.25
 # Epoch of every synthetic element set: 2024-06-01 00:00:00 UTC.
 EPOCH = (2024, 6, 1, 0, 0, 0.0)

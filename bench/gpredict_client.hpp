@@ -1,5 +1,5 @@
-// A client that drives rotctld the way Gpredict 2.3–2.6 does (notes/hamlib.md §5,
-// notes/tracking.md §1.3 and §3.2), written from that description, on a scaled clock:
+// A client that drives rotctld the way Gpredict 2.3–2.6 does (docs/tracking.md §5,
+// docs/tracking.md §1.3 and §3.2), written from that description, on a scaled clock:
 //   * a "GUI" timer every `cycle` computes the target: the satellite's position clamped to the
 //     configured limits (before AOS: the AOS azimuth at the lowest elevation); only when the
 //     read-back position is more than `threshold` away on either axis (plain differences, no

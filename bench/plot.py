@@ -29,7 +29,7 @@ TRACE_LINES = [("none", "0.5", "-"), ("leapfrog", "0.5", "--"), ("predictive", "
 VARIANT_LABEL = {"g2": "Carryout G2", "hal205": "Trav'ler HAL 2.05"}
 MODE_ORDER = ["none", "leapfrog", "predictive"]
 MODE_COLOUR = {"none": "tab:blue", "leapfrog": "tab:orange", "predictive": "tab:green"}
-# Goals of issue 5 (notes/tracking.md): RMS per client threshold, and above the elevation cap.
+# Goals of issue 5 (docs/tracking.md): RMS per client threshold, and above the elevation cap.
 RMS_GOAL = {"0.5": 0.25, "5": 1.5}
 CAP_EXCESS_GOAL = 0.5
 REACQUIRE_GOAL = 2.0

@@ -38,7 +38,7 @@ using birdcage::sim::Variant;
 
 // The dishes benchmarked. The wire floor is the `a` position query as this variant's console
 // answers it (2 bytes out, the echoed reply and prompt back), 10 bits per byte at its baud rate
-// (notes/tracking.md §1.1) — what a synchronous `p` would cost at best on a real serial line; the
+// (docs/tracking.md §1.1) — what a synchronous `p` would cost at best on a real serial line; the
 // emulator's pty has no baud rate, so this is computed, not measured.
 struct VariantRow {
     const char* key;

@@ -33,14 +33,14 @@ namespace {
 using namespace std::chrono_literals;
 using birdcage::Clock;
 
-// firmware.md 6.1: the G2 answers only at 115200; the others are documented at 57600; 9600 is
+// docs/firmware.md 6.1: the G2 answers only at 115200; the others are documented at 57600; 9600 is
 // pyserial's default (the Pro client) and 19200/38400 are the rest of the usual set.
 constexpr std::array<int, 5> candidate_bauds{115200, 57600, 9600, 19200, 38400};
 constexpr auto baud_listen = 600ms;      // after a bare CR, for a console to say anything
 constexpr auto reply_timeout = 3000ms;   // one command's reply, up to its prompt
 constexpr auto quiet_after_prompt = 80ms;  // a prompt only counts if nothing follows it
 constexpr const char* nonsense_word = "xyzzyq";  // harmless: no firmware documents it
-// A dish probed right after power-on may take minutes to boot (the G2's search, firmware notes 6.2).
+// A dish probed right after power-on may take minutes to boot (the G2's search, docs/firmware.md 6.2).
 constexpr auto sync_budget = 300s;
 
 std::optional<int> int_arg(const char* text)
@@ -143,7 +143,7 @@ struct HelpEntry {
     std::string description;
 };
 
-// Help formats seen on these consoles (firmware.md 6.3, seed 004): `Enter <cmd> - Description`;
+// Help formats seen on these consoles (docs/firmware.md 6.3, seed 004): `Enter <cmd> - Description`;
 // `cmd - Description`; `cmd  Description` (two or more spaces). Usage lines such as
 // `help [<command>]` and placeholder words are not commands.
 std::optional<HelpEntry> parse_help_line(std::string_view line)

@@ -1,4 +1,4 @@
-// birdcage-probe against the emulated G2: the report lists every submenu firmware.md 6.3 lists,
+// birdcage-probe against the emulated G2: the report lists every submenu docs/firmware.md 6.3 lists,
 // with its prompt, and the dish sees no hazard. `record` tees a piped session into a transcript.
 #include <catch2/catch.hpp>
 

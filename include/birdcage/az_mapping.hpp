@@ -1,5 +1,5 @@
 // How the firmware maps an absolute azimuth command onto its mechanical travel — an open question
-// (firmware notes §14 G2.4; §2, §3.4, §3.5) that the backend does not bet on: it plans with the most
+// (docs/firmware.md §14 G2.4; §2, §3.4, §3.5) that the backend does not bet on: it plans with the most
 // permissive reading the evidence still allows and learns from where the dish goes. Pure: no I/O,
 // no clock, no variant table.
 //

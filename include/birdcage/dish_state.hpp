@@ -39,7 +39,7 @@ public:
     // Asks the dish (the variant's position query) and records the answer; a fault line in the
     // reply is kept in DishState::fault and returned as Errc::protocol with the position.
     Result<AzEl> ask(std::chrono::milliseconds timeout);
-    // The newest live position line among `lines` (2003 Carryout `g`, firmware notes 8.4), recorded.
+    // The newest live position line among `lines` (2003 Carryout `g`, docs/firmware.md 8.4), recorded.
     Result<AzEl> note_live_output(std::span<const std::string> lines);
 
 private:

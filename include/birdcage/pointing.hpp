@@ -2,8 +2,8 @@
 // dish where the satellite will be, instead of where the client last said it was.
 //
 // Why the backend has to infer it: the Hamlib rotator API carries no time tags or rates, and the
-// clients that drive it reveal the trajectory only sparsely. Gpredict (notes/hamlib.md §5,
-// notes/tracking.md §3.2) sends a target only when the read-back differs from the satellite by
+// clients that drive it reveal the trajectory only sparsely. Gpredict (docs/tracking.md §5,
+// docs/tracking.md §3.2) sends a target only when the read-back differs from the satellite by
 // more than its threshold (default 5°), and then sends a point *ahead* of the satellite (a lead of
 // up to one threshold). A dish that jumps to each target therefore sweeps from one threshold
 // ahead to one threshold behind: ~threshold/√3 RMS whatever the backend does (≈2.9° at 5°).
@@ -62,7 +62,7 @@ struct PredictorSettings {
     double zenith_guard_el = 75.0;
     double zenith_extrapolation_s = 2.0;
     // Above this on-sky rate two targets are two pointings, not a satellite (LEO: <= 1.2 deg/s,
-    // notes/tracking.md §2.1).
+    // docs/tracking.md §2.1).
     double max_sky_rate_dps = 3.0;
     // Below this on-sky rate the target counts as stationary.
     double stationary_dps = 0.002;

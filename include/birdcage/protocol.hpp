@@ -37,7 +37,7 @@ Result<AzEl> parse_g2_position(std::span<const std::string> lines);
 // G2 move acknowledgement `Angle = <f>`.
 Result<double> parse_g2_move_ack(std::span<const std::string> lines);
 
-// Carryout 2003 live output while `g` runs: `... <azcdeg>   el = <elcdeg>` (firmware.md 8.4).
+// Carryout 2003 live output while `g` runs: `... <azcdeg>   el = <elcdeg>` (docs/firmware.md 8.4).
 // Returns the last complete sample among the lines.
 Result<AzEl> parse_carryout_live(std::span<const std::string> lines);
 

@@ -1,10 +1,10 @@
 // The dish as a receiver: signal strength and LNB supply from the satellite tuner's menu
-// (G2 `DVB>`, firmware.md 6.3). Variants without a tuner (FirmwareProfile::receiver_menu empty)
+// (G2 `DVB>`, docs/firmware.md 6.3). Variants without a tuner (FirmwareProfile::receiver_menu empty)
 // answer Errc::unsupported.
 //
 // Only single-shot commands are ever sent here: `rssi <n>` and `lnbdc odu|stb`. The tuner's
 // streaming commands (`agc`, `lnbv`, `snr`, `nid`) and the ADC menu's `m` and argument-less `scan`
-// never end or deadlock the console (firmware.md 6.5), so no function builds them.
+// never end or deadlock the console (docs/firmware.md 6.5), so no function builds them.
 #pragma once
 
 #include <chrono>
@@ -16,12 +16,12 @@
 
 namespace birdcage {
 
-// The LNB supply voltage selects the polarisation the LNB receives (firmware.md 6.3):
+// The LNB supply voltage selects the polarisation the LNB receives (docs/firmware.md 6.3):
 // 13 V (`lnbdc odu`) = vertical, 18 V (`lnbdc stb`, the boot default) = horizontal.
 enum class LnbSupply { odu_13v, stb_18v };
 
 inline constexpr LnbSupply lnb_boot_default = LnbSupply::stb_18v;
-inline constexpr int rssi_default_samples = 10;   // what the upstream scanners send (firmware.md 6.6)
+inline constexpr int rssi_default_samples = 10;   // what the upstream scanners send (docs/firmware.md 6.6)
 // At 20 ms a sample the reading blocks the console for samples x 20 ms; 100 keeps it at 2 s, well
 // inside the position's freshness limit (ServiceTiming::max_position_age).
 inline constexpr int rssi_max_samples = 100;

@@ -2,7 +2,7 @@
 //
 // Why a thread: rotctld runs every client's command under one global mutex, and the dish moves one
 // axis at a time, so a set_position that waited for motion would stall every client's `p` for
-// seconds (notes/tracking.md §1.3). Here set_target() only posts the latest target, position()
+// seconds (docs/tracking.md §1.3). Here set_target() only posts the latest target, position()
 // answers from the last position the worker read, and the worker sends each axis leg when the
 // dish is free, polling the position while it moves.
 #pragma once

@@ -18,7 +18,7 @@ enum class VariantId { travler_hal000, travler_hal205, travler_pro, carryout2003
 // exactly one function (named next to it).
 enum Quirk : std::uint32_t {
     quirk_none = 0,
-    // `q` at the root prompt terminates the shell until a power cycle (G2 02.02.48, firmware.md 6.5).
+    // `q` at the root prompt terminates the shell until a power cycle (G2 02.02.48, docs/firmware.md 6.5).
     // Read by: hazard_check(); detection treats this firmware's clues as a warning against `q`.
     quirk_q_at_root_kills_shell = 1u << 0,
     // Motor/NVS/OS commands live on the ODU console behind the IDU's `odu` tunnel, and where `q`
@@ -47,7 +47,7 @@ enum class MoveStyle {
 
 enum class MotionModel {
     trapezoid,          // speed + acceleration per axis
-    travler_time_fit,   // Gabe's empirical fit, firmware.md 3.4
+    travler_time_fit,   // Gabe's empirical fit, docs/firmware.md 3.4
 };
 
 // A console command plus how long to keep listening before the next one (pacing some firmware needs).
@@ -90,7 +90,7 @@ struct FirmwareProfile {
     std::uint32_t quirks;
 
     // Park: a safe resting pointing reached with ordinary moves (never the firmware's `stow`,
-    // which folds the dish flat and can destroy a modified feed, firmware.md 3.5).
+    // which folds the dish flat and can destroy a modified feed, docs/firmware.md 3.5).
     double park_az, park_el;
     // Homing (Hamlib reset): the commands, in order; empty = the firmware has none (power-on only).
     std::span<const std::string_view> home_commands;
@@ -99,17 +99,17 @@ struct FirmwareProfile {
 
     // Default pointing mode: predictive where the motors step fast enough to follow an aim a
     // deadband ahead (G2: the tracking benchmark, docs/benchmarks.md); elsewhere each target as
-    // sent, because a dish that needs ~1 s per small move (Trav'ler, firmware.md 3.4) only
+    // sent, because a dish that needs ~1 s per small move (Trav'ler, docs/firmware.md 3.4) only
     // trails an extrapolated aim and the client's corrections then fight it.
     bool predictive_by_default;
 
-    // The submenu holding the satellite tuner (G2 `dvb`, firmware.md 6.3), entered from the root
+    // The submenu holding the satellite tuner (G2 `dvb`, docs/firmware.md 6.3), entered from the root
     // menu; empty = the variant has no tuner we can read. Read by: Controller::in_submenu() callers
     // (receiver.cpp).
     std::string_view receiver_menu = {};
 
     // The variant whose inner console (behind a tunnel) looks exactly like this variant's root:
-    // HAL 0.0.00's root is what a Trav'ler Pro shows inside its ODU console (firmware notes 5.1).
+    // HAL 0.0.00's root is what a Trav'ler Pro shows inside its ODU console (docs/firmware.md 5.1).
     // Auto-detection that finds this variant sends the one `q` that tells the two apart.
     std::optional<VariantId> also_shown_inside = std::nullopt;
 

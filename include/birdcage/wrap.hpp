@@ -1,4 +1,4 @@
-// Cable-wrap arithmetic (tracking.md §2.3): which mechanical azimuth ("branch") a 0..360 target
+// Cable-wrap arithmetic (docs/tracking.md §2.3): which mechanical azimuth ("branch") a 0..360 target
 // goes to, and how to steer a firmware that resolves 0..360 azimuths itself onto that branch.
 // Pure: no I/O, no clock, no variant table.
 //
@@ -20,7 +20,7 @@ struct Window {
     double span() const { return max - min; }
 };
 
-// Never command within this of a wrap limit (tracking.md §2.3: [wrap_min + 2, wrap_max - 2]).
+// Never command within this of a wrap limit (docs/tracking.md §2.3: [wrap_min + 2, wrap_max - 2]).
 inline constexpr double limit_margin_deg = 2.0;
 // A LEO pass covers at most this much azimuth (the branch chosen at a pass start wants this much
 // room ahead of it).
@@ -50,7 +50,7 @@ std::vector<double> branches(double display, Window window);
 double unwrap_reading(double display, double reference, Window mechanical);
 
 // The branch assumed for a reading when nothing else is known: the one nearest mechanical 0
-// (clamped into the window). The G2 homes to AZ 0 (firmware.md 6.2 item 11, 6.4), so the branch
+// (clamped into the window). The G2 homes to AZ 0 (docs/firmware.md 6.2 item 11, 6.4), so the branch
 // nearest 0 is where it is unless something turned it a whole wrap since; on windows that start
 // at 0 (Trav'ler 0..455, Carryout 0..360) this is the reading itself.
 double start_branch(double display, Window mechanical);
@@ -86,7 +86,7 @@ Choice choose_branch(double display, double reference, int direction, bool pass_
 // most `max_leg` away, else the first of the fewest equal steps of at most `max_leg`.
 //
 // Why: the firmware is given display azimuths (0..360), as every upstream client sends, and maps
-// them onto its wrap window itself. How is only partly known (firmware.md §14 G2.4: "how a
+// them onto its wrap window itself. How is only partly known (docs/firmware.md §14 G2.4: "how a
 // target like 180 is mapped into the window"; the notes describe it reversing at its limit and
 // coming round the other side): whether it takes a literal out-of-0..360 value is unknown. The
 // two plausible rules, "the branch nearest where the axis is" and "the shortest way round",

@@ -22,7 +22,7 @@ public:
     WrapTracker(azmap::Travel travel, std::optional<azmap::Mapping> stated, LogSink log);
 
     // A position reading's azimuth, as the dish reported it (display or mechanical), at `at`.
-    // The reply may carry the displayed 0..360 azimuth or the mechanical one (firmware notes §14
+    // The reply may carry the displayed 0..360 azimuth or the mechanical one (docs/firmware.md §14
     // G2.4): a reading outside 0..360 (twice in a row, inside the travel) proves the latter, and
     // readings are then taken literally; otherwise each is unwrapped to the branch nearest the
     // estimate, which follows the dish as long as it turns less than 180 deg between readings.

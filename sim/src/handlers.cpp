@@ -112,7 +112,7 @@ std::optional<double> resolve_target(Engine& e, std::size_t axis, double value, 
         }
         if (relative) return within(base + value);
         // A 0..360 target goes to the branch of the wrap window nearest to where the dish is
-        // (§2 "refuses to wind past its wrap limit", tracking.md §2.3); an explicit
+        // (§2 "refuses to wind past its wrap limit", docs/tracking.md §2.3); an explicit
         // mechanical angle inside the window (Trav'ler 360..455) is taken literally.
         if (value >= 0.0 && value < 360.0) return nearest_wrap_branch(value, base, min, max);
         if (value >= min && value <= max) return value;

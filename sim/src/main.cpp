@@ -140,7 +140,7 @@ const std::vector<Flag>& flags()
         {"--pace", "BAUD", "wire pacing in real time, 10 bits per byte (0 = off)", [](Options& o, auto f, auto v) {
              o.line_faults.pace_baud = static_cast<int>(integer_in(f, v, 0, 1e9));
          }},
-        // --- open questions of the firmware notes ---
+        // --- open questions of docs/firmware.md ---
         {"--echo", "yes|no", "echo typed characters (default yes)", [](Options& o, auto f, auto v) { o.echo = yes_no(f, v); }},
         {"--line-ending", "crlf|lf|lfcr|cr", "output line ending (default crlf)", [](Options& o, auto f, auto v) {
              o.line_ending = choice<LineEnding>(f, v, {{"crlf", LineEnding::crlf}, {"lf", LineEnding::lf},

@@ -1,4 +1,4 @@
-// Non-volatile settings as the `nvs` submenu shows them (firmware.md §6.3, Appendix A).
+// Non-volatile settings as the `nvs` submenu shows them (docs/firmware.md §6.3, Appendix A).
 #pragma once
 
 #include <optional>

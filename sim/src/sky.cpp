@@ -1,4 +1,4 @@
-// The sky a G2 sees, from Davidson's real scan (firmware notes §11.2):
+// The sky a G2 sees, from Davidson's real scan (docs/firmware.md §11.2):
 //
 // - 13 V (`lnbdc odu`), the setting the scan was taken with: inside the scanned grid (AZ 110..240,
 //   EL 18..58, 1 degree) the value is the measurement itself, bilinearly interpolated, so a scan of

@@ -1,4 +1,4 @@
-// One VariantProfile row and one set of menu tables per firmware variant (firmware.md §1).
+// One VariantProfile row and one set of menu tables per firmware variant (docs/firmware.md §1).
 // Prompt names marked INVENTED are only used with PromptStyle::named; the G2's are known (§6.3).
 #include <limits>
 

@@ -11,7 +11,7 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr auto query_timeout = 2000ms;        // `a`: ~60 bytes even at 57600 baud is ~11 ms
-constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (tracking.md 1.2)
+constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (docs/tracking.md 1.2)
 constexpr auto still_window = 2000ms;         // an axis unchanged this long has stopped
 constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
 // With prompts, the reply to a move may wait for the move's end (G2 after-motion acks): this much
@@ -250,7 +250,7 @@ Status AxisLegDriver::follow() {
         }
         finish("abandoned: " + position.status.message);  // e.g. AZ MOTOR STALLED
         if (c_.state.fault_reported) {
-            // The firmware dropped its queued moves (firmware notes 6.3): so do we. The target is
+            // The firmware dropped its queued moves (docs/firmware.md 6.3): so do we. The target is
             // forgotten, so the client sending the same P again retries the move.
             pending_.clear();
             c_.forget_target();

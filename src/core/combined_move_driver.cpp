@@ -16,7 +16,7 @@ constexpr auto menu_step_timeout = 3000ms;    // the line ending that aborts a `
 // `g` with prompts unknown: its reply is the quiet gap after the first live output, or this.
 constexpr auto send_timeout = 1000ms;
 // The 2003 Carryout prints a live position line within this long after `g` starts a move: the
-// upstream client reads 1 s after writing `g` and parses one (firmware notes 8.4). A `g` that needed
+// upstream client reads 1 s after writing `g` and parses one (docs/firmware.md 8.4). A `g` that needed
 // a move and printed none in this window did not run as a move (the console is not in `target`).
 constexpr auto first_live_line_window = 1000ms;
 // Without a position reading the distance of a move is unknown: assume the longest (a half turn).
@@ -96,7 +96,7 @@ Status CombinedMoveDriver::follow() {
         return Status::ok();
     }
     last_poll_ = t;
-    // Sending anything during `g` may abort it (firmware notes 2, 3.5; 8.5 leaves it open for the
+    // Sending anything during `g` may abort it (docs/firmware.md 2, 3.5; 8.5 leaves it open for the
     // 2003 Carryout): listen instead.
     const auto heard = c_.session.listen(listen_slice);
     if (!heard) {
@@ -166,7 +166,7 @@ Status CombinedMoveDriver::lose_sync(const std::string& why) {
     return Status{Errc::not_initialised, why};
 }
 
-// A bare line ending is the documented way to stop a running `g` (firmware notes 2, 3.5); where the
+// A bare line ending is the documented way to stop a running `g` (docs/firmware.md 2, 3.5); where the
 // firmware reads it only once the move is over (8.5), it ends the move at its target instead.
 void CombinedMoveDriver::cancel() {
     pending_.reset();

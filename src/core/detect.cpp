@@ -1,12 +1,12 @@
 // Auto-detection. What `q` may do: it is the documented way out of a submenu everywhere, and
-// terminates the G2's shell at its root (firmware notes 6.5). So it is sent only where a submenu was
+// terminates the G2's shell at its root (docs/firmware.md 6.5). So it is sent only where a submenu was
 // positively recognised: a prompt confirmed on two consecutive pokes, the `?` reply ending on that
 // same prompt, not the G2 root shape `TRK>`, and a listing that names no root command of any variant.
 // One deliberate exception keeps the Trav'ler Pro recognisable: a listing positively recognised as
 // the HAL 0.0.00 root (which a Pro's ODU console also shows) at a confirmed prompt, with no trace of
 // the G2 beyond the shared `TRK>` shape (no G2 command in the listing or its descriptions, no G2
 // boot line), gets one `q` to see whether it leads to the Pro's IDU console. It is no new risk: the
-// HAL 0.0.00 initialisation itself starts with the clients' `q` at the root (firmware notes 2, 3.6).
+// HAL 0.0.00 initialisation itself starts with the clients' `q` at the root (docs/firmware.md 2, 3.6).
 // Before any `q` the console must have stayed quiet: output arriving then voids what was recognised.
 #include "birdcage/detect.hpp"
 
@@ -96,7 +96,7 @@ std::string listing_text(const HelpListing& help) {
     return text.empty() ? std::string("(nothing)") : text;
 }
 
-// A firmware whose shell dies on `q` at its root (the G2, firmware notes 6.5): its clues are
+// A firmware whose shell dies on `q` at its root (the G2, docs/firmware.md 6.5): its clues are
 // warnings against `q`, whatever else the console looks like.
 bool q_at_root_kills(VariantId id) { return profile(id).has(quirk_q_at_root_kills_shell); }
 
@@ -160,8 +160,8 @@ bool g2_text_in(std::string_view raw) {
 
 // The one root where detection may send `q`: a listing that positively shows a Trav'ler (or Pro
 // ODU) root, mot, os and nvs, with no G2-only command. There `q` is the upstream Trav'ler
-// clients' own harmless idiom, sent first at whatever prompt (firmware notes 2, 3.6); it kills
-// only the G2's shell, and a G2 root always lists G2-only commands (firmware notes 6.3).
+// clients' own harmless idiom, sent first at whatever prompt (docs/firmware.md 2, 3.6); it kills
+// only the G2's shell, and a G2 root always lists G2-only commands (docs/firmware.md 6.3).
 bool shows_travler_root(const HelpListing& help) {
     return help.commands.count("mot") > 0 && help.commands.count("os") > 0 && help.commands.count("nvs") > 0 &&
            !names_a_g2_only_command(help);
@@ -343,7 +343,7 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
             if (const auto outer = profile(winner->variant).also_shown_inside) {
                 // The only `q` at a root, even one shaped like the G2's `TRK>`: allowed because the
                 // listing positively shows a Trav'ler/ODU root (shows_travler_root), where `q` is
-                // the upstream clients' harmless idiom (firmware notes 2), and nothing else hints
+                // the upstream clients' harmless idiom (docs/firmware.md 2), and nothing else hints
                 // at a G2. It tells a Pro left in its ODU console from a HAL 0.0.00.
                 if (no_trace_of_g2 && shows_travler_root(evidence.help) && !g2_command_heard(evidence.lines) &&
                     !session.reboot_seen() && !g2_text_in(session.recent_output()) && !evidence.prompt.empty() &&

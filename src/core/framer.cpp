@@ -12,7 +12,7 @@
 //     byte (noise read in the same chunk as the prompt: a dish never prints such a byte, so its
 //     line ended at the prompt; printable noise between the two is noise too). Help lines such
 //     as `Enter <a3981> - ...` contain '>' but are not prompts: the whole line does not match.
-//  4. The firmware echoes typed characters (G2 evidence, firmware.md 6.1; unknown elsewhere).
+//  4. The firmware echoes typed characters (G2 evidence, docs/firmware.md 6.1; unknown elsewhere).
 //     The first complete line equal to the command sent, optionally preceded by a prompt
 //     (`TRK>nvs`), is the echo. A console that does not echo simply never produces that line.
 //  5. Lines containing a profile boot marker are boot lines; `MOTOR STALLED` and

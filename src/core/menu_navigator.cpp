@@ -39,7 +39,7 @@ Status MenuNavigator::run_steps(std::span<const ConsoleStep> steps, std::string_
 
 Status MenuNavigator::leave_submenus() {
     if (!profile_.prompt_known()) {
-        // The clients' idiom (firmware notes 2): `q` leaves a submenu, a bare line clears the input.
+        // The clients' idiom (docs/firmware.md 2): `q` leaves a submenu, a bare line clears the input.
         static constexpr std::array<ConsoleStep, 2> back_to_root{{{"q", 0ms}, {"", 0ms}}};
         return run_steps(back_to_root, "leaving submenus");
     }

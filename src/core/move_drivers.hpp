@@ -63,7 +63,7 @@ private:
 };
 
 // The 2003 Carryout's combined `g <az> <el>` in its `target` menu: no position query, only live
-// position lines while the move runs (firmware notes 8.3, 8.4), and input during the move may abort
+// position lines while the move runs (docs/firmware.md 8.3, 8.4), and input during the move may abort
 // it (8.5), so the driver listens and never polls. The one place that quirk is handled.
 class CombinedMoveDriver final : public MoveDriver {
 public:

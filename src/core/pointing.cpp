@@ -18,7 +18,7 @@ constexpr double lag_event_fraction = 0.5;
 // Quadratic fits need this many samples over this span; below, a straight line.
 constexpr std::size_t quadratic_min_samples = 3;
 constexpr double quadratic_min_span_s = 3.0;
-// Bounds on the fitted acceleration (the keyhole's azimuth needs ~1.6 deg/s² at 85°, tracking.md §2.1).
+// Bounds on the fitted acceleration (the keyhole's azimuth needs ~1.6 deg/s² at 85°, docs/tracking.md §2.1).
 constexpr double max_az_accel = 0.3;
 constexpr double max_el_accel = 0.05;
 // A target this soon after the previous one is Gpredict re-sending before it read the dish's new

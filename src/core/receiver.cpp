@@ -60,7 +60,7 @@ Status apply_lnb_supply(Controller& controller, LnbSupply supply) {
         return usable;
     }
     return controller.in_submenu(controller.profile().receiver_menu, [&](ConsoleSession& session) {
-        // The firmware prints nothing we could check (firmware.md 14, question 9): the prompt is the answer.
+        // The firmware prints nothing we could check (docs/firmware.md 14, question 9): the prompt is the answer.
         return session.transact(build_lnb_supply(supply), receiver_command_timeout).status;
     });
 }

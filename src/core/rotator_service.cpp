@@ -456,7 +456,7 @@ Status RotatorService::steer() {
     double deadband_az = pointing_.deadband_deg / cos_el;
     const double az_rate = std::fabs(current->az_rate);
     // Above the elevation cap (the client's target at or over it) the dish holds the cap and
-    // follows only the azimuth (tracking.md §2.2), until a target comes back below the cap: the
+    // follows only the azimuth (docs/tracking.md §2.2), until a target comes back below the cap: the
     // fitted elevation would otherwise start descending before the satellite does.
     const bool above_cap = client_target_ && client_target_->el >= el_max - same_angle_degrees;
     const double el_rate = above_cap || current->position.el >= el_max || current->position.el <= el_min

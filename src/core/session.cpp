@@ -13,7 +13,7 @@ using namespace std::chrono_literals;
 // Bounds the stale-input drain so a streaming console (ADC `m`, DVB `agc`) cannot hold us forever.
 constexpr int max_stale_reads = 64;
 
-// Commands that enter a submenu of the same name (firmware.md 3.3, 4.3, 5.3, 6.3, 8.3). Used only
+// Commands that enter a submenu of the same name (docs/firmware.md 3.3, 4.3, 5.3, 6.3, 8.3). Used only
 // where the firmware's prompts are unknown and the menu must be inferred from what we sent.
 constexpr std::array<std::string_view, 16> submenu_commands{
     "a3981", "adc", "dipswitch", "dvb", "eeprom", "gpio", "latlon", "mot",

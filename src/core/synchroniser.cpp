@@ -165,7 +165,7 @@ SyncSettings console_sync_settings(const FirmwareProfile& profile, std::chrono::
         settings.expected = "the console's prompt (" + std::string(profile.root_prompt) + " at the root, " +
                             std::string(profile.motor_prompt) + " in the motor menu, or another submenu's)";
     } else {
-        // Undocumented prompts: `?` lists the menu on every variant (firmware notes 2, 8.1).
+        // Undocumented prompts: `?` lists the menu on every variant (docs/firmware.md 2, 8.1).
         settings.probe_command = "?";
         settings.expected = "a prompt (WORD>) after a line ending, or the same answer to ? twice";
     }

@@ -1,4 +1,4 @@
-// The variant table. Each fact cites a section (n.n) of the compiled firmware notes; what each row
+// The variant table. Each fact cites a section (n.n) of the compiled docs/firmware.md; what each row
 // means for a user is in docs/variants.md, the emulator's independent reading in sim/README.md.
 #include "birdcage/variants.hpp"
 
@@ -11,21 +11,21 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// ---- Trav'ler HAL 0.0.00 (firmware.md 3) ----
+// ---- Trav'ler HAL 0.0.00 (docs/firmware.md 3) ----
 constexpr std::array<ConsoleStep, 1> hal000_motor_entry{{{"mot", 0ms}}};
 // travler_init.py: q, CR, os, kill Search, q, CR.
 constexpr std::array<ConsoleStep, 6> hal000_search_kill{{{"q", 0ms}, {"", 0ms}, {"os", 0ms},
                                                          {"kill Search", 0ms}, {"q", 0ms}, {"", 0ms}}};
 constexpr std::array<std::string_view, 1> hal000_boot_complete{"NoGPS"};
 
-// ---- Trav'ler HAL 2.05.003 (firmware.md 4) ----
+// ---- Trav'ler HAL 2.05.003 (docs/firmware.md 4) ----
 constexpr std::array<ConsoleStep, 1> hal205_motor_entry{{{"motor", 0ms}}};
 // birdcage's HAL205 sequence (4.3), with its 0.2 s pauses after `ngsearch` and `s`.
 constexpr std::array<ConsoleStep, 6> hal205_search_kill{{{"q", 0ms}, {"", 0ms}, {"ngsearch", 200ms},
                                                          {"s", 200ms}, {"q", 0ms}, {"", 0ms}}};
 constexpr std::array<std::string_view, 2> hal205_boot_complete{"NoGPS", "No LNB Voltage"};
 
-// ---- Trav'ler Pro (firmware.md 5) ----
+// ---- Trav'ler Pro (docs/firmware.md 5) ----
 // Client v2.0 start-up paces `odu` with 1 s pauses (5.6), then (README) os / kill Search / q.
 // Whether `q` at the ODU root returns to the IDU is unknown (14 Pro.2), so the sequence works
 // either way: two `q` reach the ODU root or the IDU; `odu` then enters the ODU from the IDU and
@@ -36,10 +36,10 @@ constexpr std::array<ConsoleStep, 9> pro_search_kill{{{"q", 0ms}, {"q", 0ms}, {"
                                                       {"", 0ms}}};
 constexpr std::array<ConsoleStep, 1> pro_motor_entry{{{"mot", 0ms}}};
 
-// ---- Carryout 2003, HAL 1.00.065 (firmware.md 8) ----
+// ---- Carryout 2003, HAL 1.00.065 (docs/firmware.md 8) ----
 constexpr std::array<ConsoleStep, 1> carryout_motor_entry{{{"target", 0ms}}};
 
-// ---- Carryout G2 02.02.48 (firmware.md 6) ----
+// ---- Carryout G2 02.02.48 (docs/firmware.md 6) ----
 constexpr std::array<ConsoleStep, 1> g2_motor_entry{{{"mot", 0ms}}};
 // `Boot Complete` then `Loc Startup: IDU NOT Present`: the boot-complete pair (6.2 item 13); the
 // second may arrive after the first has been answered, so either ends the boot.
@@ -262,7 +262,7 @@ double seconds_trapezoid(double distance, double speed, double accel) {
     return distance / speed + speed / accel;
 }
 
-// firmware.md 3.4: time ~ |3.23 ln(0.84 d) - 0.48| s. The fit dips to ~0.3 s around 1.2-1.5 deg,
+// docs/firmware.md 3.4: time ~ |3.23 ln(0.84 d) - 0.48| s. The fit dips to ~0.3 s around 1.2-1.5 deg,
 // an artefact, so it is floored at 1 s from 1 deg up.
 double seconds_travler_fit(double distance) {
     if (distance < 0.5) {

@@ -73,7 +73,7 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
     mechanical_ = wrap::unwrap_reading(display, *mechanical_, window);
 }
 
-// The rule (tracking.md §2.3: no avoidable unwinds; unwind, when unavoidable, away from the
+// The rule (docs/tracking.md §2.3: no avoidable unwinds; unwind, when unavoidable, away from the
 // limit stops):
 //  - normally the target's branch nearest the previous target (continuity), if it lies inside
 //    the wrap window less the margins;

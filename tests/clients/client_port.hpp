@@ -1,4 +1,4 @@
-// The serial side of the upstream clients of firmware notes Appendix C, as pyserial gives it to
+// The serial side of the upstream clients of docs/firmware.md Appendix C, as pyserial gives it to
 // them: read(n) returns at n bytes or when its timeout expires, readline() at LF or on timeout,
 // reset_input_buffer() discards what is waiting. Client timeouts are real seconds, as in the
 // clients; client pauses (which wait for the dish) are divided by the emulator's time scale.

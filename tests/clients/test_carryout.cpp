@@ -1,4 +1,4 @@
-// carryout_rotor.py v1.0 and carryout_scan.py (firmware notes §8.4, §8.7, §12.3, Appendix C)
+// carryout_rotor.py v1.0 and carryout_scan.py (docs/firmware.md §8.4, §8.7, §12.3, Appendix C)
 // against the 2003 Carryout over the real pty.
 #include <catch2/catch.hpp>
 

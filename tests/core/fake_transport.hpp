@@ -61,7 +61,7 @@ struct FakeG2 {
 };
 
 // A Trav'ler HAL 2.05 console with no prompt: `AZ = .. EL = .. SK = ..` replies, moves as FakeG2;
-// `?` lists commands (firmware notes 2: every console lists its menu on `?`).
+// `?` lists commands (docs/firmware.md 2: every console lists its menu on `?`).
 struct FakeTravler {
     double az = 90.0, el = 30.0;
     double target_az = 90.0, target_el = 30.0;

@@ -1,5 +1,5 @@
 // The azimuth-mapping unit: what each reading predicts, what absolute numbers reach, and what the
-// learner concludes from moves (firmware notes §14 G2.4, §2, §3.5).
+// learner concludes from moves (docs/firmware.md §14 G2.4, §2, §3.5).
 #include <catch2/catch.hpp>
 
 #include "birdcage/az_mapping.hpp"

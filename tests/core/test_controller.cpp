@@ -423,7 +423,7 @@ TEST_CASE("controller Carryout 2003: without live output the commanded position 
 }
 
 // A terse 2003 Carryout (LF, no echo, a bare `> ` in every menu) that reboots silently: the only
-// evidence is what its live output does (firmware notes 8.1-8.4).
+// evidence is what its live output does (docs/firmware.md 8.1-8.4).
 struct TerseCarryout {
     bool in_target = false;
     bool rebooted = false;            // at its root again; `g` is an unknown command, answered silently
@@ -637,7 +637,7 @@ TEST_CASE("controller G2: a position that jumps at rest and does not repeat is r
     CHECK(controller.last_position()->az == Approx(123.45));
 }
 
-// A G2 whose `h <axis>` holds the shell until the test says the axis is homed (firmware notes 6.4).
+// A G2 whose `h <axis>` holds the shell until the test says the axis is homed (docs/firmware.md 6.4).
 struct HomingG2 {
     FakeG2 dish;
     std::vector<std::string> homes;

@@ -27,7 +27,7 @@ struct MenuConsole {
     std::string menu = "TRK";
     std::string eol = "\r\n";
     bool echo = true;
-    bool bare_prompts = false;   // every menu prints `>` (Trav'ler, firmware notes 3.1 "likely")
+    bool bare_prompts = false;   // every menu prints `>` (Trav'ler, docs/firmware.md 3.1 "likely")
     int q_at_root = 0;
     int help_requests = 0;
 
@@ -267,7 +267,7 @@ TEST_CASE("detect: a booting G2 is identified from its boot lines and prompt") {
 }
 
 TEST_CASE("detect: at TRK> a listing showing a Trav'ler root (mot, os, nvs, no G2-only command) gets one q") {
-    // The one root where detection sends `q` (firmware notes 2: the upstream Trav'ler clients' own
+    // The one root where detection sends `q` (docs/firmware.md 2: the upstream Trav'ler clients' own
     // idiom), even at the G2's root shape: it tells a Pro left in its ODU console from a HAL 0.0.00.
     MenuConsole dish;
     dish.listing["TRK"] = "mot - Motor\r\nos - OS\r\nnvs - NVS\r\n";

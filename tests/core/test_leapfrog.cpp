@@ -27,7 +27,7 @@ TEST_CASE("leapfrog: thresholds per axis, in the direction of travel") {
 }
 
 TEST_CASE("leapfrog: elevation lag nudges elevation, not azimuth (upstream travler_rotor.py bug)") {
-    // Upstream's second block compared elevations but added the lead to target_az (firmware.md 12.1).
+    // Upstream's second block compared elevations but added the lead to target_az (docs/firmware.md 12.1).
     const AzEl led = apply_leapfrog({100, 50}, {100, 40});
     CHECK(led.az == Approx(100));
     CHECK(led.el == Approx(51));

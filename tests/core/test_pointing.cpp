@@ -161,7 +161,7 @@ TEST_CASE("pointing: Gpredict-like lead targets: the lead is learned and the pre
         // so every firing interval is 3 s (2.5 s of lead and threshold, rounded up) and its lead
         // search stops at 0.94 s (0.375 deg). The lead learned from the interval (0.6 deg, 1.5 s)
         // is then 0.56 s too long and the estimate trails by ~0.22 deg: better than the last
-        // target, not by much (notes/tracking.md 3.3 finding 5: little to gain at 0.5 deg).
+        // target, not by much (docs/tracking.md 3.3 finding 5: little to gain at 0.5 deg).
         {"0.5 deg threshold, three cycles of motion, crossing north", {340.0, 20.0, 0.4, 0.1}, 0.5, 0.7, 0.6},
     };
     for (const auto& c : cases) {

@@ -28,7 +28,7 @@ TEST_CASE("variants: one row per VariantId, looked up by id and name") {
     CHECK_FALSE(variant_from_name("g3"));
 }
 
-TEST_CASE("variants: facts from firmware.md") {
+TEST_CASE("variants: facts from docs/firmware.md") {
     const auto& g2 = profile(VariantId::carryout_g2);
     CHECK(g2.short_name == "g2");
     CHECK(g2.model_index == 5);
@@ -70,7 +70,7 @@ TEST_CASE("variants: facts from firmware.md") {
     CHECK(carryout.motor_menu_entry[0].command == "target");
 }
 
-TEST_CASE("estimated_move_time: G2 trapezoid (tracking.md 1.4)") {
+TEST_CASE("estimated_move_time: G2 trapezoid (docs/tracking.md 1.4)") {
     const auto& g2 = profile(VariantId::carryout_g2);
     CHECK(estimated_move_time(g2, Axis::azimuth, 1.0) == 100ms);
     CHECK(estimated_move_time(g2, Axis::azimuth, 180.0).count() == Approx(2931).margin(2));
@@ -78,7 +78,7 @@ TEST_CASE("estimated_move_time: G2 trapezoid (tracking.md 1.4)") {
     CHECK(estimated_move_time(g2, Axis::azimuth, -90.0).count() == Approx(1547).margin(2));
 }
 
-TEST_CASE("estimated_move_time: Trav'ler time fit (firmware.md 3.4), floored where the fit dips") {
+TEST_CASE("estimated_move_time: Trav'ler time fit (docs/firmware.md 3.4), floored where the fit dips") {
     const auto& hal205 = profile(VariantId::travler_hal205);
     CHECK(estimated_move_time(hal205, Axis::azimuth, 0.2) == 300ms);
     CHECK(estimated_move_time(hal205, Axis::azimuth, 0.7) == 500ms);

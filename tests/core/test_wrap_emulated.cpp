@@ -1,5 +1,5 @@
 // The controller's cable-wrap handling against the emulator (the test oracle, written from the
-// firmware notes and not from src/): north-crossing passes on the emulated G2 and Trav'ler, with
+// docs/firmware.md and not from src/): north-crossing passes on the emulated G2 and Trav'ler, with
 // the azimuth reported displayed and mechanical; the dish's true mechanical azimuth must never
 // unwind during the pass and never leave the travel less the margins.
 #include <catch2/catch.hpp>

@@ -90,7 +90,7 @@ HelpLayout other_help_layout(const VariantRow& v, int which) {
 // ones; otherwise at 50x a one-second gap on the console would shrink to 20 ms.
 double real_seconds(const Options& o, double seconds) { return seconds * o.time_scale; }
 
-// Two alternative readings of the firmware notes' open questions (sim/README.md, "Switches").
+// Two alternative readings of docs/firmware.md' open questions (sim/README.md, "Switches").
 // Together they flip every switch that bears on first contact; a switch a variant does not have
 // is simply ignored by the emulator for that variant. Left out on purpose: g2_homed and
 // g2_boot_homes (an unhomed G2 refuses moves until `R 1` by design, tested in test_verbs.cpp),
@@ -230,7 +230,7 @@ void run_cell(const VariantRow& v, const MeetingRow& m, const Profile& profile, 
     o.already_booted = m.meeting == Meeting::dish_up || m.meeting == Meeting::reboot_mid_pass;
     profile.apply(o);
     // The 2003 Carryout's TV search cannot be stopped from the console, prints nothing and leaves
-    // no trace a backend could read (firmware notes 8.2): the README tells users to wait for it to
+    // no trace a backend could read (docs/firmware.md 8.2): the README tells users to wait for it to
     // end. The matrix meets a unit whose search is off (all DIP switches up, 8.2); opening one
     // that is still searching is the open case listed in the closing note.
     if (v.variant == Variant::carryout2003) o.carryout_search_seconds = 0.0;

@@ -52,7 +52,7 @@ bool sent(e2e::Rig& rig, const std::string& command) {
     return std::find(commands.begin(), commands.end(), command) != commands.end();
 }
 
-// Never a streaming command, never the ADC's argument-less `scan` (firmware notes §6.5).
+// Never a streaming command, never the ADC's argument-less `scan` (docs/firmware.md §6.5).
 void no_streaming_or_hazard(e2e::Rig& rig) {
     for (const std::string& command : rig.dish().received_commands()) {
         const std::string verb = command.substr(0, command.find(' '));

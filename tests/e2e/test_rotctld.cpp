@@ -126,7 +126,7 @@ TEST_CASE("S stops the dish: the leg not yet sent is dropped", "[e2e][stop]") {
 
 TEST_CASE("Carryout 2003 whose g ignores input: S lets the running move end, p reports where", "[e2e][stop]") {
     // carryout_rotor.py and carryout_scan.py send `q` right after every `g` and still move the dish
-    // (firmware notes 8.5, 8.7), so this firmware may not abort `g` on input: then nothing can stop
+    // (docs/firmware.md 8.5, 8.7), so this firmware may not abort `g` on input: then nothing can stop
     // a move already under way, and the backend must neither pretend it did nor send it again.
     const ModelUnderTest& m = kModels[3];
     auto options = e2e::dish_options(m.variant, 100.0, 30.0, m.watchable_time_scale);

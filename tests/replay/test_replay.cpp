@@ -201,7 +201,7 @@ TEST_CASE("emulator: strict mode answers unrecorded pokes as the firmware does a
     Client client(dish.device_path());
     client.send("\r");
     client.read_until("TRK>");
-    client.send("\r");   // not recorded: the prompt again (firmware notes 6.1)
+    client.send("\r");   // not recorded: the prompt again (docs/firmware.md 6.1)
     client.read_until("TRK>");
     client.send("?\r");  // not recorded: ignored, never answered from nothing
     client.send("mot\r");

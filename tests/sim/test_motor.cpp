@@ -25,7 +25,7 @@ double time_to_rest(Axis& axis, double dt = 1e-3)
 
 }  // namespace
 
-TEST_CASE("G2 slew times match the trapezoid table of tracking.md 1.4", "[motor]")
+TEST_CASE("G2 slew times match the trapezoid table of docs/tracking.md 1.4", "[motor]")
 {
     struct Row {
         AxisParams params;
@@ -114,7 +114,7 @@ TEST_CASE("targets snap to whole motor steps", "[motor]")
 
 TEST_CASE("a 0..360 azimuth maps to the wrap branch nearest the dish", "[motor]")
 {
-    // G2 window -423.33..+23.33 (firmware.md §6.4)
+    // G2 window -423.33..+23.33 (docs/firmware.md §6.4)
     CHECK(nearest_wrap_branch(180.0, 0.0, -423.33, 23.33) == Approx(-180.0));
     CHECK(nearest_wrap_branch(10.0, 0.0, -423.33, 23.33) == Approx(10.0));
     CHECK(nearest_wrap_branch(10.0, -340.0, -423.33, 23.33) == Approx(-350.0));

@@ -1,4 +1,4 @@
-// The switches for the firmware notes' open questions (issue 11 item 4), each driven on the
+// The switches for docs/firmware.md' open questions (issue 11 item 4), each driven on the
 // I/O-free Console in simulated time: the default and every alternative.
 #include <catch2/catch.hpp>
 

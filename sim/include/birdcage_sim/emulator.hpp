@@ -1,5 +1,5 @@
 // birdcage dish emulator: a pty that behaves like the serial console of a Winegard motorized
-// dish. Written from the firmware notes (section numbers cited as §n), independently
+// dish. Written from docs/firmware.md (section numbers cited as §n), independently
 // of the backend in src/, so that it can act as the test oracle.
 #pragma once
 
@@ -19,7 +19,7 @@ enum class Variant { travler_hal000, travler_hal205, travler_pro, carryout2003, 
 std::optional<Variant> parse_variant(std::string_view name);
 const char* variant_name(Variant);
 
-// Switches for behaviour the firmware notes (§14, Appendix C) leave open. Defaults are the most
+// Switches for behaviour docs/firmware.md (§14, Appendix C) leave open. Defaults are the most
 // plausible reading of the notes; text marked INVENTED is not known firmware output.
 // Output line ending. §14 HAL0.6, G2.10: unknown; CR LF from birdcage's bare-CR probe ("CR LF then
 // TRK>", §6.1). LF CR is a common embedded-shell habit; CR alone breaks travler_init.py's
@@ -67,7 +67,7 @@ enum class TravlerPositionLayout { one_line, line_per_axis };
 // it through Emulator::replay_failure(); lenient hands the session over to the model console.
 enum class ReplayMode { off, strict, lenient };
 
-// Faults of the serial line between the dish and the client (issue 6, firmware.md §6.1). They
+// Faults of the serial line between the dish and the client (issue 6, docs/firmware.md §6.1). They
 // are wire properties and run in real time, not scaled by Options::time_scale. Settable at
 // construction and live through the Emulator setters.
 struct LineFaults {

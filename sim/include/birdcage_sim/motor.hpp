@@ -1,7 +1,7 @@
 // Motor physics of the emulated dish: pure functions of simulated time, no clock, no I/O.
 // Every motion is a time-optimal trapezoid (or triangle) with a velocity cap and a symmetric
 // acceleration limit, integrated analytically so results do not depend on the step size
-// (tracking.md §1.4).
+// (docs/tracking.md §1.4).
 #pragma once
 
 #include <array>
@@ -15,14 +15,14 @@ struct AxisParams {
     double max_accel;     // deg/s^2
     double min;           // mechanical travel, deg (targets are clamped into it)
     double max;
-    int steps_per_rev;    // 0 = continuous; otherwise targets snap to whole steps (firmware.md §6.4)
+    int steps_per_rev;    // 0 = continuous; otherwise targets snap to whole steps (docs/firmware.md §6.4)
 };
 
 // Snaps an angle to the nearest whole motor step; identity when steps_per_rev is 0.
 double quantize_to_steps(double deg, int steps_per_rev);
 
 // The angle equal to `az` modulo 360 that lies inside [min, max] and is closest to
-// `current`; used to map a 0..360 target into a cable-wrap window (firmware.md §2, §6.4).
+// `current`; used to map a 0..360 target into a cable-wrap window (docs/firmware.md §2, §6.4).
 // If no branch fits, the nearest window edge.
 double nearest_wrap_branch(double az, double current, double min, double max);
 
@@ -67,7 +67,7 @@ private:
 enum AxisIndex : std::size_t { axis_az = 0, axis_el = 1, axis_skew = 2 };
 
 // Azimuth and elevation never run at the same time: moves for them execute one after another
-// in the order requested (firmware.md §2, §3.4). Skew (Trav'ler) runs independently.
+// in the order requested (docs/firmware.md §2, §3.4). Skew (Trav'ler) runs independently.
 class MotorModel {
 public:
     MotorModel(AxisParams az, AxisParams el, AxisParams skew, double az_pos, double el_pos,

@@ -10,7 +10,7 @@
 namespace birdcage::sim {
 
 // `lnbdc odu` = 13 V (the LNB receives vertical polarisation), `lnbdc stb` = 18 V (horizontal,
-// the boot default), firmware notes §6.3.
+// the boot default), docs/firmware.md §6.3.
 enum class LnbSupply { odu_13v, stb_18v };
 
 struct Satellite {

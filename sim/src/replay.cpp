@@ -77,7 +77,7 @@ void Replayer::pump()
 // A client that does not trust a single line pokes the console (a bare line ending, or `?` where
 // prompts are unknown) until it has seen the same prompt twice; how many pokes a recording holds
 // depends on timing, not on the dish. An unrecorded poke is therefore answered the way the
-// docs/firmware.md say a console answers it (6.1: a bare line ending at a prompt prints the prompt
+// docs/firmware.md says a console answers it (6.1: a bare line ending at a prompt prints the prompt
 // again, here the last prompt recorded, or before any the first one the recording shows) and
 // the recording goes on. While recorded dish output is still due (the dish is busy, e.g. booting)
 // a poke gets no answer: a booting dish ignores its input. `?` is never answered from nothing; it

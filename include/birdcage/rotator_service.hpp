@@ -12,6 +12,7 @@
 #include "birdcage/errors.hpp"
 #include "birdcage/pointing.hpp"
 #include "birdcage/receiver.hpp"
+#include "birdcage/steering.hpp"
 #include "birdcage/transport.hpp"
 
 #include <chrono>
@@ -44,21 +45,6 @@ struct ServiceTiming {
     std::chrono::milliseconds max_position_age{5000};
 };
 
-struct PointingOptions {
-    // Unset: the variant's default (FirmwareProfile::predictive_by_default), resolved at start()
-    // once the variant is known. Leapfrog is applied by the Controller (its option).
-    std::optional<PointingMode> mode;
-    // Predictive mode: the largest on-sky error (degrees) allowed per axis before the dish is moved
-    // again. The dish is aimed this far ahead, so the error sweeps -deadband..+deadband instead of
-    // lagging; it is widened where the motor cannot step that finely at the satellite's rate.
-    double deadband_deg = 0.1;
-    // Time from deciding a move to the motor starting (worker period, command exchange), in the
-    // dish's seconds; the aim is taken this much (plus the move time) ahead.
-    double command_overhead_s = 0.1;
-    // How far the deadband may be widened for a slow mount.
-    double max_deadband_deg = 0.5;
-    PredictorSettings predictor;
-};
 
 // Opens the device again after a hang-up (the glue opens the same path with FdTransport::open).
 using TransportFactory = std::function<Result<std::unique_ptr<Transport>>()>;

@@ -1,4 +1,10 @@
+// The rotator service's worker and mailbox (rotator_service.hpp). Over 500 lines because the
+// callers' side (the public methods), the worker loop and the position model share one state under
+// one mutex; the pure decisions are already apart and unit tested: steering (steering.cpp),
+// recovery (recovery.cpp), the estimator (pointing.cpp). Separating the mailbox from the worker
+// loop is the remaining step of that split.
 #include "birdcage/rotator_service.hpp"
+#include "birdcage/recovery.hpp"
 #include "birdcage/wrap.hpp"
 
 #include <algorithm>
@@ -419,100 +425,33 @@ Status RotatorService::accept_target(AzEl target) {
     return steer();
 }
 
-// Predictive mode: aims each axis `deadband` ahead of where the satellite will be when the move
-// completes, and moves it again once the satellite is `deadband` past that aim, so the error
-// sweeps -deadband..+deadband around zero instead of trailing the satellite. Worker thread only.
+// Predictive mode (steering.hpp): hands the controller the next aim, if any. Worker thread only.
 Status RotatorService::steer() {
     if (pointing_.mode != PointingMode::predictive) {
         return Status::ok();
     }
     const auto now = controller_now();
-    const auto current = predictor_.predict(now);
-    if (!current) {
+    const SteeringInput input{now,
+                              predictor_,
+                              controller_->profile(),
+                              controller_->el_min(),
+                              controller_->el_max(),
+                              pointing_,
+                              measured_overhead_s_.value_or(0.0),
+                              aim_,
+                              client_target_,
+                              controller_->last_position()};
+    const std::optional<SteeringDecision> decision = next_aim(input);
+    if (!decision) {
         return Status::ok();
     }
-    const double el_min = controller_->el_min();
-    const double el_max = controller_->el_max();
-    auto clamp_el = [&](double el) { return std::clamp(el, el_min, el_max); };
-    if (!current->moving) {
-        const AzEl hold{current->position.az, clamp_el(current->position.el)};
-        if (aim_ && std::fabs(azimuth_difference(aim_->az, hold.az)) < same_angle_degrees &&
-            std::fabs(aim_->el - hold.el) < same_angle_degrees) {
-            return Status::ok();
-        }
-        aim_ = hold;
-        return controller_->set_target(hold, azimuth_direction_hint(hold));
-    }
-    const FirmwareProfile& dish = controller_->profile();
-    const double overhead_s = std::max(pointing_.command_overhead_s, measured_overhead_s_.value_or(0.0));
-    auto move_time = [&](Axis axis, double degrees) {
-        return std::chrono::duration<double>(estimated_move_time(dish, axis, degrees)).count();
-    };
-    auto step_time = [&](Axis axis, double degrees) { return move_time(axis, degrees) + overhead_s; };
-    // Azimuth error on the sky shrinks with cos(el): the same on-sky deadband allows a wider
-    // azimuth one, which spares the motor near the zenith.
-    const double cos_el = std::max(std::cos(clamp_el(current->position.el) * M_PI / 180.0), 0.1);
-    double deadband_el = pointing_.deadband_deg;
-    double deadband_az = pointing_.deadband_deg / cos_el;
-    const double az_rate = std::fabs(current->az_rate);
-    // Above the elevation cap (the client's target at or over it) the dish holds the cap and
-    // follows only the azimuth (docs/tracking.md §2.2), until a target comes back below the cap: the
-    // fitted elevation would otherwise start descending before the satellite does.
-    const bool above_cap = client_target_ && client_target_->el >= el_max - same_angle_degrees;
-    const double el_rate = above_cap || current->position.el >= el_max || current->position.el <= el_min
-                               ? 0.0
-                               : std::fabs(current->el_rate);
-    // One axis moves at a time: widen both deadbands until the steps need at most half the
-    // motor's time, so the dish keeps up instead of queueing (the Trav'ler's slow moves).
-    for (int widen = 0; widen < 30; ++widen) {
-        const double busy = step_time(Axis::azimuth, 2 * deadband_az) * az_rate / (2 * deadband_az) +
-                            step_time(Axis::elevation, 2 * deadband_el) * el_rate / (2 * deadband_el);
-        // Beyond max_deadband_deg the aim would run so far ahead that the client sees the dish
-        // off by more than its threshold and re-sends: a slow mount then just trails.
-        if (busy <= 0.5 || deadband_el * 1.2 > std::max(pointing_.deadband_deg, pointing_.max_deadband_deg)) {
-            break;
-        }
-        deadband_az *= 1.2;
-        deadband_el *= 1.2;
-    }
-    auto seconds = [](double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); };
-    const auto az_at = predictor_.predict(now + seconds(step_time(Axis::azimuth, 2 * deadband_az)));
-    const auto el_at = predictor_.predict(now + seconds(step_time(Axis::elevation, 2 * deadband_el)));
-    AzEl next = aim_.value_or(controller_->last_position().value_or(current->position));
-    bool changed = !aim_;
-    // Signed along-motion distance of the satellite past the aim; re-aim at +deadband, or when
-    // the estimate jumped so that the aim is far off either way.
-    auto re_aim = [&](double past, double rate, double deadband) {
-        if (rate < 1e-6) {
-            return std::fabs(past) > deadband;
-        }
-        return past >= deadband || past < -3.0 * deadband;
-    };
-    const double az_sign = current->az_rate >= 0 ? 1.0 : -1.0;
-    const double az_past = azimuth_difference(next.az, az_at->position.az) * az_sign;
-    if (changed || re_aim(az_past, az_rate, deadband_az)) {
-        next.az = normalize_azimuth(az_at->position.az + (az_rate < 1e-6 ? 0.0 : az_sign * deadband_az));
-        changed = true;
-    }
-    const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
-    const double el_wanted = above_cap ? el_max : clamp_el(el_at->position.el);
-    const double el_past = (el_wanted - next.el) * el_sign;
-    if (changed || re_aim(el_past, el_rate, deadband_el)) {
-        next.el = clamp_el(el_wanted + (el_rate < 1e-6 ? 0.0 : el_sign * deadband_el));
-        changed = true;
-    }
-    if (!changed) {
-        return Status::ok();
-    }
-    if (controller_->idle() && aim_) {
+    if (!decision->holding && controller_->idle() && aim_) {
         // Time this step: what a leg costs beyond its motion (exchange, polling) is measured, not assumed.
-        const double az_move = std::fabs(azimuth_difference(aim_->az, next.az));
-        const double el_move = std::fabs(next.el - aim_->el);
-        timed_step_ = TimedStep{now, (az_move > same_angle_degrees ? 1 : 0) + (el_move > same_angle_degrees ? 1 : 0),
-                                move_time(Axis::azimuth, az_move) + move_time(Axis::elevation, el_move)};
+        timed_step_ = TimedStep{now, decision->legs, decision->motion_s};
     }
-    aim_ = next;
-    return controller_->set_target(next, current->az_rate != 0.0 ? current->az_rate : azimuth_direction_hint(next));
+    aim_ = decision->aim;
+    const double az_rate = decision->az_rate != 0.0 ? decision->az_rate : azimuth_direction_hint(decision->aim);
+    return controller_->set_target(decision->aim, az_rate);
 }
 
 void RotatorService::note_step_finished() {
@@ -626,21 +565,18 @@ void RotatorService::run() {
         }
         std::string fault = controller_->take_fault();
 
-        // Classify the step: what needs recovering, what is only reported.
+        // Classify the step (recovery.hpp): what needs recovering, what is only reported.
         std::optional<std::string> recover_because;
         if (!recovering) {
-            if (step.code == Errc::disconnected || step.code == Errc::io) {
+            const RecoveryVerdict verdict = classify_step(
+                StepOutcome{step, talked, controller_->needs_reinit(), !fault.empty()}, consecutive_failures_,
+                timing_.failures_before_recovery);
+            consecutive_failures_ = verdict.consecutive_failures;
+            if (verdict.action == RecoveryAction::reopen) {
                 link_down_ = true;
-                recover_because = "the serial port hung up (" + step.message + "); reopening it";
-            } else if (controller_->needs_reinit()) {
-                recover_because = "the dish rebooted; waiting for it to boot and re-initialising it";
-            } else if (!talked) {
-                // Nothing was asked of the dish: neither a success nor a failure.
-            } else if (!fault.empty() || step || step.code == Errc::not_homed || step.code == Errc::hazard ||
-                       step.code == Errc::invalid_argument || step.code == Errc::unsupported) {
-                consecutive_failures_ = 0;
-            } else if (++consecutive_failures_ >= timing_.failures_before_recovery) {
-                recover_because = "the dish stopped answering (" + step.message + "); re-synchronising";
+            }
+            if (verdict.action != RecoveryAction::none) {
+                recover_because = verdict.reason;
             }
         } else if (!step) {
             if (step.code == Errc::disconnected) {

@@ -1,0 +1,35 @@
+// The recovery classifier (recovery.hpp): step outcomes in, verdicts out.
+#include <catch2/catch.hpp>
+
+#include "birdcage/recovery.hpp"
+
+using namespace birdcage;
+
+TEST_CASE("recovery: a hang-up reopens the port at once; a reboot re-initialises at once") {
+    const auto hung = classify_step({Status{Errc::disconnected, "EOF"}, true, false, false}, 0, 2);
+    CHECK(hung.action == RecoveryAction::reopen);
+    CHECK(hung.reason.find("hung up") != std::string::npos);
+    const auto rebooted = classify_step({Status::ok(), true, true, false}, 0, 2);
+    CHECK(rebooted.action == RecoveryAction::reinitialise);
+}
+
+TEST_CASE("recovery: timeouts re-synchronise only after the configured run; any answer resets the count") {
+    const StepOutcome timeout{Status{Errc::timeout, "no prompt"}, true, false, false};
+    const auto first = classify_step(timeout, 0, 2);
+    CHECK(first.action == RecoveryAction::none);
+    CHECK(first.consecutive_failures == 1);
+    const auto second = classify_step(timeout, first.consecutive_failures, 2);
+    CHECK(second.action == RecoveryAction::resynchronise);
+    CHECK(second.reason.find("no prompt") != std::string::npos);
+    // Refusals and fault lines are answers: the console is in step.
+    for (const Errc refusal : {Errc::not_homed, Errc::hazard, Errc::invalid_argument, Errc::unsupported}) {
+        CHECK(classify_step({Status{refusal, "refused"}, true, false, false}, 1, 2).consecutive_failures == 0);
+    }
+    CHECK(classify_step({Status{Errc::protocol, "stall"}, true, false, true}, 1, 2).action == RecoveryAction::none);
+}
+
+TEST_CASE("recovery: a step that asked nothing proves nothing") {
+    const auto idle = classify_step({Status{Errc::timeout, "x"}, false, false, false}, 1, 2);
+    CHECK(idle.action == RecoveryAction::none);
+    CHECK(idle.consecutive_failures == 1);
+}

@@ -1,0 +1,95 @@
+// Predictive steering (steering.hpp) without threads or I/O: a TargetPredictor fed with explicit
+// times, the G2's profile, and next_aim() called as the worker would.
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cmath>
+
+#include "birdcage/steering.hpp"
+#include "birdcage/variants.hpp"
+
+using namespace birdcage;
+
+namespace {
+
+const Clock::time_point t0 = Clock::time_point{} + std::chrono::hours(1000);
+
+Clock::time_point at(double seconds) {
+    return t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+// A satellite crossing at 1 deg/s in azimuth and 0.2 deg/s in elevation, sent every second.
+AzEl satellite(double t) { return {normalize_azimuth(150.0 + 1.0 * t), 30.0 + 0.2 * t}; }
+
+TargetPredictor fed_until(double last_t) {
+    TargetPredictor predictor;
+    for (double t = 0.0; t <= last_t + 1e-9; t += 1.0) {
+        predictor.observe(at(t), satellite(t), satellite(t));
+    }
+    return predictor;
+}
+
+SteeringInput input_at(double t, const TargetPredictor& predictor, std::optional<AzEl> aim) {
+    return SteeringInput{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0,
+                         aim, satellite(std::floor(t)), aim};
+}
+
+}  // namespace
+
+TEST_CASE("steering: a moving satellite is aimed a deadband ahead, then left alone until it passes the aim") {
+    const TargetPredictor predictor = fed_until(10.0);
+    const auto first = next_aim(input_at(10.0, predictor, std::nullopt));
+    REQUIRE(first);
+    CHECK_FALSE(first->holding);
+    CHECK(first->az_rate == Approx(1.0).margin(0.05));
+    // Ahead of the satellite in both axes, by about a deadband plus the move's own time.
+    CHECK(azimuth_difference(satellite(10.0).az, first->aim.az) > 0.0);
+    CHECK(azimuth_difference(satellite(10.0).az, first->aim.az) < 1.0);
+    CHECK(first->aim.el > satellite(10.0).el);
+
+    // 50 ms later the satellite has moved 0.05 deg: short of the aim, so nothing new.
+    CHECK_FALSE(next_aim(input_at(10.05, predictor, first->aim)));
+    // A second later it is well past the aim: a new one, ahead again, with both legs timed.
+    const auto later = next_aim(input_at(11.0, predictor, first->aim));
+    REQUIRE(later);
+    CHECK(azimuth_difference(first->aim.az, later->aim.az) > 0.5);
+    CHECK(later->legs >= 1);
+    CHECK(later->motion_s > 0.0);
+}
+
+TEST_CASE("steering: a stationary target is held without lead, once") {
+    TargetPredictor predictor;
+    for (double t = 0.0; t <= 3.0; t += 1.0) {
+        predictor.observe(at(t), {200.0, 40.0}, AzEl{200.0, 40.0});
+    }
+    const SteeringInput first_input{at(3.5), predictor, profile(VariantId::carryout_g2), 18.0, 65.0,
+                                    PointingOptions{}, 0.0, std::nullopt, AzEl{200.0, 40.0}, AzEl{180.0, 30.0}};
+    const auto hold = next_aim(first_input);
+    REQUIRE(hold);
+    CHECK(hold->holding);
+    CHECK(hold->aim.az == Approx(200.0));
+    CHECK(hold->aim.el == Approx(40.0));
+    SteeringInput again = first_input;
+    again.aim = hold->aim;
+    CHECK_FALSE(next_aim(again));
+}
+
+TEST_CASE("steering: above the elevation cap the dish holds the cap and follows the azimuth") {
+    TargetPredictor predictor;
+    for (double t = 0.0; t <= 10.0; t += 1.0) {
+        predictor.observe(at(t), {normalize_azimuth(100.0 + 2.0 * t), 66.0 + 0.3 * t}, std::nullopt);
+    }
+    const SteeringInput in{at(10.0), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0,
+                           std::nullopt, AzEl{120.0, 69.0}, std::nullopt};
+    const auto decision = next_aim(in);
+    REQUIRE(decision);
+    CHECK(decision->aim.el == Approx(65.0));
+    CHECK(azimuth_difference(120.0, decision->aim.az) >= 0.0);
+}
+
+TEST_CASE("steering: nothing to steer by before any target") {
+    const TargetPredictor predictor;
+    const SteeringInput in{at(0.0), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0,
+                           std::nullopt, std::nullopt, std::nullopt};
+    CHECK_FALSE(next_aim(in));
+}

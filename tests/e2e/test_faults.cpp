@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <unistd.h>
 
 #include <cmath>
@@ -377,7 +379,17 @@ TEST_CASE("bad client input: a flood of 1000 P on one connection", "[e2e][faults
     const long rss_after = rss_kib(rig.rotctld_pid());
     WARN("1001 P on one connection answered in " << answered_s << " s; rotctld RSS " << rss_before << " -> "
                                                  << rss_after << " KiB");
+    // What keeps memory bounded: P keeps only the latest target, so the flood is coalesced into
+    // far fewer moves than targets.
+    const auto commands = rig.dish().received_commands();
+    const auto moves = std::count_if(commands.begin(), commands.end(),
+                                     [](const std::string& c) { return c.rfind("a 0 ", 0) == 0 || c.rfind("a 1 ", 0) == 0; });
+    CHECK(moves < 500);
+#ifndef BIRDCAGE_SANITIZER_RUNTIME
+    // Under AddressSanitizer the freed memory sits in its quarantine, so RSS measures the
+    // allocator, not the backend; the check holds for the real build only.
     CHECK(rss_after - rss_before < 4096);
+#endif
     CHECK(e2e::wait_until([&] { return reports_true_position(client, rig.dish()); }, 5s));
     CHECK(elevation_stayed_in_limits(rig.dish()));
     CHECK(rig.dish().hazards_received() == 0);

@@ -445,82 +445,75 @@ struct TerseCarryout {
     }
 };
 
-TEST_CASE("controller Carryout 2003: live output that stops short with no prompt means a silent reboot") {
+// That Carryout initialised, with `g 180.00 45.00` sent: where each of its reboot tests starts.
+struct TerseCarryoutMoving {
     TerseCarryout dish;
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeTransport wire{[this](const std::string& c) { return dish.respond(c); }};
     FakeClock clock;
-    Controller controller(wire, options_for(VariantId::carryout2003, clock));
-    REQUIRE(controller.initialize());
-    REQUIRE(controller.set_target({180, 45}));
-    clock.now += 100ms;
-    REQUIRE(controller.service());
-    REQUIRE(dish.moves == Commands{"g 180.00 45.00"});
-    // The dish loses power here: no more live lines, no prompt.
-    Status status = Status::ok();
-    for (int calls = 0; calls < 1000 && status && !controller.idle(); ++calls) {
+    Controller controller{wire, options_for(VariantId::carryout2003, clock)};
+    TerseCarryoutMoving() {
+        REQUIRE(controller.initialize());
+        REQUIRE(controller.set_target({180, 45}));
         clock.now += 100ms;
-        status = controller.service();
+        REQUIRE(controller.service());
+    }
+};
+
+TEST_CASE("controller Carryout 2003: live output that stops short with no prompt means a silent reboot") {
+    TerseCarryoutMoving rig;
+    REQUIRE(rig.dish.moves == Commands{"g 180.00 45.00"});
+    // The rig.dish loses power here: no more live lines, no prompt.
+    Status status = Status::ok();
+    for (int calls = 0; calls < 1000 && status && !rig.controller.idle(); ++calls) {
+        rig.clock.now += 100ms;
+        status = rig.controller.service();
     }
     CHECK(status.code == Errc::not_initialised);
-    CHECK(controller.needs_reinit());
-    REQUIRE(controller.last_position());
-    CHECK(controller.last_position()->az == Approx(170));   // the last live sample, not the target
-    CHECK(controller.describe().find("last commanded") == std::string::npos);
+    CHECK(rig.controller.needs_reinit());
+    REQUIRE(rig.controller.last_position());
+    CHECK(rig.controller.last_position()->az == Approx(170));   // the last live sample, not the target
+    CHECK(rig.controller.describe().find("last commanded") == std::string::npos);
 
-    REQUIRE(controller.reinitialize(1000ms));
-    CHECK_FALSE(controller.needs_reinit());
+    REQUIRE(rig.controller.reinitialize(1000ms));
+    CHECK_FALSE(rig.controller.needs_reinit());
 }
 
 TEST_CASE("controller Carryout 2003: a g answered by a bare prompt without live output was not run") {
-    TerseCarryout dish;
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
-    FakeClock clock;
-    Controller controller(wire, options_for(VariantId::carryout2003, clock));
-    REQUIRE(controller.initialize());
-    REQUIRE(controller.set_target({180, 45}));
-    clock.now += 100ms;
-    REQUIRE(controller.service());
-    wire.push_input("az = 18000   el = 4500\n> ");   // this console prints live positions during g
-    run_until_idle(controller, clock);
-    CHECK_FALSE(controller.needs_reinit());
+    TerseCarryoutMoving rig;
+    rig.wire.push_input("az = 18000   el = 4500\n> ");   // this console prints live positions during g
+    run_until_idle(rig.controller, rig.clock);
+    CHECK_FALSE(rig.controller.needs_reinit());
 
-    dish.rebooted = true;   // back at its root after a silent reboot: `g` is answered by `> ` alone
-    REQUIRE(controller.set_target({100, 30}));
+    rig.dish.rebooted = true;   // back at its root after a silent reboot: `g` is answered by `> ` alone
+    REQUIRE(rig.controller.set_target({100, 30}));
     Status status = Status::ok();
-    for (int calls = 0; calls < 100 && status && !controller.idle(); ++calls) {
-        clock.now += 100ms;
-        status = controller.service();
+    for (int calls = 0; calls < 100 && status && !rig.controller.idle(); ++calls) {
+        rig.clock.now += 100ms;
+        status = rig.controller.service();
     }
-    CHECK(dish.moves.back() == "g 100.00 30.00");
+    CHECK(rig.dish.moves.back() == "g 100.00 30.00");
     CHECK(status.code == Errc::not_initialised);
-    CHECK(controller.needs_reinit());
-    CHECK(controller.last_position()->az == Approx(180));   // not the target it never went to
+    CHECK(rig.controller.needs_reinit());
+    CHECK(rig.controller.last_position()->az == Approx(180));   // not the target it never went to
 }
 
 TEST_CASE("controller Carryout 2003: a g whose prompt comes before its live output is followed") {
-    TerseCarryout dish;
-    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
-    FakeClock clock;
-    Controller controller(wire, options_for(VariantId::carryout2003, clock));
-    REQUIRE(controller.initialize());
-    REQUIRE(controller.set_target({180, 45}));
-    clock.now += 100ms;
-    REQUIRE(controller.service());
-    wire.push_input("az = 18000   el = 4500\n> ");
-    run_until_idle(controller, clock);
+    TerseCarryoutMoving rig;
+    rig.wire.push_input("az = 18000   el = 4500\n> ");
+    run_until_idle(rig.controller, rig.clock);
 
     // Firmware that runs `g` in the background: the prompt at once, the live lines after it.
-    dish.rebooted = true;
-    REQUIRE(controller.set_target({150, 40}));
-    clock.now += 100ms;
-    REQUIRE(controller.service());
-    wire.push_input("az = 16500   el = 4200\n");
-    clock.now += 100ms;
-    REQUIRE(controller.service());
-    wire.push_input("az = 15000   el = 4000\n");
-    run_until_idle(controller, clock);
-    CHECK_FALSE(controller.needs_reinit());
-    CHECK(controller.last_position()->az == Approx(150));
+    rig.dish.rebooted = true;
+    REQUIRE(rig.controller.set_target({150, 40}));
+    rig.clock.now += 100ms;
+    REQUIRE(rig.controller.service());
+    rig.wire.push_input("az = 16500   el = 4200\n");
+    rig.clock.now += 100ms;
+    REQUIRE(rig.controller.service());
+    rig.wire.push_input("az = 15000   el = 4000\n");
+    run_until_idle(rig.controller, rig.clock);
+    CHECK_FALSE(rig.controller.needs_reinit());
+    CHECK(rig.controller.last_position()->az == Approx(150));
 }
 
 TEST_CASE("controller: service before initialise with work queued reports not_initialised") {

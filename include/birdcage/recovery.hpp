@@ -3,6 +3,7 @@
 // a console that stopped answering). RotatorService acts on the verdict; tests feed outcomes.
 #pragma once
 
+#include <chrono>
 #include <string>
 
 #include "birdcage/errors.hpp"
@@ -27,5 +28,15 @@ struct RecoveryVerdict {
 // `failures_so_far`: consecutive failed steps before this one; `failures_before_recovery`: how
 // many in a row mean the console is out of sync (a single timeout is not).
 RecoveryVerdict classify_step(const StepOutcome& outcome, int failures_so_far, int failures_before_recovery);
+
+// A recovery attempt failed: whether the port must be reopened before the next one, and how long
+// to wait for it (doubling from `min` up to `max`, so a dish that is powered later is found
+// quickly without flooding a console that is still booting).
+struct RetryVerdict {
+    bool reopen = false;
+    std::chrono::milliseconds backoff{0};
+};
+RetryVerdict classify_failed_attempt(const Status& attempt, std::chrono::milliseconds previous_backoff,
+                                     std::chrono::milliseconds min, std::chrono::milliseconds max);
 
 }  // namespace birdcage

@@ -57,3 +57,16 @@ struct SteeringDecision {
 std::optional<SteeringDecision> next_aim(const SteeringInput& input);
 
 }  // namespace birdcage
+
+namespace birdcage {
+
+// The azimuth direction a pass is taking, for the controller's cable-wrap choice, when the
+// estimate has no rate yet (deg/s; only its sign matters; 0 = unknown). See steering.cpp.
+double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
+                              AzEl target, double el_min);
+
+// What one leg costs beyond its motion (exchange, polling), from a timed step: `busy_s` from the
+// aim to the dish idle again, `motion_s` the motor time of its `legs`. Smoothed with `previous`.
+double updated_leg_overhead(std::optional<double> previous, double busy_s, double motion_s, int legs);
+
+}  // namespace birdcage

@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "birdcage/clock.hpp"
 #include "birdcage/errors.hpp"
 #include "birdcage/log.hpp"
 #include "birdcage/transport.hpp"
@@ -58,12 +59,11 @@ struct ConsoleSnapshot {
 
 class ConsoleSynchroniser {
 public:
-    using ClockSource = std::function<Clock::time_point()>;
-
-    // `clock` defaults to the steady clock. A read that times out advances the synchroniser's own
-    // notion of time to that read's deadline, so a transport that times out at once (a test fake)
-    // still spends the budget in a bounded number of reads.
-    ConsoleSynchroniser(Transport& transport, SyncSettings settings, LogSink log, ClockSource clock = {});
+    // Its budgets are link time (the serial line's deadlines), so `clock` is the steady clock but
+    // for tests, which freeze it (DishClock::manual). A read that times out advances the
+    // synchroniser's own notion of time to that read's deadline, so a transport that times out at
+    // once (a test fake) still spends the budget in a bounded number of reads.
+    ConsoleSynchroniser(Transport& transport, SyncSettings settings, LogSink log, DishClock clock = {});
 
     Result<ConsoleSnapshot> synchronise();
     // The last bytes heard, raw (noise included), oldest first.
@@ -92,7 +92,7 @@ private:
     Transport& transport_;
     SyncSettings settings_;
     LogSink log_;
-    ClockSource clock_;
+    DishClock clock_;
     Clock::time_point virtual_now_{};
     bool boot_in_progress_ = false;
     bool announced_wait_ = false;

@@ -1,10 +1,20 @@
 #include "birdcage/recovery.hpp"
 
+#include <algorithm>
+
 namespace birdcage {
+
+namespace {
+
+bool link_lost(const Status& status) {
+    return status.code == Errc::disconnected || status.code == Errc::io;
+}
+
+}  // namespace
 
 RecoveryVerdict classify_step(const StepOutcome& outcome, int failures_so_far, int failures_before_recovery) {
     const Status& step = outcome.status;
-    if (step.code == Errc::disconnected || step.code == Errc::io) {
+    if (link_lost(step)) {
         return {RecoveryAction::reopen, failures_so_far, "the serial port hung up (" + step.message + "); reopening it"};
     }
     if (outcome.needs_reinit) {
@@ -27,6 +37,11 @@ RecoveryVerdict classify_step(const StepOutcome& outcome, int failures_so_far, i
                 "the dish stopped answering (" + step.message + "); re-synchronising"};
     }
     return {RecoveryAction::none, failures, {}};
+}
+
+RetryVerdict classify_failed_attempt(const Status& attempt, std::chrono::milliseconds previous_backoff,
+                                     std::chrono::milliseconds min, std::chrono::milliseconds max) {
+    return {link_lost(attempt), std::clamp(previous_backoff * 2, min, max)};
 }
 
 }  // namespace birdcage

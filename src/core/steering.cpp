@@ -1,4 +1,5 @@
 #include "birdcage/steering.hpp"
+#include "birdcage/wrap.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -21,6 +22,17 @@ constexpr double still_rate_dps = 1e-6;
 // The estimate jumped when the satellite is this many deadbands *behind* the aim (a new pass,
 // a corrected fit): re-aim at once rather than wait for it to come past.
 constexpr double behind_deadbands = 3.0;
+// A client's step along the track while the dish waits low for the pass (degrees): Gpredict's
+// default 5 deg threshold, its lead of up to one more threshold, and the satellite's motion since.
+// A larger step is a new pointing, not a direction.
+constexpr double tracking_step_max_deg = 20.0;
+// The rate azimuth_direction_hint() returns for a known direction: a sign, not a speed.
+constexpr double direction_only_rate = 1e-3;
+// The dish counts as waiting at its lowest elevation (where Gpredict parks it before AOS) within
+// this many degrees of it.
+constexpr double waiting_low_deg = 1.0;
+// Weight of the newest measurement in the leg-overhead average (an EMA over about five steps).
+constexpr double overhead_smoothing = 0.2;
 
 Clock::duration seconds(double s) {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
@@ -109,6 +121,32 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         decision.motion_s = move_time(Axis::azimuth, az_move) + move_time(Axis::elevation, el_move);
     }
     return decision;
+}
+
+// Before the estimate has a rate one case is already clear: a client following a satellite that
+// is still below or near the dish's lowest elevation moves the dish, waiting there, a small step
+// along the satellite's azimuth track, as Gpredict does from the AOS point. The direction of that
+// step is the pass's, and knowing it now lets the one unwind a pass may need happen while the
+// satellite is still out of reach rather than as it rises into the beam.
+double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
+                              AzEl target, double el_min) {
+    if (estimate && estimate->az_rate != 0.0) {
+        return estimate->az_rate;
+    }
+    if (!dish || dish->el > el_min + waiting_low_deg || target.el > el_min + wrap::pass_start_band_deg) {
+        return 0.0;
+    }
+    const double step = azimuth_difference(dish->az, target.az);
+    const bool along_track = std::fabs(step) > same_angle_degrees && std::fabs(step) <= tracking_step_max_deg;
+    return along_track ? std::copysign(direction_only_rate, step) : 0.0;
+}
+
+double updated_leg_overhead(std::optional<double> previous, double busy_s, double motion_s, int legs) {
+    if (legs <= 0) {
+        return previous.value_or(0.0);
+    }
+    const double overhead = std::max(0.0, (busy_s - motion_s) / legs);
+    return previous ? (1.0 - overhead_smoothing) * *previous + overhead_smoothing * overhead : overhead;
 }
 
 }  // namespace birdcage

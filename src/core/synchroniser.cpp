@@ -173,12 +173,12 @@ SyncSettings console_sync_settings(const FirmwareProfile& profile, std::chrono::
     return settings;
 }
 
-ConsoleSynchroniser::ConsoleSynchroniser(Transport& transport, SyncSettings settings, LogSink log, ClockSource clock)
+ConsoleSynchroniser::ConsoleSynchroniser(Transport& transport, SyncSettings settings, LogSink log, DishClock clock)
     : transport_(transport), settings_(std::move(settings)), log_(std::move(log)), clock_(std::move(clock)),
       next_progress_(settings_.progress_interval) {}
 
 Clock::time_point ConsoleSynchroniser::now() const {
-    return std::max(clock_ ? clock_() : Clock::now(), virtual_now_);
+    return std::max(clock_.now(), virtual_now_);
 }
 
 ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::milliseconds first_byte_within,

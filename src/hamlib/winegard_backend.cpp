@@ -206,20 +206,13 @@ extern "C" int winegard_rot_open(ROT* rot) {
     // `_` reports the rate the line really runs at (rotctld -s), not the table's.
     options.line_baud = port->type.rig == RIG_PORT_SERIAL ? baud : 0;
     options.leapfrog = priv->pointing.mode == birdcage::PointingMode::leapfrog;
-    birdcage::ServiceTiming timing;
     if (priv->time_scale != 1.0) {
-        // Against an emulator running k times faster: motion bookkeeping on a clock k times
-        // faster, worker periods k times shorter; I/O deadlines stay real (the pty is real).
-        const double scale = priv->time_scale;
-        options.clock = birdcage::DishClock::scaled(scale);
-        auto scaled = [scale](std::chrono::milliseconds period) {
-            return std::max(std::chrono::milliseconds{1},
-                            std::chrono::milliseconds(static_cast<long long>(period.count() / scale)));
-        };
-        timing.busy_period = scaled(timing.busy_period);
-        timing.idle_poll_period = scaled(timing.idle_poll_period);
+        // Against an emulator running k times faster: the core's clock runs k times faster, and
+        // with it every period of the worker (ServiceTiming is dish time); I/O deadlines stay
+        // real (the pty is real).
+        options.clock = birdcage::DishClock::scaled(priv->time_scale);
     }
-    priv->service = std::make_unique<birdcage::RotatorService>(std::move(transport), options, timing,
+    priv->service = std::make_unique<birdcage::RotatorService>(std::move(transport), options, birdcage::ServiceTiming{},
                                                                std::move(reopen));
     priv->service->set_pointing(priv->pointing);
     if (Status st = priv->service->start(); !st) {

@@ -4,6 +4,7 @@
 #include "birdcage/recovery.hpp"
 
 using namespace birdcage;
+using namespace std::chrono_literals;
 
 TEST_CASE("recovery: a hang-up reopens the port at once; a reboot re-initialises at once") {
     const auto hung = classify_step({Status{Errc::disconnected, "EOF"}, true, false, false}, 0, 2);
@@ -32,4 +33,14 @@ TEST_CASE("recovery: a step that asked nothing proves nothing") {
     const auto idle = classify_step({Status{Errc::timeout, "x"}, false, false, false}, 1, 2);
     CHECK(idle.action == RecoveryAction::none);
     CHECK(idle.consecutive_failures == 1);
+}
+
+TEST_CASE("recovery: a failed attempt backs off doubling within bounds; a lost link is reopened first") {
+    const auto first = classify_failed_attempt(Status{Errc::timeout, "still booting"}, 0ms, 100ms, 2000ms);
+    CHECK_FALSE(first.reopen);
+    CHECK(first.backoff == 100ms);
+    const auto later = classify_failed_attempt(Status{Errc::timeout, "still booting"}, 1500ms, 100ms, 2000ms);
+    CHECK(later.backoff == 2000ms);
+    CHECK(classify_failed_attempt(Status{Errc::disconnected, "EOF"}, 100ms, 100ms, 2000ms).reopen);
+    CHECK(classify_failed_attempt(Status{Errc::io, "EIO"}, 100ms, 100ms, 2000ms).reopen);
 }

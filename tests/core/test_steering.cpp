@@ -93,3 +93,22 @@ TEST_CASE("steering: nothing to steer by before any target") {
                            std::nullopt, std::nullopt, std::nullopt};
     CHECK_FALSE(next_aim(in));
 }
+
+TEST_CASE("steering: the wrap direction comes from the estimate, else from a small step while waiting low") {
+    Prediction moving;
+    moving.az_rate = -0.7;
+    CHECK(azimuth_direction_hint(moving, AzEl{100, 40}, AzEl{90, 40}, 18.0) == -0.7);
+    // Waiting at the lowest elevation, the client steps along the track: its sign is the pass's.
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{350, 18}, AzEl{5, 20}, 18.0) > 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, AzEl{0, 20}, 18.0) < 0.0);
+    // A large step is a new pointing, and a dish high in the sky is not waiting for a pass.
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, AzEl{90, 20}, 18.0) == 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 40}, AzEl{15, 40}, 18.0) == 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, std::nullopt, AzEl{15, 20}, 18.0) == 0.0);
+}
+
+TEST_CASE("steering: the measured leg overhead is what a step took beyond its motion, smoothed") {
+    CHECK(updated_leg_overhead(std::nullopt, 5.0, 3.0, 2) == Approx(1.0));
+    CHECK(updated_leg_overhead(1.0, 3.0, 3.0, 1) == Approx(0.8));    // faster than the motion: 0 overhead
+    CHECK(updated_leg_overhead(0.5, 9.0, 1.0, 0) == Approx(0.5));    // no leg: nothing learnt
+}

@@ -33,7 +33,8 @@ struct Logged {
 };
 
 // A clock that never moves by itself: only the synchroniser's timed-out reads advance its time.
-Clock::time_point frozen() { return Clock::time_point{} + 1000h; }
+Clock::time_point frozen_time() { return Clock::time_point{} + 1000h; }
+const DishClock frozen = DishClock::manual(frozen_time);
 
 SyncSettings g2_settings(std::chrono::milliseconds budget = 60s) {
     return console_sync_settings(profile(VariantId::carryout_g2), budget);
@@ -315,7 +316,7 @@ public:
 private:
     FakeTransport& console_;
     Clock::duration byte_interval_;
-    Clock::time_point now_ = frozen();
+    Clock::time_point now_ = frozen_time();
     std::uint32_t state_ = 1;
     std::size_t noise_bytes_ = 0;
 };
@@ -332,7 +333,7 @@ TEST_CASE("sync: a line that is never quiet still comes into sync (noise is not 
     NoisyLine line(console, rate);
     Logged log;
     // The recovery slice (RotatorTiming::recovery_boot_slice).
-    ConsoleSynchroniser sync(line, g2_settings(5s), log.sink(), [&] { return line.now(); });
+    ConsoleSynchroniser sync(line, g2_settings(5s), log.sink(), DishClock::manual([&] { return line.now(); }));
     const auto synced = sync.synchronise();
     INFO(synced.status.message);
     REQUIRE(synced);
@@ -341,7 +342,7 @@ TEST_CASE("sync: a line that is never quiet still comes into sync (noise is not 
     CHECK(line.noise_bytes() > 100);
     CHECK(std::none_of(synced.value.heard.begin(), synced.value.heard.end(),
                        [](const std::string& l) { return l != "MOT>"; }));   // noise is never a line heard
-    CHECK(line.now() - frozen() < 3s);
+    CHECK(line.now() - frozen_time() < 3s);
 }
 
 TEST_CASE("sync: under steady noise a late boot line after a stale prompt still voids it") {
@@ -351,7 +352,7 @@ TEST_CASE("sync: under steady noise a late boot line after a stale prompt still 
         return {++pokes == 1 ? "\r\nTRK>\r\nLoc Startup: IDU NOT Present\r\n" : "\r\nTRK>"};
     });
     NoisyLine line(console, 200);
-    ConsoleSynchroniser sync(line, g2_settings(5s), {}, [&] { return line.now(); });
+    ConsoleSynchroniser sync(line, g2_settings(5s), {}, DishClock::manual([&] { return line.now(); }));
     const auto synced = sync.synchronise();
     INFO(synced.status.message);
     REQUIRE(synced);

@@ -167,7 +167,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         ScriptedConsole console(script);
         console.preload();
         birdcage::ConsoleSynchroniser sync(console, birdcage::console_sync_settings(birdcage::profile(birdcage::VariantId::carryout_g2), budget), {},
-                                           [] { return birdcage::Clock::time_point{}; });
+                                           birdcage::DishClock::manual([] { return birdcage::Clock::time_point{}; }));
         const auto synced = sync.synchronise();
         if (synced && !synced.value.prompt.empty() && !prompt_ends_text(console.output(), synced.value.prompt)) {
             std::abort();   // a prompt that console text came after

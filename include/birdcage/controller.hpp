@@ -95,8 +95,8 @@ public:
     const FirmwareProfile& profile() const { return profile_; }
     std::string describe() const;
     // The cable-wrap state: travel, the mechanical azimuth estimate and how its branch is known
-    // (the start assumption), the target's branch. Not (yet) part of describe(), whose text the
-    // transcript golden files (sim/transcripts/*.chk) pin.
+    // (the start assumption), the target's branch. Not part of describe(); the transcript golden
+    // files read the same facts through wrap_tracker().
     std::string describe_wrap() const { return wrap_.describe(); }
 
     // True while a leg has been sent and not yet arrived: the console must stay in the motor menu.
@@ -109,6 +109,17 @@ public:
     double el_min() const { return el_min_; }
     double el_max() const { return el_max_; }
     bool initialised() const { return initialised_; }
+
+    // What describe() words, as values, for output that machines compare (the transcript golden
+    // files, sim/transcripts/*.chk): rewording describe() must not change them.
+    bool auto_detected() const { return options_.detect; }
+    int line_baud() const { return options_.line_baud > 0 ? options_.line_baud : profile_.baud; }
+    const std::string& console_menu() const { return session_.menu(); }
+    const std::string& console_prompt() const { return session_.last_prompt(); }
+    bool position_estimated() const { return state_.position_estimated; }
+    bool tracker_enabled() const { return tracker_enabled_; }
+    bool leapfrog() const { return options_.leapfrog; }
+    const WrapTracker& wrap_tracker() const { return wrap_; }
 
 private:
     Clock::time_point now() const;

@@ -27,6 +27,7 @@
 #include "birdcage/variants.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "golden.hpp"
 
 namespace {
 
@@ -95,15 +96,9 @@ double number_token(const std::vector<std::string>& tokens, std::size_t index)
     return value;
 }
 
-std::string status_text(const birdcage::Status& status)
-{
-    if (status) return "ok";
-    return std::string(birdcage::to_string(status.code)) + ": " + status.message;
-}
+using birdcage::golden::status_field;
 
-std::string quoted(const std::string& text) { return "\"" + sim::escape_chunk(text) + "\""; }
-
-// Runs the operations over `transport` and describes, line by line, what the core did and saw.
+// Runs the operations over `transport` and reports, one event a line, what the core did and saw.
 class OperationRunner {
 public:
     // `stop` is asked between operations and while a move runs: once the replay has failed the dish
@@ -122,17 +117,18 @@ public:
         std::ostringstream out;
         for (std::size_t i = 0; i < tokens.size();) {
             if (stop_ && stop_()) {
-                out << "stopped: the replay failed\n";
+                out << "stopped: replay_failed\n";
                 break;
             }
             const std::string& op = tokens[i++];
             if (op == "init") {
-                out << "op init: " << status_text(controller_.initialize()) << '\n';
+                out << "op init: " << status_field(controller_.initialize()) << '\n';
             } else if (op == "position") {
                 const auto position = controller_.query_position();
-                out << "op position: " << status_text(position.status);
-                if (position) out << " az " << birdcage::format_degrees(position.value.az) << " el "
-                                  << birdcage::format_degrees(position.value.el);
+                out << "op position: " << status_field(position.status);
+                if (position)
+                    out << " az=" << birdcage::format_degrees(position.value.az)
+                        << " el=" << birdcage::format_degrees(position.value.el);
                 out << '\n';
             } else if (op == "move") {
                 const double az = number_token(tokens, i++);
@@ -143,12 +139,12 @@ public:
                 if (i >= tokens.size()) throw std::runtime_error("send needs a command");
                 const std::string command = tokens[i++];
                 const auto reply = session_.transact(command, send_timeout);
-                out << "op send " << quoted(command) << ": " << status_text(reply.status) << '\n';
-                for (const auto& line : reply.value.lines) out << "  line: " << quoted(line) << '\n';
-                if (!reply.value.prompt.empty()) out << "  prompt: " << quoted(reply.value.prompt) << '\n';
+                out << "op send " << birdcage::golden::quoted(command) << ": " << status_field(reply.status) << '\n';
+                for (const auto& line : reply.value.lines) out << "  line: " << birdcage::golden::quoted(line) << '\n';
+                if (!reply.value.prompt.empty()) out << "  prompt: " << birdcage::golden::quoted(reply.value.prompt) << '\n';
             } else if (op == "resync") {
                 const auto synced = session_.resync(send_timeout);
-                out << "op resync: " << status_text(synced) << " menu " << quoted(session_.menu()) << '\n';
+                out << "op resync: " << status_field(synced) << " menu=" << birdcage::golden::quoted(session_.menu()) << '\n';
             } else if (op == "allow-nvs-write") {
                 session_.set_allow_nvs_write(true);
                 out << "op allow-nvs-write\n";
@@ -167,7 +163,7 @@ public:
                 out << "  sent: " << (poke ? std::string("pokes (\\r or ?\\r, one or more)") : sim::escape_chunk(bytes)) << '\n';
             }
         }
-        out << "state: " << controller_.describe() << '\n';
+        for (const auto& line : birdcage::golden::state_lines(controller_)) out << line << '\n';
         return out.str();
     }
 
@@ -183,16 +179,16 @@ private:
 
     std::string move(double az, double el)
     {
-        if (const auto accepted = controller_.set_target({az, el}); !accepted) return status_text(accepted);
+        if (const auto accepted = controller_.set_target({az, el}); !accepted) return status_field(accepted);
         const auto deadline = std::chrono::steady_clock::now() + move_deadline;
         std::optional<birdcage::Status> first_failure;
         while (!controller_.idle()) {
-            if (std::chrono::steady_clock::now() > deadline) return "not idle within the test deadline";
-            if (stop_ && stop_()) return "stopped: the replay failed";
+            if (std::chrono::steady_clock::now() > deadline) return "error=not_idle_by_test_deadline";
+            if (stop_ && stop_()) return "stopped: replay_failed";
             if (const auto status = controller_.service(); !status && !first_failure) first_failure = status;
             std::this_thread::sleep_for(pump_period);
         }
-        return first_failure ? status_text(*first_failure) : "ok";
+        return first_failure ? status_field(*first_failure) : "ok";
     }
 
     std::function<bool()> stop_;
@@ -250,8 +246,9 @@ Outcome replay(const std::filesystem::path& transcript_path)
     OperationRunner runner(*device, variant, [&emulator] { return emulator.replay_failure().has_value(); });
 
     Outcome outcome;
-    outcome.text = "# birdcage-regress output for " + transcript_path.filename().string() +
-                   "; regenerate with the regress-update target and explain every change in the commit message\n";
+    outcome.text = "# birdcage-regress events for " + transcript_path.filename().string() +
+                   " (format: docs/transcripts.md). Lines starting with # are notes, kept by\n"
+                   "# regress-update; regenerate with that target and explain every change in the commit message.\n";
     outcome.text += "operations: " + *operations + "\n";
     outcome.text += runner.run(split_operations(*operations));
 
@@ -259,11 +256,14 @@ Outcome replay(const std::filesystem::path& transcript_path)
     while (!emulator.replay_complete() && !emulator.replay_failure() && std::chrono::steady_clock::now() < drain_until)
         std::this_thread::sleep_for(10ms);
     if (const auto failure = emulator.replay_failure()) {
-        outcome.text += failure->substr(0, failure->find('\n')) + "\n";
+        // The emulator's report (which line, what was expected) goes to stderr: it is for the
+        // person reading the failure, not for comparison.
+        outcome.text += "replay: failed\n";
         std::cerr << *failure;
         outcome.failed = true;
     } else if (!emulator.replay_complete()) {
-        outcome.text += "replay: incomplete (the core sent fewer commands than the transcript holds)\n";
+        // The core sent fewer commands than the transcript holds.
+        outcome.text += "replay: incomplete\n";
         outcome.failed = true;
     } else {
         outcome.text += "replay: complete\n";
@@ -279,23 +279,15 @@ std::string read_file(const std::filesystem::path& path)
     return contents.str();
 }
 
-std::vector<std::string> lines_of(const std::string& text)
-{
-    std::vector<std::string> lines;
-    std::istringstream stream(text);
-    for (std::string line; std::getline(stream, line);) lines.push_back(line);
-    return lines;
-}
-
 void print_difference(const std::string& expected, const std::string& actual)
 {
-    const auto want = lines_of(expected);
-    const auto got = lines_of(actual);
+    const auto want = birdcage::golden::content_lines(expected);
+    const auto got = birdcage::golden::content_lines(actual);
     for (std::size_t i = 0; i < std::max(want.size(), got.size()); ++i) {
         const std::string* w = i < want.size() ? &want[i] : nullptr;
         const std::string* g = i < got.size() ? &got[i] : nullptr;
         if (w && g && *w == *g) continue;
-        std::cerr << "first difference at line " << i + 1 << " of the golden file:\n"
+        std::cerr << "first difference at event " << i + 1 << " of the golden file (# lines not counted):\n"
                   << "  golden: " << (w ? *w : "<end of file>") << '\n'
                   << "  now:    " << (g ? *g : "<end of file>") << '\n';
         break;
@@ -314,7 +306,8 @@ int check(const std::filesystem::path& transcript)
         return 1;
     }
     const std::string expected = read_file(golden);
-    if (expected != outcome.text) {
+    // Notes (`#` lines) are the reader's; only the events are compared.
+    if (birdcage::golden::content_lines(expected) != birdcage::golden::content_lines(outcome.text)) {
         std::cerr << "regression: " << transcript.filename().string() << " differs from " << golden.filename().string() << '\n';
         print_difference(expected, outcome.text);
         return 1;
@@ -334,7 +327,14 @@ int update(const std::vector<std::filesystem::path>& transcripts)
             status = 1;
             continue;
         }
-        std::ofstream(golden_path(transcript), std::ios::binary) << outcome.text;
+        std::string text = outcome.text;
+        if (std::filesystem::exists(golden_path(transcript))) {
+            std::vector<std::string> dropped;
+            text = birdcage::golden::keep_annotations(read_file(golden_path(transcript)), outcome.text, dropped);
+            for (const auto& note : dropped)
+                std::cerr << golden_path(transcript).string() << ": note dropped, the event it preceded is gone: " << note << '\n';
+        }
+        std::ofstream(golden_path(transcript), std::ios::binary) << text;
         std::cout << "wrote " << golden_path(transcript).string() << '\n';
     }
     return status;

@@ -1,0 +1,34 @@
+// The golden-file vocabulary of birdcage-regress (docs/transcripts.md, "Golden files"): every line
+// is an event with stable keys, built from values (Errc names, the controller's accessors, wire
+// bytes), never from the words of a Status message or Controller::describe(), so rewording a log
+// line cannot break a transcript test.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "birdcage/controller.hpp"
+#include "birdcage/errors.hpp"
+
+namespace birdcage::golden {
+
+// "ok", or "error=<errc name>" (the message is left out on purpose).
+std::string status_field(const Status& status);
+// Dish text in double quotes, with the transcript escapes (`\r`, `\x20` at either end, ...).
+// Call it qualified: on a std::string argument, ADL would find std::quoted, which escapes differently.
+std::string quoted(std::string_view text);
+// "yes" / "no".
+const char* yes_no(bool value);
+// The controller's state: a `state:` line and indented `position:`, `target:`, `el_limits:`,
+// `pointing:` and `wrap:` lines, each key=value.
+std::vector<std::string> state_lines(const Controller& controller);
+
+// Lines the comparison looks at: not `#` comments, not blank.
+std::vector<std::string> content_lines(const std::string& text);
+// `fresh` with the hand-written `#` annotations (and blank lines) of `previous` put back before
+// the line each preceded; an annotation whose line is gone is returned in `dropped`. Comment
+// lines `fresh` generates itself are not copied twice.
+std::string keep_annotations(const std::string& previous, const std::string& fresh, std::vector<std::string>& dropped);
+
+}  // namespace birdcage::golden

@@ -1,3 +1,7 @@
+// The emulated console's engine (engine.hpp): line intake, the shell's common verbs (help, quit,
+// unknown command), and the timed behaviours every variant shares (boot, the TV-satellite search,
+// busy moves, stalls, idle lines). Just over 500 lines because each of those is a short state
+// machine driven by the same tick(); the per-variant menus live in variants.cpp and handlers.cpp.
 #include "engine.hpp"
 
 #include <algorithm>

@@ -4,8 +4,11 @@
 # rotctl: `-l` for the models, `-L` for the conf keys (minus the ones Hamlib's serial frontend
 # adds to every model, taken from a stock serial rotator).
 #   man_matches_backend.sh ROTCTL BACKEND_SO MANPAGE README
+# BIRDCAGE_PRELOAD_FIRST: a library preloaded ahead of the backend (the sanitizer runtime of a
+# sanitized build).
 set -uo pipefail
-rotctl=$1 backend=$2 manpage=$3 readme=$4
+rotctl=$1 manpage=$3 readme=$4
+backend=${BIRDCAGE_PRELOAD_FIRST:+$BIRDCAGE_PRELOAD_FIRST:}$2
 conf_keys() { "$rotctl" "$@" -r /nonexistent -L 2>/dev/null | sed -n 's/^\([a-z_0-9]*\): ".*/\1/p' | sort -u; }
 
 models=$(LD_PRELOAD=$backend "$rotctl" -l | awk '/Winegard/ {print $1}')

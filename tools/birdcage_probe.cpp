@@ -515,8 +515,8 @@ docs/firmware.md lists as a hazard (such as `q` at the G2's root prompt) unless 
   --port PATH         serial device or pty (e.g. /dev/ttyUSB0)
   --baud N            line speed (default: probe tries 115200 57600 9600 19200 38400;
                       record uses the variant's, or 115200)
-  --variant V         hal000|hal205|pro|carryout2003|g2: judge hazards by this firmware's rules
-                      (default: the G2's, the strictest)
+  --variant hal000|hal205|pro|carryout2003|g2
+                      judge hazards by this firmware's rules (default: the G2's, the strictest)
   --fd                open PATH as a plain file descriptor, not through libserialport
   --force             send even the documented hazards
   --output FILE       record: the transcript to write

@@ -29,6 +29,6 @@ while (($#)); do
     esac
 done
 
-"$root/scripts/build.sh" "${cmake_args[@]}"
+"$root/scripts/build.sh" -DBIRDCAGE_BUILD_TESTS=ON "${cmake_args[@]}"
 cd "$build"
 ctest --output-on-failure --timeout 600 -j "$(nproc)" "${ctest_args[@]}"

@@ -27,6 +27,7 @@
 #include "birdcage/transport.hpp"
 #include "birdcage/variants.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "birdcage_version.hpp"
 
 namespace {
 
@@ -502,12 +503,36 @@ int run_record(const std::string& path, int baud, const birdcage::FirmwareProfil
     return 0;
 }
 
-void usage()
+const char* const help_text =
+    R"(Usage: birdcage-probe --port PATH [--baud N] [--variant V] [--fd] [--force]
+       birdcage-probe record --port PATH --output FILE [--baud N] [--variant V] [--fd] [--force] [--source TEXT]
+
+Maps an unknown Winegard dish console (baud rate, prompt, error text, help listing, submenus) and
+prints a JSON report on stdout; with `record`, a pass-through terminal that tees the session into
+a transcript (docs/transcripts.md) for the emulator and the regression tests. Never sends a command
+docs/firmware.md lists as a hazard (such as `q` at the G2's root prompt) unless --force is given.
+
+  --port PATH         serial device or pty (e.g. /dev/ttyUSB0)
+  --baud N            line speed (default: probe tries 115200 57600 9600 19200 38400;
+                      record uses the variant's, or 115200)
+  --variant hal000|hal205|pro|carryout2003|g2
+                      judge hazards by this firmware's rules (default: the G2's, the strictest)
+  --fd                open PATH as a plain file descriptor, not through libserialport
+  --force             send even the documented hazards
+  --output FILE       record: the transcript to write
+  --source TEXT       record: the transcript's Source header
+  --help              this text
+  --version           the program's version
+
+Exit status: 0 a console was found (probe) or the session was recorded, 1 no console or an I/O
+error, 2 usage error.
+)";
+
+// A usage error: one line on stderr, exit status 2.
+int usage_error(const std::string& message)
 {
-    std::cerr << "usage: birdcage-probe --port PATH [--baud N] [--variant V] [--fd] [--force]\n"
-                 "       birdcage-probe record --port PATH --output FILE [--baud N] [--variant V] [--fd] [--force]\n"
-                 "                      [--source TEXT]\n"
-                 "  V: hal000 hal205 pro carryout2003 g2 (default: judge hazards by the G2's rules)\n";
+    std::cerr << "birdcage-probe: " << message << " (see --help)\n";
+    return 2;
 }
 
 }  // namespace
@@ -520,37 +545,56 @@ int main(int argc, char** argv)
     birdcage::VariantId variant = birdcage::VariantId::carryout_g2;
     bool variant_given = false;
     for (int i = 1; i < argc; ++i) {
-        const std::string_view arg = argv[i];
-        const bool has_value = i + 1 < argc;
-        if (i == 1 && arg == "record") record = true;
-        else if (arg == "--port" && has_value) port = argv[++i];
-        else if (arg == "--output" && has_value) output = argv[++i];
-        else if (arg == "--source" && has_value) source = argv[++i];
-        else if (arg == "--baud" && has_value) {
-            baud = int_arg(argv[++i]);
-            if (!baud) {
-                usage();
-                return 2;
-            }
-        } else if (arg == "--variant" && has_value) {
-            const auto parsed = birdcage::variant_from_name(argv[++i]);
-            if (!parsed) {
-                usage();
-                return 2;
-            }
-            variant = *parsed;
-            variant_given = true;
-        } else if (arg == "--force") force = true;
-        else if (arg == "--fd") force_fd = true;
-        else {
-            usage();
-            return 2;
+        std::string_view arg = argv[i];
+        if (arg == "--help" || arg == "-h") {
+            std::cout << help_text;
+            return 0;
+        }
+        if (arg == "--version") {
+            std::cout << "birdcage-probe " BIRDCAGE_VERSION "\n";
+            return 0;
         }
     }
-    if (port.empty() || (record && output.empty())) {
-        usage();
-        return 2;
+    for (int i = 1; i < argc; ++i) {
+        std::string_view arg = argv[i];
+        std::optional<std::string> inline_value;
+        if (const auto equals = arg.find('='); arg.starts_with("--") && equals != std::string_view::npos) {
+            inline_value = std::string(arg.substr(equals + 1));
+            arg = arg.substr(0, equals);
+        }
+        // The option's value: `--flag=VALUE` or the next argument.
+        auto value = [&]() -> std::optional<std::string> {
+            if (inline_value) return inline_value;
+            if (i + 1 < argc) return std::string(argv[++i]);
+            return std::nullopt;
+        };
+        const bool takes_value = arg == "--port" || arg == "--output" || arg == "--source" || arg == "--baud" || arg == "--variant";
+        if (i == 1 && arg == "record") {
+            record = true;
+        } else if (takes_value) {
+            const auto text = value();
+            if (!text) return usage_error(std::string(arg) + " needs a value");
+            if (arg == "--port") port = *text;
+            else if (arg == "--output") output = *text;
+            else if (arg == "--source") source = *text;
+            else if (arg == "--baud") {
+                baud = int_arg(text->c_str());
+                if (!baud) return usage_error("--baud: expected a positive whole number, got '" + *text + "'");
+            } else {
+                const auto parsed = birdcage::variant_from_name(*text);
+                if (!parsed) return usage_error("--variant: expected hal000|hal205|pro|carryout2003|g2, got '" + *text + "'");
+                variant = *parsed;
+                variant_given = true;
+            }
+        } else if (arg == "--force" || arg == "--fd") {
+            if (inline_value) return usage_error(std::string(arg) + " takes no value");
+            (arg == "--force" ? force : force_fd) = true;
+        } else {
+            return usage_error("unknown argument '" + std::string(arg) + "'");
+        }
     }
+    if (port.empty()) return usage_error("--port is required");
+    if (record && output.empty()) return usage_error("record needs --output FILE");
     const auto& profile = birdcage::profile(variant);
     if (record) return run_record(port, baud.value_or(variant_given ? profile.baud : 115200), profile, force_fd, force, output, source);
     return run_probe(port, baud, profile, variant_given ? profile : birdcage::probe_profile(), force_fd, force);

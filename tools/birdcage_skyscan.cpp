@@ -1,6 +1,7 @@
 // birdcage-skyscan: scans an AZ/EL grid with the dish and streams `az,el,value,time` CSV rows.
 // Talks to a running rotctld (our backend loaded) over TCP; see usage() for why.
 #include "skyscan.hpp"
+#include "birdcage_version.hpp"
 
 #include <arpa/inet.h>
 #include <netdb.h>
@@ -23,7 +24,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-const char* const usage_text = R"(usage: birdcage-skyscan --az FROM:TO:STEP --el FROM:TO:STEP [options]
+const char* const usage_text = R"(Usage: birdcage-skyscan --az FROM:TO:STEP --el FROM:TO:STEP [options]
        birdcage-skyscan --convert UPSTREAM_SCAN      (upstream `az el rssi` -> CSV on stdout)
 
 Scans the sky with a Winegard dish through a running rotctld that has the birdcage backend
@@ -48,13 +49,15 @@ backend's extension levels such as RSSI.
   --host H --port N   rotctld address (default 127.0.0.1 4533)
   --tolerance DEG     arrival tolerance before reading (default 0.2)
   --help              this text
+  --version           the program's version
 
 Progress and an ETA go to stderr. Only `P`, `p`, `V` and `v` are sent: never the firmware's
 own ADC `scan` (a documented deadlock).
 )";
 
+// A usage error: one line on stderr, exit status 2.
 int usage_error(const std::string& message) {
-    std::cerr << "birdcage-skyscan: " << message << "\n(--help for usage)\n";
+    std::cerr << "birdcage-skyscan: " << message << " (see --help)\n";
     return 2;
 }
 
@@ -181,14 +184,26 @@ int main(int argc, char** argv) {
     bool resume = false;
     double tolerance = 0.2;
     for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
+        std::string arg = argv[i];
+        std::optional<std::string> inline_value;
+        if (const auto equals = arg.find('='); arg.starts_with("--") && equals != std::string::npos) {
+            inline_value = arg.substr(equals + 1);
+            arg.resize(equals);
+        }
+        // The option's value: `--flag=VALUE` or the next argument.
         auto value = [&]() -> std::optional<std::string> {
+            if (inline_value) return inline_value;
             if (i + 1 >= argc) return std::nullopt;
             return std::string(argv[++i]);
         };
         if (arg == "--help" || arg == "-h") {
             std::cout << usage_text;
             return 0;
+        } else if (arg == "--version") {
+            std::cout << "birdcage-skyscan " BIRDCAGE_VERSION "\n";
+            return 0;
+        } else if ((arg == "--resume") && inline_value) {
+            return usage_error(arg + " takes no value");
         } else if (arg == "--resume") {
             resume = true;
         } else if (arg == "--az" || arg == "--el") {
@@ -222,7 +237,7 @@ int main(int argc, char** argv) {
                 if (!(tolerance > 0)) return usage_error("--tolerance must be positive");
             }
         } else {
-            return usage_error("unknown argument " + arg);
+            return usage_error("unknown argument '" + arg + "'");
         }
     }
     if (!convert_path.empty()) return convert(convert_path);

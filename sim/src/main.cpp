@@ -17,6 +17,7 @@
 
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "birdcage_version.hpp"
 
 namespace {
 
@@ -230,7 +231,7 @@ const std::vector<Flag>& flags()
 
 void print_help()
 {
-    std::cout << "usage: birdcage-sim --variant VARIANT [options]   (--flag VALUE or --flag=VALUE)\n"
+    std::cout << "Usage: birdcage-sim --variant VARIANT [options]   (--flag VALUE or --flag=VALUE)\n\n"
                  "Runs one emulated Winegard dish console on a pty, prints `device: <path>`, stops on SIGINT/SIGTERM.\n"
                  "Simulated seconds run --time-scale times faster than real ones. sim/README.md cites the evidence.\n\n";
     for (const Flag& flag : flags()) {
@@ -243,7 +244,10 @@ void print_help()
         }
         std::cout << flag.help << '\n';
     }
-    std::cout << "  --help                                this text\n";
+    std::cout << "  --help                                this text\n"
+                 "  --version                             the program's version\n\n"
+                 "Exit status: 0 stopped by a signal, 1 the emulator failed (e.g. a strict replay diverged),\n"
+                 "2 usage error.\n";
 }
 
 Options parse(int argc, char** argv)
@@ -282,6 +286,10 @@ int main(int argc, char** argv)
     for (int i = 1; i < argc; ++i) {
         if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
             print_help();
+            return 0;
+        }
+        if (std::string_view(argv[i]) == "--version") {
+            std::cout << "birdcage-sim " BIRDCAGE_VERSION "\n";
             return 0;
         }
     }

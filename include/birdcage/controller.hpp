@@ -11,6 +11,7 @@
 #include "birdcage/az_mapping.hpp"
 #include "birdcage/azel.hpp"
 #include "birdcage/clock.hpp"
+#include "birdcage/console_events.hpp"
 #include "birdcage/dish_state.hpp"
 #include "birdcage/errors.hpp"
 #include "birdcage/log.hpp"
@@ -37,6 +38,9 @@ struct ControllerOptions {
     std::string detection_note;                     // how the variant was identified (shown by describe())
     int line_baud = 0;                              // the rate the port was opened at (describe()); 0 = unknown
     LogSink log;
+    // What the controller learns from the console's replies, as values (console_events.hpp), in
+    // the order it was read; unset: nothing is reported.
+    ConsoleEventSink console_events;
     // The dish's time (clock.hpp): motion bookkeeping (leg budgets, poll pacing) runs on it;
     // I/O deadlines on the serial line stay real.
     DishClock clock;

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "birdcage/console_events.hpp"
 #include "birdcage/errors.hpp"
 #include "birdcage/framer.hpp"
 #include "birdcage/log.hpp"
@@ -77,6 +78,15 @@ public:
 
     const FirmwareProfile& profile() const { return profile_; }
 
+    // Where the knowledge read from replies goes (console_events.hpp): the session reports fault
+    // lines and menu/prompt changes itself; the parts that parse replies report through report().
+    void set_event_sink(ConsoleEventSink sink) { events_ = std::move(sink); }
+    void report(const ConsoleEvent& event) const {
+        if (events_) {
+            events_(event);
+        }
+    }
+
 private:
     struct Collected {
         std::vector<std::string> lines;
@@ -92,6 +102,7 @@ private:
     Status drain_stale(Collected& stale);
     void note_prompt(const std::string& prompt);
     void note_menu_after(std::string_view command);
+    void report_if_reached(const std::string& menu_before, const std::string& prompt_before) const;
 
     Transport& transport_;
     const FirmwareProfile& profile_;
@@ -105,6 +116,7 @@ private:
     std::string recent_output_;
     bool allow_nvs_write_ = false;
     bool axes_unhomed_ = false;
+    ConsoleEventSink events_;
 };
 
 }  // namespace birdcage

@@ -164,9 +164,15 @@ Status AxisLegDriver::send(Leg& leg) {
         if (ack.status.code == Errc::not_homed) {
             c_.state.unhomed = true;
             c_.session.set_axes_unhomed(true);
+            c_.session.report(ConsoleEvent::reply_to(ConsoleEvent::Kind::unhomed, command));
             return ack.status;
         }
+        if (ack) {
+            c_.session.report(ConsoleEvent::move_acknowledged(command, ack.value));
+        }
         if (!ack) {
+            const std::string first_line = reply.value.lines.empty() ? std::string() : reply.value.lines.front();
+            c_.session.report(ConsoleEvent::reply_to(ConsoleEvent::Kind::unrecognised, command, first_line));
             emit(c_.log, LogLevel::warning, "move not acknowledged: " + ack.status.message);
         } else if (axis_error(leg.axis, ack.value, axis_value(leg.target, leg.axis)) > ack_match_degrees) {
             emit(c_.log, LogLevel::verbose, "dish acknowledged " + degrees_text(ack.value) + " for " + command);

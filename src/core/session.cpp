@@ -50,23 +50,33 @@ void ConsoleSession::adopt_prompt(const std::string& prompt) {
     note_prompt(prompt);
 }
 
+// A prompt seen again in the same menu is no news; one after the menu was forgotten (a boot line,
+// a timeout) is.
+void ConsoleSession::report_if_reached(const std::string& menu_before, const std::string& prompt_before) const {
+    if (menu_ != menu_before || last_prompt_ != prompt_before) {
+        report(ConsoleEvent::menu_reached(menu_, last_prompt_));
+    }
+}
+
 void ConsoleSession::note_prompt(const std::string& prompt) {
+    const std::string menu_before = menu_, prompt_before = last_prompt_;
     last_prompt_ = prompt;
     while (!last_prompt_.empty() && last_prompt_.back() == ' ') {
         last_prompt_.pop_back();
     }
     menu_ = menu_for_prompt(profile_, last_prompt_);
+    report_if_reached(menu_before, prompt_before);
 }
 
 void ConsoleSession::note_menu_after(std::string_view command) {
+    const std::string menu_before = menu_;
     if (command == "q") {
         // Behind the Pro's ODU tunnel nobody knows whether `q` lands on the ODU or the IDU root.
         menu_ = profile_.has(quirk_odu_tunnel) ? std::string() : std::string("root");
-        return;
-    }
-    if (std::find(submenu_commands.begin(), submenu_commands.end(), command) != submenu_commands.end()) {
+    } else if (std::find(submenu_commands.begin(), submenu_commands.end(), command) != submenu_commands.end()) {
         menu_ = std::string(command);
     }
+    report_if_reached(menu_before, last_prompt_);
 }
 
 void ConsoleSession::handle_event(const FrameEvent& event, Collected& into) {
@@ -92,6 +102,7 @@ void ConsoleSession::handle_event(const FrameEvent& event, Collected& into) {
         into.faults.push_back(event.text);
         into.everything.push_back(event.text);
         emit(log_, LogLevel::warning, "dish reported: " + event.text);
+        report(ConsoleEvent::fault_line(event.text));
         break;
     case FrameEvent::Kind::noise:
         emit(log_, LogLevel::verbose, "dropped " + std::to_string(event.text.size()) +

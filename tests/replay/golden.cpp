@@ -96,6 +96,26 @@ std::vector<std::string> state_lines(const Controller& controller)
     return lines;
 }
 
+std::string event_line(const ConsoleEvent& event)
+{
+    if (event.kind == ConsoleEvent::Kind::reached) {
+        return "reached: menu=" + (event.menu.empty() ? std::string("unknown") : golden::quoted(event.menu)) +
+               " prompt=" + (event.text.empty() ? std::string("none") : golden::quoted(event.text));
+    }
+    std::string line = "parsed: " + std::string(console_event_name(event.kind));
+    if (!event.command.empty()) line += " command=" + golden::quoted(event.command);
+    if (event.position) line += " " + az_el(*event.position);
+    if (event.angle) line += " angle=" + degrees(*event.angle);
+    switch (event.kind) {
+    case ConsoleEvent::Kind::fault:
+    case ConsoleEvent::Kind::unrecognised:
+        line += " line=" + (event.text.empty() ? std::string("none") : golden::quoted(event.text));
+        break;
+    default: break;
+    }
+    return line;
+}
+
 std::vector<std::string> content_lines(const std::string& text)
 {
     std::vector<std::string> lines;

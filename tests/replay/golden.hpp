@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "birdcage/console_events.hpp"
 #include "birdcage/controller.hpp"
 #include "birdcage/errors.hpp"
 
@@ -23,6 +24,10 @@ const char* yes_no(bool value);
 // The controller's state: a `state:` line and indented `position:`, `target:`, `el_limits:`,
 // `pointing:` and `wrap:` lines, each key=value.
 std::vector<std::string> state_lines(const Controller& controller);
+
+// What the core learnt from a reply (console_events.hpp), one line: `parsed: <kind> key=value...`,
+// or `reached: menu=... prompt=...` for a menu or prompt change.
+std::string event_line(const ConsoleEvent& event);
 
 // Lines the comparison looks at: not `#` comments, not blank.
 std::vector<std::string> content_lines(const std::string& text);

@@ -39,14 +39,21 @@ constexpr auto pump_period = 5ms;          // how often `move` calls Controller:
 constexpr auto send_timeout = 3000ms;      // one `send` through the core's session
 constexpr auto replay_drain_deadline = 3s; // for the last recorded dish chunks to go out
 
+// What the core wrote and what it learnt from the replies, in the order it happened: the golden
+// file shows the knowledge between the commands that brought it.
+struct JournalEntry {
+    bool written = false;   // `text` is bytes the core wrote; otherwise a golden event line
+    std::string text;
+};
+
 // Keeps every write the core makes, so the golden file can show the exact bytes it sent.
 class RecordingTransport final : public birdcage::Transport {
 public:
-    explicit RecordingTransport(birdcage::Transport& inner) : inner_(inner) {}
+    RecordingTransport(birdcage::Transport& inner, std::vector<JournalEntry>& journal) : inner_(inner), journal_(journal) {}
 
     birdcage::Status write(std::string_view bytes, birdcage::Deadline deadline) override
     {
-        writes_.emplace_back(bytes);
+        journal_.push_back({true, std::string(bytes)});
         return inner_.write(bytes, deadline);
     }
     birdcage::Result<std::size_t> read(char* buf, std::size_t n, birdcage::Deadline deadline) override
@@ -55,11 +62,9 @@ public:
     }
     void discard_input() override { inner_.discard_input(); }
 
-    std::vector<std::string> take_writes() { return std::exchange(writes_, {}); }
-
 private:
     birdcage::Transport& inner_;
-    std::vector<std::string> writes_;
+    std::vector<JournalEntry>& journal_;
 };
 
 // `init position move 180 45 send "d 20"`: whitespace-separated, double quotes group words and
@@ -105,11 +110,12 @@ public:
     // is silent, and waiting out every timeout would only make the failure slow.
     OperationRunner(birdcage::Transport& transport, birdcage::VariantId variant, std::function<bool()> stop = {})
         : stop_(std::move(stop)),
-          recorder_(transport),
+          recorder_(transport, journal_),
           profile_(birdcage::profile(variant)),
-          controller_(recorder_, make_options(variant)),
+          controller_(recorder_, make_options(variant, journal_sink())),
           session_(recorder_, profile_, {})
     {
+        session_.set_event_sink(journal_sink());
     }
 
     std::string run(const std::vector<std::string>& tokens)
@@ -155,7 +161,13 @@ public:
             // on the dish: a run of them is one event in the golden file.
             // A `send` is the transcript's own command, written as it is.
             bool poking = false;
-            for (const auto& bytes : recorder_.take_writes()) {
+            for (const auto& entry : std::exchange(journal_, {})) {
+                if (!entry.written) {
+                    out << "  " << entry.text << '\n';
+                    poking = false;
+                    continue;
+                }
+                const std::string& bytes = entry.text;
                 const bool poke = op != "send" && (bytes == "\r" || bytes == "\n" || bytes == "\r\n" ||
                                                    bytes == "?\r" || bytes == "?\n");
                 if (poke && poking) continue;
@@ -168,10 +180,16 @@ public:
     }
 
 private:
-    static birdcage::ControllerOptions make_options(birdcage::VariantId variant)
+    birdcage::ConsoleEventSink journal_sink()
+    {
+        return [this](const birdcage::ConsoleEvent& event) { journal_.push_back({false, birdcage::golden::event_line(event)}); };
+    }
+
+    static birdcage::ControllerOptions make_options(birdcage::VariantId variant, birdcage::ConsoleEventSink events)
     {
         birdcage::ControllerOptions options;
         options.variant = variant;
+        options.console_events = std::move(events);
         // A replayed boot is paced by the transcript; a dish that never finishes should fail fast.
         options.boot_timeout = 20s;
         return options;
@@ -192,6 +210,7 @@ private:
     }
 
     std::function<bool()> stop_;
+    std::vector<JournalEntry> journal_;
     RecordingTransport recorder_;
     const birdcage::FirmwareProfile& profile_;
     birdcage::Controller controller_;

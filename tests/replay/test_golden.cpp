@@ -116,3 +116,21 @@ TEST_CASE("golden: notes (# lines) are not compared and survive a rewrite before
               "# trailing note\n");
     CHECK(dropped == std::vector<std::string>{"", "# about an event that is gone"});
 }
+
+TEST_CASE("golden: what the core parsed is one line of key=value fields per event, the dish's text quoted")
+{
+    CHECK(golden::event_line(ConsoleEvent::read_position(ConsoleEvent::Kind::position, {180.0, 45.0})) ==
+          "parsed: position az=180.00 el=45.00");
+    CHECK(golden::event_line(ConsoleEvent::read_position(ConsoleEvent::Kind::live_position, {190.0, 40.62})) ==
+          "parsed: live_position az=190.00 el=40.62");
+    CHECK(golden::event_line(ConsoleEvent::move_acknowledged("a 0 89.00", 89.0)) ==
+          "parsed: move_ack command=\"a 0 89.00\" angle=89.00");
+    CHECK(golden::event_line(ConsoleEvent::fault_line("AZ MOTOR STALLED")) == "parsed: fault line=\"AZ MOTOR STALLED\"");
+    CHECK(golden::event_line(ConsoleEvent::reply_to(ConsoleEvent::Kind::unhomed, "a")) == "parsed: unhomed command=\"a\"");
+    CHECK(golden::event_line(ConsoleEvent::reply_to(ConsoleEvent::Kind::unrecognised, "a", " What?")) ==
+          "parsed: unrecognised command=\"a\" line=\"\\x20What?\"");
+    CHECK(golden::event_line(ConsoleEvent::reply_to(ConsoleEvent::Kind::unrecognised, "a")) ==
+          "parsed: unrecognised command=\"a\" line=none");
+    CHECK(golden::event_line(ConsoleEvent::menu_reached("mot", "MOT>")) == "reached: menu=\"mot\" prompt=\"MOT>\"");
+    CHECK(golden::event_line(ConsoleEvent::menu_reached("", "")) == "reached: menu=unknown prompt=none");
+}

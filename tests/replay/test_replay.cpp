@@ -11,9 +11,11 @@
 #include <utility>
 #include <vector>
 
+#include "birdcage/controller.hpp"
 #include "birdcage/transport.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "golden.hpp"
 
 namespace sim = birdcage::sim;
 using namespace std::chrono_literals;
@@ -240,4 +242,34 @@ TEST_CASE("emulator: a broken transcript is refused when the emulator starts")
 {
     const TempTranscript transcript("# Variant: g2\nnot a chunk\n");
     CHECK_THROWS_AS(sim::Emulator(replay_options(transcript, sim::ReplayMode::strict)), sim::TranscriptError);
+}
+
+TEST_CASE("events: a replayed G2 session yields the menus reached and a parsed position per reply, in order")
+{
+    // The regression tests' golden files print these between the `sent:` lines; a reply the core
+    // stopped reporting would vanish from them unnoticed were it not checked here as well.
+    const TempTranscript transcript(std::string(g2_two_queries) +
+                                    ">~ a\\r\n"
+                                    "<~ a\\r\\nAngle[0] = 180.25\\r\\nAngle[1] = 45.10\\r\\nMOT>\n");
+    sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
+    auto device = birdcage::FdTransport::open(dish.device_path(), 115200);
+    REQUIRE(device);
+    std::vector<std::string> events;
+    birdcage::ControllerOptions options;
+    options.variant = birdcage::VariantId::carryout_g2;
+    options.console_events = [&events](const birdcage::ConsoleEvent& event) {
+        events.push_back(birdcage::golden::event_line(event));
+    };
+    birdcage::Controller controller(*device.value, options);
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.query_position());
+
+    CHECK(events == std::vector<std::string>{
+                        "reached: menu=\"root\" prompt=\"TRK>\"",
+                        "reached: menu=\"mot\" prompt=\"MOT>\"",
+                        "parsed: position az=180.00 el=45.00",
+                        "parsed: position az=180.25 el=45.10",
+                    });
+    CHECK(eventually([&] { return dish.replay_complete(); }));
+    CHECK_FALSE(dish.replay_failure());
 }

@@ -227,15 +227,18 @@ TEST_CASE("emulator: lenient mode hands a wrong command to the model console")
 
 TEST_CASE("emulator: recorded timing is divided by the time scale")
 {
-    const TempTranscript transcript("# Variant: g2\n> \\r\n< @+2s \\r\\nTRK>\n");
+    // An hour recorded: unscaled, the reply could never arrive within the read's patience (30 s,
+    // far beyond any scheduling delay); divided by 3600 it takes a second. The only tight bound
+    // is a lower one: the reply must not come before its scaled delay.
+    const TempTranscript transcript("# Variant: g2\n> \\r\n< @+3600s \\r\\nTRK>\n");
     auto options = replay_options(transcript, sim::ReplayMode::strict);
-    options.time_scale = 100.0;  // 2 s recorded -> 20 ms
+    options.time_scale = 3600.0;
     sim::Emulator dish(options);
     Client client(dish.device_path());
     const auto start = std::chrono::steady_clock::now();
     client.send("\r");
-    CHECK(client.read_until("TRK>") == "\r\nTRK>");
-    CHECK(std::chrono::steady_clock::now() - start < 1500ms);
+    CHECK(client.read_until("TRK>", 30s) == "\r\nTRK>");
+    CHECK(std::chrono::steady_clock::now() - start >= 900ms);
 }
 
 TEST_CASE("emulator: a broken transcript is refused when the emulator starts")

@@ -1,6 +1,8 @@
 // birdcage-probe: maps an unknown dish console (baud, prompt, error text, help, submenus) into a
 // JSON report, and `record`s interactive sessions as transcripts (docs/transcripts.md). The seed's
 // console-probe, rewritten on the core's transports, prompt rule and hazard guard.
+// Over 500 lines: one standalone tool (its argument parsing, the probe walk, the JSON report and the
+// interactive recorder); each piece is small and only this tool uses it.
 //
 //   birdcage-probe --port PATH [--baud N] [--variant V] [--fd] [--force]
 //   birdcage-probe record --port PATH --output FILE [--baud N] [--variant V] [--fd] [--force]

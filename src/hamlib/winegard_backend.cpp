@@ -1,6 +1,8 @@
 // Hamlib glue for the Winegard backend: rot_caps per firmware variant, conf parameters, and the
 // callbacks that forward to birdcage::RotatorService. This is the only file that knows Hamlib
 // (besides hamlib_compat.h); everything it calls is the plain C++ core.
+// Over 500 lines: about half is tables (the conf parameters, ext levels and one rot_caps per
+// model); each callback is a few-line forward to RotatorService with the error mapping.
 #include "hamlib_compat.h"
 #include "winegard.h"
 

@@ -1,3 +1,7 @@
+// The Controller over scripted consoles of every variant: initialisation, moves per move style,
+// stop, leapfrog, homing, faults. Over 500 lines because it is the one place each variant's row is
+// exercised through the composed controller; the parts have their own files (wrap tracker,
+// synchroniser, session, az mapping).
 #include <catch2/catch.hpp>
 
 #include <algorithm>

@@ -1,6 +1,7 @@
 // TargetPredictor (predictive pointing) on synthetic target streams with explicit times: steady and
 // curved motion, Gpredict-like lead targets, stops, restarts, the azimuth wrap and bad input.
 // Pure and deterministic: no threads, no sleeping, every time is a Clock::time_point built here.
+// Over 500 lines: one case per kind of target stream the estimator must survive, each self-contained.
 #include <catch2/catch.hpp>
 
 #include <algorithm>

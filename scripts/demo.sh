@@ -25,21 +25,8 @@ cleanup() {
 }
 trap cleanup EXIT
 
-free_port() {
-    local p
-    for p in $(seq 45330 45400); do
-        if ! (exec 3<>/dev/tcp/127.0.0.1/"$p") 2>/dev/null; then echo "$p"; return; fi
-    done
-    echo "no free port" >&2; return 1
-}
-
-wait_for() { # wait_for SECONDS COMMAND...
-    local deadline=$((SECONDS + $1)); shift
-    until "$@" 2>/dev/null; do
-        ((SECONDS < deadline)) || return 1
-        sleep 0.1
-    done
-}
+# shellcheck source=scripts/lib.sh
+. "$root/scripts/lib.sh"
 
 echo "== Models the backend adds to the stock rotctl ($(rotctl --version | head -1)):"
 LD_PRELOAD="$lib" rotctl -l | awk 'NR==1 || /Winegard/'
@@ -47,7 +34,7 @@ LD_PRELOAD="$lib" rotctl -l | awk 'NR==1 || /Winegard/'
 for v in "${variants[@]}"; do
     m=${model[$v]:?unknown variant $v}
     dev="$work/$v.tty"
-    port=$(free_port)
+    port=$(free_port 45330 45400)
     echo
     echo "== $v: emulated dish on $dev (time x$time_scale), rotctld -m $m on 127.0.0.1:$port"
     "$sim" --variant "$v" --link "$dev" --time-scale "$time_scale" --az 100 --el 30 >"$work/$v.sim.log" 2>&1 &

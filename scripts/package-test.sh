@@ -22,13 +22,8 @@ cleanup() {
 }
 trap cleanup EXIT
 
-wait_for() { # wait_for SECONDS COMMAND...
-    local deadline=$((SECONDS + $1)); shift
-    until "$@" 2>/dev/null; do
-        ((SECONDS < deadline)) || return 1
-        sleep 0.2
-    done
-}
+# shellcheck source=scripts/lib.sh
+. "$root/scripts/lib.sh"
 
 echo "== install ${debs[0]##*/}"
 DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${debs[0]}" >/dev/null
@@ -66,10 +61,7 @@ if [[ -d /run/systemd/system ]]; then
     port=4533
 else
     echo "== no systemd here (PID 1 is $(ps -p 1 -o comm=)): the units' ExecStart lines by hand"
-    port=
-    for p in $(seq 45430 45500); do
-        if ! (exec 3<>/dev/tcp/127.0.0.1/"$p") 2>/dev/null; then port=$p; break; fi
-    done
+    port=$(free_port 45430 45500)
     run_unit birdcage-sim@.service demo
     wait_for 20 test -e /run/birdcage/demo.tty || { echo "FAIL: the emulator made no pty" >&2; exit 1; }
     run_unit birdcage-rotctld@.service demo PORT="$port"

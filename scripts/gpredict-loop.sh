@@ -10,7 +10,7 @@
 # bench/passes/iss-45.tle, rotator localhost:<proxy>, that threshold), its clock set by libfaketime
 # to the pass. xdotool opens Antenna Control and presses Track and Engage, as a user would.
 # The pass runs in real time (Gpredict's clock cannot follow the emulator's time scale): about
-# 5 minutes. Writes to --out (default <build>/gpredict-loop): per threshold the proxy log, the
+# 6 minutes. Writes to --out (default <build>/gpredict-loop): per threshold the proxy log, the
 # dish positions, the error series, a screenshot, and summary.json; prints a summary table.
 # --check fails (exit 1) unless Gpredict engaged and the dish tracked (bounds below).
 # Exits 77 (ctest's SKIP_RETURN_CODE) when a needed Debian package is missing.
@@ -58,16 +58,17 @@ fi
 
 # --- the pass: bench/passes/iss-45 (peak 45 deg, crosses north), in seconds after the TLE epoch.
 epoch=1717200000          # 2024-06-01T00:00:00Z, the TLE's epoch (scripts/gpredict_loop.py)
-# Gpredict's clock at launch: satellite at el 11, rising in the north-west, below the dish's 18 deg
-# floor. Engaged there, as a user engages before the pass, the backend has seen the pass's direction
-# and put the dish on the wrap branch that holds the whole pass (README, "Cable wrap") before the
-# measurement starts; engaged mid-pass at 5 deg it makes that one 360 deg turn mid-pass instead
+# Gpredict's clock at launch: satellite at el 5, rising in the north-west, far below the dish's
+# 18 deg floor, as a user engages before a pass. The backend learns the pass's direction from
+# Gpredict's second distinct target (at 5 deg about a minute later, at el ~11) and then puts the
+# dish on the wrap branch that holds the whole pass (README, "Cable wrap"): a 360 deg turn that
+# must end before the measurement starts. Engaged later, at 5 deg that turn lands mid-pass
 # (docs/gpredict.md).
-start_s=100
-measure_from_s=180        # el 22.7 (the dish's floor is 18): Gpredict engaged and the dish on it
-measure_to_s=390          # el 22.9 on the way down, after the peak (44.9 at ~285) and north (~265)
+start_s=40
+measure_from_s=180        # el 22.7 (the dish's floor is 18)
+measure_to_s=360          # el 29.6 on the way down, after north (~265) and the peak (44.9 at ~285)
 screenshot_s=300          # just after the peak, azimuth sweeping east
-stop_s=395
+stop_s=362
 offset=$((epoch + start_s - $(date +%s)))   # Gpredict's clock minus the wall clock, whole seconds
 wall_of() { echo $((epoch + $1 - offset)); }
 
@@ -228,7 +229,7 @@ pids=()
 trap - EXIT
 
 status=0
-printf '\n%9s %8s %8s %8s %8s %10s %12s\n' threshold "P sent" RMS max p95 "mean lead" "sat el"
+printf '\n%9s %8s %8s %8s %8s %10s %12s %18s\n' threshold "P sent" RMS max p95 "mean lead" "sat el" "AZ travel dish/sat"
 for thr in $thresholds; do
     dir=${lane_dir[$thr]}
     limits=()
@@ -236,7 +237,7 @@ for thr in $thresholds; do
     # the satellite within what the threshold allows: Gpredict moves the dish once it is a threshold
     # off and then aims up to a threshold ahead, so twice the threshold, plus 1 deg for a loaded
     # machine whose Gpredict runs late.
-    ((check)) && limits=(--min-p 10 --max-error "$("$python" -c "print(2 * $thr + 1.0)")")
+    ((check)) && limits=(--min-p 5 --max-error "$("$python" -c "print(2 * $thr + 1.0)")")
     "$python" "$helper" analyse --tle "$tle" --offset "$offset" --log "$dir/proxy.log" \
         --poll-log "$dir/positions.log" --from $measure_from_s --to $measure_to_s --threshold "$thr" \
         --out "$dir/summary.json" --series "$dir/error.csv" "${limits[@]}" || status=1

@@ -208,6 +208,9 @@ def cmd_analyse(args):
     if in_pass:
         cmd_az, cmd_el = gp.az_el(sat, [since_epoch(c[0]) for c in in_pass])
         leads = [sky_separation_deg(c[1], c[2], a, e) for c, a, e in zip(in_pass, cmd_az, cmd_el)]
+    # Azimuth travel, dish against satellite: a cable unwind inside the window shows as 360 deg more.
+    def az_travel(azimuths):
+        return sum(abs((b - a + 180.0) % 360.0 - 180.0) for a, b in zip(azimuths, azimuths[1:]))
     rms = math.sqrt(sum(e * e for e in errors) / len(errors))
     ordered = sorted(errors)
     result = {
@@ -220,6 +223,8 @@ def cmd_analyse(args):
         "rms_deg": round(rms, 3),
         "max_deg": round(ordered[-1], 3),
         "p95_deg": round(ordered[int(0.95 * (len(ordered) - 1))], 3),
+        "dish_az_travel_deg": round(az_travel([s[1] for s in samples]), 1),
+        "sat_az_travel_deg": round(az_travel([float(a) for a in sat_az]), 1),
         "mean_lead_deg": round(sum(leads) / len(leads), 3) if leads else None,
     }
     if args.out:
@@ -227,7 +232,8 @@ def cmd_analyse(args):
             json.dump(result, out, indent=1)
     print(f"{args.threshold:>8g}° {result['p_commands']:>8d} {result['rms_deg']:>7.2f}° "
           f"{result['max_deg']:>7.2f}° {result['p95_deg']:>7.2f}° {result['mean_lead_deg'] or 0:>9.2f}° "
-          f"{result['window_sat_el_deg'][0]:>5.1f}–{result['window_sat_el_deg'][1]:.1f}°")
+          f"{result['window_sat_el_deg'][0]:>5.1f}–{result['window_sat_el_deg'][1]:.1f}° "
+          f"{result['dish_az_travel_deg']:>7.1f}° / {result['sat_az_travel_deg']:.1f}°")
     problems = []
     if args.min_p is not None and result["p_commands"] < args.min_p:
         problems.append(f"only {result['p_commands']} P commands in the window (expected >= {args.min_p})")

@@ -10,7 +10,7 @@
 # bench/passes/iss-45.tle, rotator localhost:<proxy>, that threshold), its clock set by libfaketime
 # to the pass. xdotool opens Antenna Control and presses Track and Engage, as a user would.
 # The pass runs in real time (Gpredict's clock cannot follow the emulator's time scale): about
-# 6 minutes. Writes to --out (default <build>/gpredict-loop): per threshold the proxy log, the
+# 5½ minutes. Writes to --out (default <build>/gpredict-loop): per threshold the proxy log, the
 # dish positions, the error series, a screenshot, and summary.json; prints a summary table.
 # --check fails (exit 1) unless Gpredict engaged and the dish tracked (bounds below).
 # Exits 77 (ctest's SKIP_RETURN_CODE) when a needed Debian package is missing.
@@ -237,7 +237,7 @@ for thr in $thresholds; do
     # the satellite within what the threshold allows: Gpredict moves the dish once it is a threshold
     # off and then aims up to a threshold ahead, so twice the threshold, plus 1 deg for a loaded
     # machine whose Gpredict runs late.
-    ((check)) && limits=(--min-p 5 --max-error "$("$python" -c "print(2 * $thr + 1.0)")")
+    ((check)) && limits=(--min-p 4 --max-error "$("$python" -c "print(2 * $thr + 1.0)")")
     "$python" "$helper" analyse --tle "$tle" --offset "$offset" --log "$dir/proxy.log" \
         --poll-log "$dir/positions.log" --from $measure_from_s --to $measure_to_s --threshold "$thr" \
         --out "$dir/summary.json" --series "$dir/error.csv" "${limits[@]}" || status=1

@@ -29,6 +29,8 @@ while (($#)); do
     esac
 done
 
+# The gpredict test's Debian packages (tests/gpredict/CMakeLists.txt), for the test suite only.
+export BIRDCAGE_SETUP_EXTRA="${BIRDCAGE_SETUP_EXTRA:-} gpredict xvfb xdotool imagemagick faketime python3-sgp4 python3-numpy"
 "$root/scripts/build.sh" -DBIRDCAGE_BUILD_TESTS=ON "${cmake_args[@]}"
 cd "$build"
 ctest --output-on-failure --timeout 600 -j "$(nproc)" "${ctest_args[@]}"

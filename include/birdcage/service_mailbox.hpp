@@ -35,6 +35,7 @@ struct ServiceJob {
 struct ServiceMail {
     bool stop = false;                   // a stop posted since the last step; acted on before `target`
     std::optional<AzEl> target;          // the newest target posted since the last step
+    Clock::time_point target_posted_at{};  // when it was posted (dish time)
     bool home = false;                   // a home requested and not yet started
     std::optional<AzEl> latest_target;   // the client's last target (resumed after a recovery)
     std::shared_ptr<ServiceJob> job;     // a receiver job waiting for the dish, if any
@@ -74,7 +75,9 @@ public:
     bool is_open() const;
     // Posts the newest target; replaces one not yet taken. A stop posted before it stays posted:
     // the worker takes the stop first, so `S` then `P` does what `P` says however quickly they come.
-    Status post_target(AzEl target);
+    // `posted_at` (dish time) is when the client sent it: the estimator dates the target by it,
+    // not by when the worker got to it, so the worker's wake-up latency never reads as lag.
+    Status post_target(AzEl target, Clock::time_point posted_at);
     // Drops any target not yet taken and asks the worker to drop the legs not yet sent.
     void post_stop();
     Status post_home();
@@ -111,6 +114,7 @@ private:
     bool open_ = false;
     // Inbox.
     std::optional<AzEl> posted_target_;
+    Clock::time_point posted_at_{};
     bool stop_posted_ = false;
     bool home_posted_ = false;
     std::optional<AzEl> latest_target_;

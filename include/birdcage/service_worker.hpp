@@ -81,7 +81,7 @@ private:
     Outcome recover(const ServiceMail& mail);
     Status recover_once();
     Status resume(AzEl target);
-    Status accept_target(AzEl target);
+    Status accept_target(AzEl target, Clock::time_point sent_at);
     Status steer();
     void forget_the_pass();
     void note_step_finished();

@@ -45,7 +45,7 @@ Status RotatorService::set_target(AzEl target) {
     if (!std::isfinite(target.az) || !std::isfinite(target.el)) {
         return {Errc::invalid_argument, "target azimuth/elevation must be finite numbers"};
     }
-    return mailbox_.post_target(target);
+    return mailbox_.post_target(target, worker_.clock().now());
 }
 
 Result<AzEl> RotatorService::position() {

@@ -14,7 +14,7 @@ bool ServiceMailbox::is_open() const {
     return open_;
 }
 
-Status ServiceMailbox::post_target(AzEl target) {
+Status ServiceMailbox::post_target(AzEl target, Clock::time_point posted_at) {
     {
         std::lock_guard lock(mutex_);
         if (!open_) {
@@ -25,6 +25,7 @@ Status ServiceMailbox::post_target(AzEl target) {
                                      "reset (rotctl: R 1)"};
         }
         posted_target_ = target;
+        posted_at_ = posted_at;
         latest_target_ = target;
         fault_ = Status::ok();   // a new target is the client's answer to a fault (p still reports it once)
     }
@@ -118,6 +119,7 @@ ServiceMail ServiceMailbox::take() {
     ServiceMail mail;
     mail.stop = std::exchange(stop_posted_, false);
     mail.target = std::exchange(posted_target_, std::nullopt);
+    mail.target_posted_at = posted_at_;
     mail.home = home_posted_;
     mail.latest_target = latest_target_;
     mail.job = job_;

@@ -104,7 +104,7 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
         forget_the_pass();
     }
     if (mail.target) {
-        out.status = accept_target(*mail.target);
+        out.status = accept_target(*mail.target, mail.target_posted_at);
     }
     if (mail.home) {
         // The home runs inside controller_->service() a short slice per step, so the mailbox keeps
@@ -196,7 +196,7 @@ Status ServiceWorker::resume(AzEl target) {
     // the estimator: take it as new, or the dish would return to the one before it.
     const bool unseen = !client_target_ || client_target_->az != target.az || client_target_->el != target.el;
     if (unseen) {
-        return accept_target(target);
+        return accept_target(target, options_.clock.now());
     }
     if (pointing_.mode == PointingMode::predictive && predictor_.predict(options_.clock.now())) {
         return steer();
@@ -204,11 +204,11 @@ Status ServiceWorker::resume(AzEl target) {
     return controller_->set_target(target);
 }
 
-Status ServiceWorker::accept_target(AzEl target) {
+Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at) {
     const auto now = options_.clock.now();
     // Every mode feeds the estimator: its azimuth rate tells the controller which way a pass
     // turns, so it can choose a cable-wrap branch with room for the whole pass.
-    predictor_.observe(now, target, controller_->last_position());
+    predictor_.observe(std::min(sent_at, now), target, controller_->last_position());
     client_target_ = target;
     if (pointing_.mode != PointingMode::predictive) {
         return controller_->set_target(

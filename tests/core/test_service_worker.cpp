@@ -98,7 +98,7 @@ TEST_CASE("service worker: every interleaving of P, S and worker steps ends as t
                     moves_at_last_stop = service.moves_sent();
                     service.mailbox.post_stop();
                 } else {
-                    REQUIRE(service.mailbox.post_target(posts[i].target));
+                    REQUIRE(service.mailbox.post_target(posts[i].target, service.now));
                 }
                 if (steps_after & (1u << i)) {
                     service.step();
@@ -122,7 +122,7 @@ TEST_CASE("service worker: every interleaving of P, S and worker steps ends as t
 TEST_CASE("service worker: a target is busy from the moment it is posted until the dish settles") {
     HandDrivenService service;
     REQUIRE(service.mailbox.view().idle);
-    REQUIRE(service.mailbox.post_target({120, 40}));
+    REQUIRE(service.mailbox.post_target({120, 40}, service.now));
     CHECK_FALSE(service.mailbox.view().idle);
     // Taken by the worker but not yet published: still busy, never a false idle in between.
     (void)service.mailbox.take();
@@ -131,7 +131,7 @@ TEST_CASE("service worker: a target is busy from the moment it is posted until t
 
 TEST_CASE("service worker: a home requested mid-move is started by the next step; p keeps a position") {
     HandDrivenService service;
-    REQUIRE(service.mailbox.post_target({100, 30}));
+    REQUIRE(service.mailbox.post_target({100, 30}, service.now));
     service.step();
     REQUIRE_FALSE(service.mailbox.view().idle);
     REQUIRE(service.mailbox.post_home());

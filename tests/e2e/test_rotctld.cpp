@@ -187,10 +187,14 @@ TEST_CASE("rotctld wire replies: errors are RPRT codes, the session survives the
 }
 
 TEST_CASE("predictive pointing follows a moving target stream and stops where the stream stops", "[e2e][pointing]") {
-    // A lead-free client (SatDump-like) sends a target every simulated second moving at
-    // +0.5 deg/s in azimuth and +0.2 deg/s in elevation. The dish must be on the moving target
-    // (not a second behind it, as a dish that only goes to each target is), and once the stream
-    // stops it must come to rest within the extrapolation horizon, not wander on.
+    // A lead-free client (SatDump-like) sends, about every simulated second, where a satellite
+    // moving at +0.5 deg/s in azimuth and +0.2 deg/s in elevation is at that moment. The dish must
+    // be on the moving target (not a second behind it, as a dish that only goes to each target
+    // is), and once the stream stops it must come to rest within the extrapolation horizon.
+    // Each target is computed from the emulator's clock at the moment it is sent, so a test
+    // process that the machine schedules late still sends a true stream (only less often); the
+    // lateness is judged by its median over the samples, which a late-scheduled moment cannot
+    // move, while a dish that only goes to each target is late at every sample.
     const ModelUnderTest& m = kModels[4];
     const double scale = 10.0;
     e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, scale), m.model,
@@ -198,9 +202,12 @@ TEST_CASE("predictive pointing follows a moving target stream and stops where th
     e2e::RotctldConnection client(rig.port());
     auto target_at = [](double t) { return std::pair{100.0 + 0.5 * t, 30.0 + 0.2 * t}; };
     const double start = rig.dish().sim_time();
-    double worst_late = 0.0;
+    std::vector<double> lateness;
+    double last_sent_t = 0.0;
     for (int second = 0; second <= 30; ++second) {
-        const auto [az, el] = target_at(second);
+        REQUIRE(e2e::wait_until([&] { return rig.dish().sim_time() - start >= second; }, 10s));
+        last_sent_t = rig.dish().sim_time() - start;
+        const auto [az, el] = target_at(last_sent_t);
         char command[64];
         std::snprintf(command, sizeof command, "P %.2f %.2f", az, el);
         REQUIRE(client.ask(command, 1).rfind("RPRT 0", 0) == 0);
@@ -209,17 +216,23 @@ TEST_CASE("predictive pointing follows a moving target stream and stops where th
         if (second >= 10) {
             const birdcage::sim::Pose dish = rig.dish().true_position();
             const auto [sat_az, sat_el] = target_at(rig.dish().sim_time() - start);
-            worst_late = std::max(worst_late, e2e::sky_angle(dish.az, dish.el, sat_az, sat_el));
+            lateness.push_back(e2e::sky_angle(dish.az, dish.el, sat_az, sat_el));
         }
-        REQUIRE(e2e::wait_until([&] { return rig.dish().sim_time() - start >= second + 1.0; }, 10s));
     }
-    // A dish that goes to each target and waits is 0.9 s (~0.48 deg) behind at that moment.
-    CHECK(worst_late < 0.3);
+    // A dish that goes to each target and waits is 0.9 s (~0.48 deg) behind at those moments.
+    std::sort(lateness.begin(), lateness.end());
+    std::string sorted;
+    for (double late : lateness) {
+        sorted += std::to_string(late) + " ";
+    }
+    INFO("lateness (deg), sorted: " << sorted);
+    CHECK(lateness[lateness.size() / 2] < 0.3);
     const double stopped_at = rig.dish().sim_time();
     REQUIRE(e2e::wait_until([&] { return !rig.dish().moving() && rig.dish().sim_time() - stopped_at > 15.0; }, 20s));
     const birdcage::sim::Pose rest = rig.dish().true_position();
     CHECK_FALSE(e2e::wait_until([&] { return rig.dish().moving(); }, 1s));
     // It may have run on by at most the horizon (10 s at 0.54 deg/s), and not beyond.
-    CHECK(e2e::sky_angle(rest.az, rest.el, target_at(30).first, target_at(30).second) < 6.0);
+    const auto [last_az, last_el] = target_at(last_sent_t);
+    CHECK(e2e::sky_angle(rest.az, rest.el, last_az, last_el) < 6.0);
     CHECK(rig.dish().hazards_received() == 0);
 }

@@ -30,6 +30,7 @@
 #include <string>
 
 #include "birdcage/azel.hpp"
+#include "birdcage/pass_model.hpp"
 #include "birdcage/transport.hpp"
 
 namespace birdcage {
@@ -66,6 +67,14 @@ struct PredictorSettings {
     double max_sky_rate_dps = 3.0;
     // Below this on-sky rate the target counts as stationary.
     double stationary_dps = 0.002;
+    // Predict from a model of the whole pass (pass_model.hpp) whenever its fit is good; the local
+    // estimate above stays the fallback (few targets, manual pointing).
+    bool use_pass_model = true;
+    PassModelSettings pass_model;
+    // How far past the last target a good pass model is followed: a client at a coarse threshold
+    // that sees the dish on the satellite sends nothing more (Gpredict at 5°: 15–40 s between
+    // targets, and longer still once the dish keeps up).
+    double pass_model_extrapolation_s = 90.0;
 };
 
 struct Prediction {
@@ -89,6 +98,7 @@ public:
 
     // For logs and tests.
     std::optional<double> lead_threshold_deg() const { return lead_threshold_; }
+    bool pass_model_in_use() const { return settings_.use_pass_model && pass_model_.good(); }
     std::string describe() const;
 
 private:
@@ -114,6 +124,7 @@ private:
     // The estimated satellite position at anchor_t_ (the last target minus the lead).
     double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;
     double last_interval_s_ = 0.0;
+    PassModel pass_model_;
 };
 
 }  // namespace birdcage

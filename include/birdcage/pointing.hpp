@@ -71,10 +71,6 @@ struct PredictorSettings {
     // estimate above stays the fallback (few targets, manual pointing).
     bool use_pass_model = true;
     PassModelSettings pass_model;
-    // How far past the last target a good pass model is followed: a client at a coarse threshold
-    // that sees the dish on the satellite sends nothing more (Gpredict at 5°: 15–40 s between
-    // targets, and longer still once the dish keeps up).
-    double pass_model_extrapolation_s = 90.0;
 };
 
 struct Prediction {

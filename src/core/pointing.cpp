@@ -302,12 +302,12 @@ std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const
     const double horizon = std::clamp(settings_.extrapolate_intervals * last_interval_s_, settings_.min_extrapolation_s,
                                       settings_.max_extrapolation_s);
     if (pass_model_in_use()) {
-        // No zenith guard: the circle passes the zenith like any other point.
-        const double pass_horizon = std::max(horizon, settings_.pass_model_extrapolation_s);
-        const double t = std::min(seconds(when), anchor_t_ + pass_horizon);
+        // The same horizon (a client that stops sending is followed no further than with the
+        // local estimate), and no zenith guard: the circle passes the zenith like any other point.
+        const double t = std::min(seconds(when), anchor_t_ + horizon);
         if (const auto point = pass_model_.predict(std::max(t, anchor_t_))) {
             out.position = point->position;
-            out.moving = dt < pass_horizon;
+            out.moving = dt < horizon;
             out.az_rate = out.moving ? point->az_rate : 0.0;
             out.el_rate = out.moving ? point->el_rate : 0.0;
             return out;

@@ -305,7 +305,14 @@ std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const
         // The same horizon (a client that stops sending is followed no further than with the
         // local estimate), and no zenith guard: the circle passes the zenith like any other point.
         const double t = std::min(seconds(when), anchor_t_ + horizon);
-        if (const auto point = pass_model_.predict(std::max(t, anchor_t_))) {
+        const auto point = pass_model_.predict(std::max(t, anchor_t_));
+        // Which side of the zenith a near-overhead pass takes is what the circle knows least: a
+        // tenth of a degree across the track turns the azimuth the other way round, and the
+        // controller would choose its cable-wrap branch for that way (a mid-pass unwind). A pass's
+        // azimuth keeps its direction, so the targets' own direction decides.
+        const bool same_direction = point && (std::fabs(az_rate_) < settings_.stationary_dps ||
+                                              point->az_rate * az_rate_ > 0.0);
+        if (point && same_direction) {
             out.position = point->position;
             out.moving = dt < horizon;
             out.az_rate = out.moving ? point->az_rate : 0.0;

@@ -30,6 +30,7 @@
 #include <string>
 
 #include "birdcage/azel.hpp"
+#include "birdcage/pass_model.hpp"
 #include "birdcage/transport.hpp"
 
 namespace birdcage {
@@ -66,6 +67,10 @@ struct PredictorSettings {
     double max_sky_rate_dps = 3.0;
     // Below this on-sky rate the target counts as stationary.
     double stationary_dps = 0.002;
+    // Predict from a model of the whole pass (pass_model.hpp) whenever its fit is good; the local
+    // estimate above stays the fallback (few targets, manual pointing).
+    bool use_pass_model = true;
+    PassModelSettings pass_model;
 };
 
 struct Prediction {
@@ -89,6 +94,7 @@ public:
 
     // For logs and tests.
     std::optional<double> lead_threshold_deg() const { return lead_threshold_; }
+    bool pass_model_in_use() const { return settings_.use_pass_model && pass_model_.good(); }
     std::string describe() const;
 
 private:
@@ -114,6 +120,7 @@ private:
     // The estimated satellite position at anchor_t_ (the last target minus the lead).
     double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;
     double last_interval_s_ = 0.0;
+    PassModel pass_model_;
 };
 
 }  // namespace birdcage

@@ -120,7 +120,8 @@ std::string_view pointing_mode_name(PointingMode mode) {
     return "none";
 }
 
-TargetPredictor::TargetPredictor(PredictorSettings settings) : settings_(settings) {}
+TargetPredictor::TargetPredictor(PredictorSettings settings)
+    : settings_(settings), pass_model_(settings.pass_model) {}
 
 double TargetPredictor::seconds(Clock::time_point t) const {
     return std::chrono::duration<double>(t - origin_).count();
@@ -136,6 +137,7 @@ void TargetPredictor::reset() {
     have_rate_ = false;
     az_rate_ = el_rate_ = 0.0;
     last_interval_s_ = 0.0;
+    pass_model_.clear();
 }
 
 void TargetPredictor::restart(double t, AzEl target) {
@@ -147,6 +149,9 @@ void TargetPredictor::restart(double t, AzEl target) {
     anchor_az_ = samples_.back().az;
     anchor_el_ = target.el;
     last_interval_s_ = 0.0;
+    // A new pointing: a pass model of the old one would pull the prediction back to it.
+    pass_model_.clear();
+    pass_model_.add(t, target);
 }
 
 void TargetPredictor::fit() {
@@ -209,6 +214,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     held_ = false;
     const std::optional<Prediction> before = have_rate_ ? predict(when) : std::nullopt;
     samples_.push_back({t, az, target.el});
+    pass_model_.add(t, target);
     if (t - last.t > resend_interval_s) {
         last_interval_s_ = t - last.t;
     }
@@ -278,6 +284,9 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // The rates at the anchor's time, not the target's.
     az_rate_ -= az_accel_ * lead_s;
     el_rate_ -= el_accel_ * lead_s;
+    if (settings_.use_pass_model) {
+        pass_model_.fit(lead_threshold_);
+    }
 }
 
 std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const {
@@ -292,6 +301,25 @@ std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const
     const double dt = std::max(0.0, seconds(when) - anchor_t_);
     const double horizon = std::clamp(settings_.extrapolate_intervals * last_interval_s_, settings_.min_extrapolation_s,
                                       settings_.max_extrapolation_s);
+    if (pass_model_in_use()) {
+        // The same horizon (a client that stops sending is followed no further than with the
+        // local estimate), and no zenith guard: the circle passes the zenith like any other point.
+        const double t = std::min(seconds(when), anchor_t_ + horizon);
+        const auto point = pass_model_.predict(std::max(t, anchor_t_));
+        // Which side of the zenith a near-overhead pass takes is what the circle knows least: a
+        // tenth of a degree across the track turns the azimuth the other way round, and the
+        // controller would choose its cable-wrap branch for that way (a mid-pass unwind). A pass's
+        // azimuth keeps its direction, so the targets' own direction decides.
+        const bool same_direction = point && (std::fabs(az_rate_) < settings_.stationary_dps ||
+                                              point->az_rate * az_rate_ > 0.0);
+        if (point && same_direction) {
+            out.position = point->position;
+            out.moving = dt < horizon;
+            out.az_rate = out.moving ? point->az_rate : 0.0;
+            out.el_rate = out.moving ? point->el_rate : 0.0;
+            return out;
+        }
+    }
     // Curvature is trusted for accel_horizon_s only, then the motion continues straight.
     auto travel = [&](double rate, double accel, double dt_axis) {
         const double curved = std::min(dt_axis, accel_horizon_s);
@@ -324,6 +352,9 @@ std::string TargetPredictor::describe() const {
         std::snprintf(lead, sizeof lead, "%.2f deg", *lead_threshold_);
     }
     std::snprintf(text, sizeof text, "az rate %.3f deg/s, el rate %.3f deg/s, client lead %s", az_rate_, el_rate_, lead);
+    if (settings_.use_pass_model && pass_model_.targets() >= settings_.pass_model.min_targets) {
+        return std::string(text) + "; " + pass_model_.describe();
+    }
     return text;
 }
 

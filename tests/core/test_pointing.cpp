@@ -26,6 +26,14 @@ Clock::time_point at(double seconds) {
     return t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }
 
+// These streams move linearly in az/el, which no satellite pass does: they test the local estimate
+// on its own. The pass model is tested on SGP4 passes (test_pass_model.cpp).
+PredictorSettings local_only() {
+    PredictorSettings settings;
+    settings.use_pass_model = false;
+    return settings;
+}
+
 // Targets go over the wire as "P %.2f %.2f".
 double two_decimals(double x) { return std::round(x * 100.0) / 100.0; }
 
@@ -105,7 +113,7 @@ struct Errors {
 
 TEST_CASE("pointing: steady linear motion without a lead is extrapolated with the right rates") {
     const Linear sat{100.0, 20.0, 0.5, 0.3};
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
     const bool with_dish = GENERATE(false, true);
     INFO((with_dish ? "dish reported on the satellite" : "no dish reported"));
     for (int k = 0; k <= 20; ++k) {
@@ -130,7 +138,7 @@ TEST_CASE("pointing: steady linear motion without a lead is extrapolated with th
 TEST_CASE("pointing: two-decimal targets from a regular client still give the rates") {
     // Rates that are not multiples of 0.01 deg/s, so every target carries rounding noise.
     const Linear sat{250.0, 62.0, -0.737, -0.213};
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
     for (int k = 0; k <= 30; ++k) {
         const AzEl s = sat.at(k);
         predictor.observe(at(k), {two_decimals(s.az), two_decimals(s.el)}, std::nullopt);
@@ -167,7 +175,7 @@ TEST_CASE("pointing: Gpredict-like lead targets: the lead is learned and the pre
     };
     for (const auto& c : cases) {
         INFO(c.legend);
-        TargetPredictor predictor;
+        TargetPredictor predictor(local_only());
         GpredictRun client;
         client.satellite = [&](double t) { return c.sat.at(t); };
         client.threshold = c.threshold;
@@ -209,7 +217,7 @@ TEST_CASE("pointing: Gpredict-like lead targets: the lead is learned and the pre
 TEST_CASE("pointing: a curved azimuth is followed better than a straight line through the last two targets") {
     auto az_of = [](double t) { return 100.0 + 0.3 * t + 0.01 * t * t; };
     auto el_of = [](double t) { return 40.0 + 0.1 * t; };
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
     for (int k = 0; k <= 20; ++k) {
         predictor.observe(at(k), {az_of(k), el_of(k)}, std::nullopt);
     }
@@ -228,7 +236,7 @@ TEST_CASE("pointing: a curved azimuth is followed better than a straight line th
 
 TEST_CASE("pointing: repeated identical targets hold, with no overshoot") {
     const Linear sat{150.0, 30.0, 0.5, 0.3};
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
 
     SECTION("a moving stream that stops") {
         for (int k = 0; k <= 10; ++k) {
@@ -283,12 +291,12 @@ TEST_CASE("pointing: the extrapolation stops at the horizon after the last movin
         double interval_s;
         double horizon_s;  // extrapolate_intervals x interval, clamped to [min, max]
     };
-    const PredictorSettings defaults;
+    const PredictorSettings defaults = local_only();
     // 1 s: 3 s, clamped up to the 10 s minimum; 5 s: 15 s; 40 s: 120 s, clamped down to 90 s.
     const Case cases[] = {{1.0, defaults.min_extrapolation_s}, {5.0, 15.0}, {40.0, defaults.max_extrapolation_s}};
     for (const auto& c : cases) {
         INFO("targets every " << c.interval_s << " s");
-        TargetPredictor predictor;
+        TargetPredictor predictor(local_only());
         double last = 0.0;
         for (int k = 0; k <= 6; ++k) {
             last = k * c.interval_s;
@@ -314,7 +322,7 @@ TEST_CASE("pointing: the extrapolation stops at the horizon after the last movin
 
 TEST_CASE("pointing: a target far from the prediction restarts the estimate") {
     const Linear sat{150.0, 30.0, 0.5, 0.3};
-    const PredictorSettings settings;
+    const PredictorSettings settings = local_only();
     TargetPredictor predictor(settings);
     for (int k = 0; k <= 10; ++k) {
         predictor.observe(at(k), sat.at(k), std::nullopt);
@@ -368,7 +376,7 @@ TEST_CASE("pointing: a target far from the prediction restarts the estimate") {
 }
 
 TEST_CASE("pointing: azimuth crossing north keeps a continuous, positive rate") {
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
     SECTION("clockwise through 0, extrapolated across 0") {
         // 356, 356.5, ..., 359.5: the extrapolation crosses north on its own.
         for (int k = 0; k <= 7; ++k) {
@@ -428,7 +436,7 @@ TEST_CASE("pointing: azimuth crossing north keeps a continuous, positive rate") 
 }
 
 TEST_CASE("pointing: above the zenith guard the azimuth is extrapolated briefly, the elevation on") {
-    const PredictorSettings settings;
+    const PredictorSettings settings = local_only();
     TargetPredictor predictor(settings);
     const Linear sat{200.0, 80.0, 3.0, 0.2};  // a keyhole pass: fast azimuth high up
     for (int k = 0; k <= 5; ++k) {
@@ -450,7 +458,7 @@ TEST_CASE("pointing: non-finite targets are ignored") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double inf = std::numeric_limits<double>::infinity();
     const AzEl garbage[] = {{nan, 30.0}, {100.0, nan}, {inf, 30.0}, {100.0, -inf}, {nan, nan}};
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
 
     SECTION("before any target: still nothing to predict") {
         for (const auto& g : garbage) {
@@ -489,7 +497,7 @@ TEST_CASE("pointing: non-finite targets are ignored") {
 
 TEST_CASE("pointing: reset() forgets the stream") {
     const Linear sat{100.0, 20.0, 0.5, 0.3};
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
     for (int k = 0; k <= 10; ++k) {
         predictor.observe(at(k), sat.at(k), std::nullopt);
     }
@@ -515,7 +523,7 @@ TEST_CASE("pointing: reset() forgets the stream") {
 TEST_CASE("pointing: reset() forgets the learned lead and a held stop") {
     // Regression: reset() once cleared the samples and rates but kept the learned lead and the
     // held flag, so a lead-free client after a stop was tracked a whole lead behind.
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
     SECTION("the learned lead") {
         const Linear sat{100.0, 15.0, 0.5, 0.15};
         GpredictRun client;
@@ -570,7 +578,7 @@ TEST_CASE("pointing: mode names round-trip and unknown names are rejected") {
 TEST_CASE("pointing: two manual pointings a few seconds apart are not a satellite") {
     // Regression (the demo): P 180 45, then P 230 25 2.5 s later gave a "rate" of 20 deg/s and
     // the dish overshot the second target in elevation.
-    TargetPredictor predictor;
+    TargetPredictor predictor(local_only());
     const auto t0 = Clock::time_point{} + std::chrono::seconds(100);
     predictor.observe(t0, {180.0, 45.0}, AzEl{180.0, 45.0});
     predictor.observe(t0 + std::chrono::milliseconds(2500), {230.0, 25.0}, AzEl{180.0, 45.0});

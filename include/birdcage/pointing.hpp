@@ -68,8 +68,10 @@ struct PredictorSettings {
     // Below this on-sky rate the target counts as stationary.
     double stationary_dps = 0.002;
     // Predict from a model of the whole pass (pass_model.hpp) whenever its fit is good; the local
-    // estimate above stays the fallback (few targets, manual pointing).
-    bool use_pass_model = true;
+    // estimate above stays the fallback (few targets, manual pointing). Off by default (conf
+    // pass_model): on the benchmark it removes one Trav'ler unwind but raises motor commands and
+    // worsens one near-zenith pass (docs/tracking.md §6); the tracking work decides its default.
+    bool use_pass_model = false;
     PassModelSettings pass_model;
 };
 

@@ -386,6 +386,12 @@ const ConfParam kConfParams[] = {
          return priv.options.az_mapping ? std::string(birdcage::azmap::mapping_name(*priv.options.az_mapping))
                                         : std::string("auto");
      }},
+    {13, "pass_model", "Pass model",
+     "Experimental: predict along a model of the whole pass fitted to the targets (1) instead of the local "
+     "estimate only (0)",
+     RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("0"); },
+     [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.pointing.predictor.use_pass_model); },
+     [](const WinegardPriv& priv) { return std::string(priv.pointing.predictor.use_pass_model ? "1" : "0"); }},
 };
 constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
 

@@ -231,7 +231,9 @@ TEST_CASE("pass model: too few or scattered targets are refused") {
 }
 
 TEST_CASE("pass model: the predictor falls back for a single P, a jump and a stop") {
-    TargetPredictor predictor;
+    PredictorSettings with_pass_model;
+    with_pass_model.use_pass_model = true;
+    TargetPredictor predictor(with_pass_model);
     // A pass followed by targets every 10 s: the pass model takes over.
     for (double t = -120.0; t <= -40.0; t += 10.0) {
         predictor.observe(at(t), flyby(t), std::nullopt);

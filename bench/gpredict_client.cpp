@@ -72,6 +72,11 @@ void GpredictClient::timer_tick() {
         set = {clamp_az(sat.az), clamp_el(sat.el)};
     }
     std::lock_guard lock(mutex_);
+    if (settings_.true_position_every_cycle) {
+        pending_ = set;
+        new_target_ = true;
+        return;
+    }
     Direction rot = read_back_;
     while (rot.az < 0.0) {
         rot.az += 360.0;

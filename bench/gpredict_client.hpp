@@ -24,6 +24,9 @@ namespace bench {
 
 struct ClientSettings {
     double threshold_deg = 5.0;  // Gpredict default
+    // The benchmark's oracle: every cycle posts where the satellite is (no threshold, no lead), so
+    // the backend's scheduler works from the true trajectory: the floor of what it can do.
+    bool true_position_every_cycle = false;
     double cycle_s = 1.0;        // Gpredict default "Cycle" 1000 ms
     double io_sleep_s = 0.1;     // between P and p
     double io_min_period_s = 0.7;

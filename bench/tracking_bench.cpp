@@ -4,12 +4,15 @@
 // Measures and reports; asserts nothing. See docs/benchmarks.md.
 //
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
-//                  [--modes none,leapfrog,predictive] [--thresholds 0.5,5] [--window SECONDS]
+//                  [--modes none,leapfrog,predictive,oracle] [--thresholds 0.5,5] [--window SECONDS]
 //                  [--out DIR] [--passes-dir DIR]
 //
 // Every run passes `-C time_scale=K` to rotctld, so the backend's clock and polling periods run at
 // the emulator's pace and the time scale no longer distorts what the backend does; the program
 // checks first that the backend it preloads knows that parameter (and `pointing`).
+//
+// Over 500 lines: one standalone program (options, the run of one pass, the ground-truth figures,
+// the CSV and table output), each part used once and read top to bottom.
 #include "gpredict_client.hpp"
 #include "harness.hpp"
 #include "pass.hpp"
@@ -69,11 +72,13 @@ struct ModeRow {
     const char* key;
     const char* label;
     std::vector<std::string> rotctld_args;
+    bool oracle = false;   // the client posts the true position every cycle; run once, threshold 0
 };
 const std::vector<ModeRow> mode_rows = {
     {"none", "no compensation", {"-C", "pointing=none"}},
     {"leapfrog", "leapfrog (seed thresholds, EL bug fixed)", {"-C", "pointing=leapfrog"}},
     {"predictive", "predictive (target motion from the P stream)", {"-C", "pointing=predictive"}},
+    {"oracle", "oracle: predictive fed the true position every second", {"-C", "pointing=predictive"}, true},
 };
 
 // Re-acquired after the elevation cap: the first moment the error is back within this.
@@ -85,7 +90,7 @@ struct Options {
     std::vector<std::string> passes = {"iss-20", "iss-45", "iss-70", "iss-85",
                                        "sso-20", "sso-45", "sso-70", "sso-85"};
     std::vector<std::string> variants = {"g2", "hal205"};
-    std::vector<std::string> modes = {"none", "leapfrog", "predictive"};
+    std::vector<std::string> modes = {"none", "leapfrog", "predictive", "oracle"};
     std::vector<double> thresholds = {0.5, 5.0};
     double window_s = 0.0;  // > 0: only this many seconds around the TCA
     std::string out = "bench-out";
@@ -240,6 +245,7 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
 
     bench::ClientSettings settings;
     settings.threshold_deg = spec.threshold;
+    settings.true_position_every_cycle = spec.mode->oracle;
     settings.min_el = v.el_min;
     settings.max_el = v.el_max;
     bench::GpredictClient client(pass, settings, rig.dish(), options.scale, rig.port(), start);
@@ -498,6 +504,10 @@ int main(int argc, char** argv) {
                 if (m == mode_rows.end()) {
                     std::fprintf(stderr, "tracking_bench: unknown mode %s\n", mk.c_str());
                     return 2;
+                }
+                if (m->oracle) {
+                    specs.push_back({&pass, &*v, &*m, 0.0});
+                    continue;
                 }
                 for (double thr : options.thresholds) {
                     specs.push_back({&pass, &*v, &*m, thr});

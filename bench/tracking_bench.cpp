@@ -5,7 +5,7 @@
 //
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
 //                  [--modes none,leapfrog,predictive,oracle] [--thresholds 0.5,5] [--window SECONDS]
-//                  [--out DIR] [--passes-dir DIR]
+//                  [--out DIR] [--passes-dir DIR] [--conf KEY=VALUE]...
 //
 // Every run passes `-C time_scale=K` to rotctld, so the backend's clock and polling periods run at
 // the emulator's pace and the time scale no longer distorts what the backend does; the program
@@ -95,6 +95,7 @@ struct Options {
     double window_s = 0.0;  // > 0: only this many seconds around the TCA
     std::string out = "bench-out";
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
+    std::vector<std::string> extra_conf;   // --conf key=value: passed to every run as -C key=value
 };
 
 struct Figures {
@@ -193,6 +194,8 @@ Options parse(int argc, char** argv) {
             o.out = value();
         } else if (arg == "--passes-dir") {
             o.passes_dir = value();
+        } else if (arg == "--conf") {
+            o.extra_conf.push_back(value());
         } else {
             throw std::runtime_error("unknown argument " + arg + " (see the comment at the top of tracking_bench.cpp)");
         }
@@ -240,6 +243,9 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     char scale_text[48];
     std::snprintf(scale_text, sizeof scale_text, "time_scale=%g", options.scale);
     rotctld_args.insert(rotctld_args.end(), {"-C", scale_text});
+    for (const std::string& conf : options.extra_conf) {
+        rotctld_args.insert(rotctld_args.end(), {"-C", conf});
+    }
     e2e::Rig rig(dish, v.model, rotctld_args);
     const std::size_t commands_before = rig.dish().received_commands().size();
 

@@ -34,6 +34,7 @@ struct LegMotion {
     Clock::time_point sent_at{};
     AxisReading latest;
     std::optional<AxisReading> earlier;
+    double pace = 1.0;   // until its readings time it: the axis' pace on legs this long (AxisPaces)
 };
 
 // At most one leg per axis: the one in flight, and the one before it on the other axis while it may

@@ -377,6 +377,10 @@ void AxisLegDriver::record_reading(AzEl position) {
     };
     if (in_flight_) {
         record(*in_flight_);
+        const LegMotion motion = motion_of(*in_flight_);
+        if (const auto pace = observed_pace(c_.profile, motion)) {
+            paces_.learn(motion.axis, std::fabs(axis_error(motion.axis, motion.start, motion.to)), *pace);
+        }
     }
     if (settling_) {
         const double value = axis_value(position, settling_->axis);
@@ -398,6 +402,7 @@ LegMotion AxisLegDriver::motion_of(const Leg& leg) const {
     motion.to = leg.axis == Axis::azimuth ? normalize_azimuth(leg.target.az) : leg.target.el;
     motion.sent_at = leg.sent_at;
     motion.latest = AxisReading{axis_value(last, leg.axis), at};
+    motion.pace = paces_.pace(leg.axis, axis_error(leg.axis, leg.start, motion.to));
     if (leg.latest && leg.latest->at < at) {
         motion.earlier = leg.latest;
     } else if (leg.earlier && leg.earlier->at < at) {

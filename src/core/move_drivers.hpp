@@ -6,6 +6,7 @@
 #include <string>
 
 #include "birdcage/move_driver.hpp"
+#include "birdcage/position_model.hpp"
 
 namespace birdcage {
 
@@ -66,6 +67,7 @@ private:
     // The leg that last arrived: within arrival_tolerance is not at rest, and the axis may still be
     // covering the rest while the other axis' leg runs. Kept until a reading shows it still.
     std::optional<Leg> settling_;
+    AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
     std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
     Clock::time_point last_poll_{};
     unsigned move_count_ = 0;

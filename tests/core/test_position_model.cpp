@@ -101,7 +101,7 @@ TEST_CASE("position model: two readings of one leg time the axis against the mod
     SECTION("an implausible pace is bounded") {
         slow.earlier->at = t0 + move * 59 / 100;   // a tenth of the model's time for its distance
         const double bounded = modelled_axis(hal, slow, t0 + move * 60 / 100 + step);
-        CHECK(bounded == Approx(model_at(move * 6 / 10)).margin(0.02));   // twice the model's pace at most
+        CHECK(bounded == Approx(model_at(move * 8 / 10)).margin(0.02));   // four times the model's pace at most
     }
     SECTION("readings too close together to time the axis leave the model's pace") {
         slow.earlier = AxisReading{slow.latest.value - 0.05, t0 + move * 59 / 100};
@@ -116,4 +116,28 @@ TEST_CASE("position model: both axes at once (one still covering its arrival tol
     const AzEl p = modelled_position(hal, AzEl{10.0, 20.0}, MovingAxes{az, el}, t0 + 10s);
     CHECK(p.az == Approx(12.0));
     CHECK(p.el == Approx(20.5));
+}
+
+TEST_CASE("position model: a pace learnt on earlier legs times the next leg before its readings do") {
+    const FirmwareProfile& hal = profile(VariantId::travler_hal205);
+    const auto move = estimated_move_time(hal, Axis::elevation, 2.0);
+    LegMotion leg = leg_from(Axis::elevation, 30.0, 32.0, t0);
+    const double at_model_pace = modelled_axis(hal, leg, t0 + move / 2);
+    CHECK(at_model_pace == Approx(31.0).margin(0.01));
+    leg.pace = 0.5;   // this axis ran legs of this length at half the model's pace
+    CHECK(modelled_axis(hal, leg, t0 + move) == Approx(31.0).margin(0.01));
+    CHECK(observed_pace(hal, leg) == std::nullopt);   // no readings in the leg yet
+}
+
+TEST_CASE("position model: paces are learnt per axis and per leg length") {
+    AxisPaces paces;
+    CHECK(paces.pace(Axis::azimuth, 0.5) == 1.0);
+    paces.learn(Axis::azimuth, 0.6, 0.5);
+    CHECK(paces.pace(Axis::azimuth, 0.7) == Approx(0.5));     // same length class (0.5..1 deg)
+    CHECK(paces.pace(Axis::azimuth, 3.0) == 1.0);             // another length
+    CHECK(paces.pace(Axis::elevation, 0.7) == 1.0);           // another axis
+    for (int legs = 0; legs < 30; ++legs) {
+        paces.learn(Axis::azimuth, 0.6, 0.8);
+    }
+    CHECK(paces.pace(Axis::azimuth, 0.6) == Approx(0.8).margin(1e-3));   // follows the motor as it changes
 }

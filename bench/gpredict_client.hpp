@@ -45,6 +45,11 @@ struct ClientRecord {
     std::vector<double> set_round_trip_ms;      // real time
     std::vector<double> p_error_deg;            // reported position against the dish's true path
                                                 // during the round trip (see distance_to_path)
+    struct ReadBack {
+        double t;                                 // pass clock when asked
+        Direction reported, true_before, true_after;
+    };
+    std::vector<ReadBack> read_backs;           // every parsed `p`, for the run's read-back trace
     unsigned failed_replies = 0;
 };
 

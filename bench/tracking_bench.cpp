@@ -376,6 +376,15 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
         trace << line << '\n';
     }
 
+    std::ofstream read_backs(options.out + "/runs/" + run_name(spec) + "_readback.csv");
+    read_backs << "t,az,el,true_az_before,true_el_before,true_az_after,true_el_after,error_deg\n";
+    for (std::size_t i = 0; i < record.read_backs.size(); ++i) {
+        const auto& r = record.read_backs[i];
+        read_backs << r.t << ',' << r.reported.az << ',' << r.reported.el << ',' << r.true_before.az << ','
+                   << r.true_before.el << ',' << r.true_after.az << ',' << r.true_after.el << ','
+                   << record.p_error_deg[i] << '\n';
+    }
+
     std::ofstream targets(options.out + "/runs/" + run_name(spec) + "_P.csv");
     targets << "t,az,el\n";
     for (const auto& s : record.sent_targets) {

@@ -71,7 +71,8 @@ std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion
     auto done = [&](double value) { return std::clamp(direction * delta(leg.axis, leg.start, value), 0.0, distance); };
     const double earlier = done(leg.earlier->value), latest = done(leg.latest.value);
     // Readings at the end of the curve (arrived) say nothing of the time spent getting there.
-    if (total <= 0.0 || earlier < started_degrees || latest - earlier < timing_degrees || latest >= distance) {
+    if (total <= 0.0 || earlier < started_degrees || latest - earlier < timing_degrees ||
+        latest > distance - started_degrees) {
         return std::nullopt;
     }
     const double modelled =

@@ -72,6 +72,11 @@ void GpredictClient::timer_tick() {
         set = {clamp_az(sat.az), clamp_el(sat.el)};
     }
     std::lock_guard lock(mutex_);
+    if (settings_.true_position_every_cycle) {
+        pending_ = set;
+        new_target_ = true;
+        return;
+    }
     Direction rot = read_back_;
     while (rot.az < 0.0) {
         rot.az += 360.0;
@@ -132,6 +137,8 @@ void GpredictClient::io_loop(double end) {
         if (parsed && reply.rfind("RPRT", 0) != 0) {
             record_.p_error_deg.push_back(
                 distance_to_path({az, el}, {truth_before.az, truth_before.el}, {truth_after.az, truth_after.el}));
+            record_.read_backs.push_back({pass_now(), {az, el}, {truth_before.az, truth_before.el},
+                                          {truth_after.az, truth_after.el}});
             std::lock_guard lock(mutex_);
             read_back_ = {az, el};
         } else {

@@ -24,6 +24,9 @@ namespace bench {
 
 struct ClientSettings {
     double threshold_deg = 5.0;  // Gpredict default
+    // The benchmark's oracle: every cycle posts where the satellite is (no threshold, no lead), so
+    // the backend's scheduler works from the true trajectory: the floor of what it can do.
+    bool true_position_every_cycle = false;
     double cycle_s = 1.0;        // Gpredict default "Cycle" 1000 ms
     double io_sleep_s = 0.1;     // between P and p
     double io_min_period_s = 0.7;
@@ -42,6 +45,11 @@ struct ClientRecord {
     std::vector<double> set_round_trip_ms;      // real time
     std::vector<double> p_error_deg;            // reported position against the dish's true path
                                                 // during the round trip (see distance_to_path)
+    struct ReadBack {
+        double t;                                 // pass clock when asked
+        Direction reported, true_before, true_after;
+    };
+    std::vector<ReadBack> read_backs;           // every parsed `p`, for the run's read-back trace
     unsigned failed_replies = 0;
 };
 

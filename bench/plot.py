@@ -25,10 +25,13 @@ import numpy as np  # noqa: E402
 TRACE_PLOTS = [("iss-85", "hal205"), ("iss-85", "g2"), ("iss-45", "g2"), ("sso-70", "hal205")]
 # Lines in a trace plot: (mode, threshold, line style).
 TRACE_LINES = [("none", "0.5", "-"), ("leapfrog", "0.5", "--"), ("predictive", "0.5", "-"),
-               ("none", "5", ":"), ("predictive", "5", "-.")]
+               ("none", "5", ":"), ("predictive", "5", "-."), ("oracle", "0", "-")]
 VARIANT_LABEL = {"g2": "Carryout G2", "hal205": "Trav'ler HAL 2.05"}
-MODE_ORDER = ["none", "leapfrog", "predictive"]
-MODE_COLOUR = {"none": "tab:blue", "leapfrog": "tab:orange", "predictive": "tab:green"}
+MODE_ORDER = ["none", "leapfrog", "predictive", "oracle"]
+MODE_COLOUR = {"none": "tab:blue", "leapfrog": "tab:orange", "predictive": "tab:green", "oracle": "black"}
+# The oracle (the client posts the true position every cycle) runs at threshold 0: the floor of
+# every threshold's panel.
+ORACLE_THRESHOLD = "0"
 # Goals of issue 5 (docs/tracking.md): RMS per client threshold, and above the elevation cap.
 RMS_GOAL = {"0.5": 0.25, "5": 1.5}
 CAP_EXCESS_GOAL = 0.5
@@ -107,7 +110,7 @@ def plot_trace(runs_dir, pass_name, variant, image_dir):
             axes[0].plot(t, column(rows, "sat_az"), color="black", lw=2.5, alpha=0.35, label="satellite")
             axes[1].plot(t, column(rows, "sat_el"), color="black", lw=2.5, alpha=0.35, label="satellite")
             drew = True
-        label = f"dish, {mode}, threshold {thr}°"
+        label = "dish, oracle (true path)" if mode == "oracle" else f"dish, {mode}, threshold {thr}°"
         colour = MODE_COLOUR.get(mode)
         axes[0].plot(t, column(rows, "dish_az"), style, color=colour, lw=1, label=label)
         axes[1].plot(t, column(rows, "dish_el"), style, color=colour, lw=1, label=label)
@@ -143,7 +146,7 @@ def plot_summary(summary, image_dir):
     """RMS per pass: one panel per variant x client threshold, one bar per pointing mode."""
     passes = sorted({r["pass"] for r in summary})
     variants = [v for v in ["g2", "hal205"] if any(r["variant"] == v for r in summary)]
-    thresholds = sorted({r["threshold"] for r in summary}, key=float)
+    thresholds = sorted({r["threshold"] for r in summary if r["threshold"] != ORACLE_THRESHOLD}, key=float)
     modes = sorted({r["mode"] for r in summary}, key=mode_key)
     if not variants or not thresholds:
         return None
@@ -156,8 +159,9 @@ def plot_summary(summary, image_dir):
             for i, mode in enumerate(modes):
                 rms = []
                 for p in passes:
+                    wanted = ORACLE_THRESHOLD if mode == "oracle" else thr
                     r = next((r for r in summary if r["pass"] == p and r["variant"] == variant and r["mode"] == mode
-                              and r["threshold"] == thr), None)
+                              and r["threshold"] == wanted), None)
                     rms.append(number(r, "rms") if r and number(r, "tracked_s") > 0 else np.nan)
                 ax.bar(np.arange(len(passes)) + i * width, rms, width, label=mode, color=MODE_COLOUR.get(mode))
             ax.set_xticks(np.arange(len(passes)) + 0.4 - width / 2)

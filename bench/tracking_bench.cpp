@@ -4,12 +4,15 @@
 // Measures and reports; asserts nothing. See docs/benchmarks.md.
 //
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
-//                  [--modes none,leapfrog,predictive] [--thresholds 0.5,5] [--window SECONDS]
-//                  [--out DIR] [--passes-dir DIR]
+//                  [--modes none,leapfrog,predictive,oracle] [--thresholds 0.5,5] [--window SECONDS]
+//                  [--out DIR] [--passes-dir DIR] [--conf KEY=VALUE]...
 //
 // Every run passes `-C time_scale=K` to rotctld, so the backend's clock and polling periods run at
 // the emulator's pace and the time scale no longer distorts what the backend does; the program
 // checks first that the backend it preloads knows that parameter (and `pointing`).
+//
+// Over 500 lines: one standalone program (options, the run of one pass, the ground-truth figures,
+// the CSV and table output), each part used once and read top to bottom.
 #include "gpredict_client.hpp"
 #include "harness.hpp"
 #include "pass.hpp"
@@ -69,11 +72,13 @@ struct ModeRow {
     const char* key;
     const char* label;
     std::vector<std::string> rotctld_args;
+    bool oracle = false;   // the client posts the true position every cycle; run once, threshold 0
 };
 const std::vector<ModeRow> mode_rows = {
     {"none", "no compensation", {"-C", "pointing=none"}},
     {"leapfrog", "leapfrog (seed thresholds, EL bug fixed)", {"-C", "pointing=leapfrog"}},
     {"predictive", "predictive (target motion from the P stream)", {"-C", "pointing=predictive"}},
+    {"oracle", "oracle: predictive fed the true position every second", {"-C", "pointing=predictive"}, true},
 };
 
 // Re-acquired after the elevation cap: the first moment the error is back within this.
@@ -85,11 +90,12 @@ struct Options {
     std::vector<std::string> passes = {"iss-20", "iss-45", "iss-70", "iss-85",
                                        "sso-20", "sso-45", "sso-70", "sso-85"};
     std::vector<std::string> variants = {"g2", "hal205"};
-    std::vector<std::string> modes = {"none", "leapfrog", "predictive"};
+    std::vector<std::string> modes = {"none", "leapfrog", "predictive", "oracle"};
     std::vector<double> thresholds = {0.5, 5.0};
     double window_s = 0.0;  // > 0: only this many seconds around the TCA
     std::string out = "bench-out";
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
+    std::vector<std::string> extra_conf;   // --conf key=value: passed to every run as -C key=value
 };
 
 struct Figures {
@@ -188,6 +194,8 @@ Options parse(int argc, char** argv) {
             o.out = value();
         } else if (arg == "--passes-dir") {
             o.passes_dir = value();
+        } else if (arg == "--conf") {
+            o.extra_conf.push_back(value());
         } else {
             throw std::runtime_error("unknown argument " + arg + " (see the comment at the top of tracking_bench.cpp)");
         }
@@ -235,11 +243,15 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     char scale_text[48];
     std::snprintf(scale_text, sizeof scale_text, "time_scale=%g", options.scale);
     rotctld_args.insert(rotctld_args.end(), {"-C", scale_text});
+    for (const std::string& conf : options.extra_conf) {
+        rotctld_args.insert(rotctld_args.end(), {"-C", conf});
+    }
     e2e::Rig rig(dish, v.model, rotctld_args);
     const std::size_t commands_before = rig.dish().received_commands().size();
 
     bench::ClientSettings settings;
     settings.threshold_deg = spec.threshold;
+    settings.true_position_every_cycle = spec.mode->oracle;
     settings.min_el = v.el_min;
     settings.max_el = v.el_max;
     bench::GpredictClient client(pass, settings, rig.dish(), options.scale, rig.port(), start);
@@ -362,6 +374,15 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
                           g.error - (g.sat.el - v.el_max));
         }
         trace << line << '\n';
+    }
+
+    std::ofstream read_backs(options.out + "/runs/" + run_name(spec) + "_readback.csv");
+    read_backs << "t,az,el,true_az_before,true_el_before,true_az_after,true_el_after,error_deg\n";
+    for (std::size_t i = 0; i < record.read_backs.size(); ++i) {
+        const auto& r = record.read_backs[i];
+        read_backs << r.t << ',' << r.reported.az << ',' << r.reported.el << ',' << r.true_before.az << ','
+                   << r.true_before.el << ',' << r.true_after.az << ',' << r.true_after.el << ','
+                   << record.p_error_deg[i] << '\n';
     }
 
     std::ofstream targets(options.out + "/runs/" + run_name(spec) + "_P.csv");
@@ -498,6 +519,10 @@ int main(int argc, char** argv) {
                 if (m == mode_rows.end()) {
                     std::fprintf(stderr, "tracking_bench: unknown mode %s\n", mk.c_str());
                     return 2;
+                }
+                if (m->oracle) {
+                    specs.push_back({&pass, &*v, &*m, 0.0});
+                    continue;
                 }
                 for (double thr : options.thresholds) {
                     specs.push_back({&pass, &*v, &*m, thr});

@@ -95,7 +95,7 @@ public:
     // variant's az_min..az_max coordinates); nullopt before the first reading.
     std::optional<double> mechanical_azimuth() const { return wrap_.mechanical(); }
     using LegMotion = birdcage::LegMotion;
-    std::optional<LegMotion> leg_motion() const;
+    MovingAxes moving_axes() const;
     const FirmwareProfile& profile() const { return profile_; }
     std::string describe() const;
     // The cable-wrap state: travel, the mechanical azimuth estimate and how its branch is known

@@ -19,13 +19,29 @@
 
 namespace birdcage {
 
-// The single-axis move in flight, for a position model between polls: the axis goes from `from`
-// (its last reading, taken at `from_at`) to `to`, display degrees.
+// One axis reading taken during a leg (display degrees, dish time).
+struct AxisReading {
+    double value = 0.0;
+    Clock::time_point at{};
+};
+
+// A single-axis leg whose axis may still be moving, for a position model between polls: sent at
+// `sent_at` from `start` towards `to` (display degrees). `latest` is the axis' last reading;
+// `earlier` the one before it if that was also taken during this leg.
 struct LegMotion {
     Axis axis = Axis::azimuth;
-    double from = 0.0, to = 0.0;
-    Clock::time_point from_at{};
+    double start = 0.0, to = 0.0;
     Clock::time_point sent_at{};
+    AxisReading latest;
+    std::optional<AxisReading> earlier;
+    double pace = 1.0;   // until its readings time it: the axis' pace on legs this long (AxisPaces)
+};
+
+// At most one leg per axis: the one in flight, and the one before it on the other axis while it may
+// still be covering the last of its arrival tolerance.
+struct MovingAxes {
+    std::optional<LegMotion> azimuth, elevation;
+    bool empty() const { return !azimuth && !elevation; }
 };
 
 struct MoveContext {
@@ -60,7 +76,7 @@ public:
     virtual void reset() = 0;
     virtual bool idle() const = 0;
     virtual bool leg_in_flight() const = 0;
-    virtual std::optional<LegMotion> leg_motion() const = 0;
+    virtual MovingAxes moving_axes() const = 0;
     // The console showed it is not where the controller left it: initialise again.
     virtual bool sync_lost() const = 0;
 };

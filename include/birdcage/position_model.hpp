@@ -1,8 +1,13 @@
-// Where the dish is between polls, pure: a move in flight runs its axis from the last reading to
-// the leg's target over the variant's estimated move time (variants.hpp) with a symmetric
-// accelerate/brake profile, so `p` follows a moving dish instead of repeating the last poll.
+// Where the dish is between polls, pure. A leg in flight runs its axis from where it stood when the
+// leg was sent to the leg's target along the variant's motion model (variants.hpp:
+// travelled_after). The latest reading places the axis on that curve (how far along it is) and,
+// with the reading before it in the same leg, times it (how fast the real axis goes through the
+// curve), so the model follows the dish's pace rather than the table's guess of it: the Trav'lers
+// publish no speed or acceleration (docs/firmware.md 3.4). Paces seen on earlier legs carry over
+// to the next leg of about the same length (AxisPaces), before its own readings time it.
 #pragma once
 
+#include <array>
 #include <optional>
 
 #include "birdcage/azel.hpp"
@@ -11,8 +16,28 @@
 
 namespace birdcage {
 
-// `last`: the last reading; `leg`: the move in flight (none: the dish is at `last`); `now`: dish time.
-AzEl modelled_position(const FirmwareProfile& dish, AzEl last, const std::optional<LegMotion>& leg,
-                       Clock::time_point now);
+// `last`: the last reading; `moving`: the legs whose axes may still be moving (none: the dish is at
+// `last`); `now`: dish time.
+AzEl modelled_position(const FirmwareProfile& dish, AzEl last, const MovingAxes& moving, Clock::time_point now);
+
+// One axis of that: where the leg's axis is at `now`.
+double modelled_axis(const FirmwareProfile& dish, const LegMotion& leg, Clock::time_point now);
+
+// The pace (model seconds per real second) the leg's last two readings show, if they time it.
+std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion& leg);
+
+// How fast each axis has run through the motion model's curve, per leg length: the model's
+// durations come from a fit whose error depends on the length (a fixed acceleration takes
+// sqrt(length) on short moves, the fit does not), so one factor per axis would not do.
+class AxisPaces {
+public:
+    double pace(Axis axis, double distance) const;   // 1 until a leg of that length was timed
+    void learn(Axis axis, double distance, double observed);
+
+private:
+    static constexpr int length_classes = 8;   // < 0.25 deg, then doubling up to >= 16 deg
+    static int length_class(double distance);
+    std::array<std::array<std::optional<double>, length_classes>, 2> paces_{};
+};
 
 }  // namespace birdcage

@@ -44,7 +44,7 @@ struct ServiceMail {
 // The worker's view of the dish, as last published.
 struct ServiceSnapshot {
     std::optional<AzEl> position;              // the last position read (or known) from the dish
-    std::optional<LegMotion> leg_motion;       // the move in flight, for the position model
+    MovingAxes moving_axes;                    // the legs that may be moving, for the position model
     bool dish_idle = true;                     // the controller has nothing in flight or queued
     bool homing = false;                       // the firmware's home is running
     bool unhomed = false;                      // the dish reports its axes unhomed

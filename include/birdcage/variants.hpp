@@ -142,5 +142,8 @@ std::span<const FirmwareProfile> all_profiles();
 
 // Estimated duration of a single-axis move of `degrees` from the variant's motion model.
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees);
+// Degrees covered `seconds` after such a move started from rest, by the same model (0..|degrees|):
+// the shape of a move between two position readings.
+double travelled_after(const FirmwareProfile& profile, Axis axis, double degrees, double seconds);
 
 }  // namespace birdcage

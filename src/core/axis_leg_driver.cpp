@@ -41,6 +41,7 @@ std::string axis_text(Axis axis) { return std::to_string(static_cast<int>(axis))
 void AxisLegDriver::reset() {
     pending_.clear();
     in_flight_.reset();
+    settling_.reset();
     forget_commands();
 }
 
@@ -196,6 +197,13 @@ Status AxisLegDriver::send(Leg& leg) {
     leg.sent_at = c_.now();
     leg.last_change = leg.sent_at;
     leg.last_seen.reset();
+    const auto& last = c_.state.last_position;
+    leg.start = axis_value(last ? *last : leg.target, leg.axis);
+    leg.latest.reset();
+    leg.earlier.reset();
+    if (settling_ && settling_->axis == leg.axis) {
+        settling_.reset();   // this leg moves the axis from here on
+    }
     last_poll_ = leg.sent_at;
     emit(c_.log, LogLevel::verbose, "sent " + command + " (estimated " + std::to_string(estimate.count()) + " ms)");
     in_flight_ = leg;
@@ -264,6 +272,7 @@ Status AxisLegDriver::follow() {
         }
         return position.status;
     }
+    record_reading(position.value);
     // Azimuth in mechanical degrees: arriving on the display azimuth of the wrong branch is not arriving.
     const auto mech_az = c_.wrap.mechanical();
     const bool azimuth = leg.axis == Axis::azimuth && mech_az;
@@ -288,6 +297,7 @@ Status AxisLegDriver::follow() {
         }
     };
     if (error(seen, goal) <= c_.profile.arrival_tolerance) {
+        settling_ = leg;
         end_leg("arrived");
         return Status::ok();
     }
@@ -359,15 +369,62 @@ void AxisLegDriver::replan_after_surprise() {
     pending_.push_front(leg);
 }
 
-std::optional<LegMotion> AxisLegDriver::leg_motion() const {
-    const auto& last = c_.state.last_position;
-    if (!in_flight_ || !last || !c_.state.last_position_at) {
-        return std::nullopt;
+void AxisLegDriver::record_reading(AzEl position) {
+    const auto at = c_.state.last_position_at.value_or(c_.now());
+    auto record = [&](Leg& leg) {
+        leg.earlier = leg.latest;
+        leg.latest = AxisReading{axis_value(position, leg.axis), at};
+    };
+    if (in_flight_) {
+        record(*in_flight_);
+        const LegMotion motion = motion_of(*in_flight_);
+        if (const auto pace = observed_pace(c_.profile, motion)) {
+            paces_.learn(motion.axis, std::fabs(axis_error(motion.axis, motion.start, motion.to)), *pace);
+        }
     }
-    const Axis axis = in_flight_->axis;
+    if (settling_) {
+        const double value = axis_value(position, settling_->axis);
+        if (settling_->latest && axis_error(settling_->axis, settling_->latest->value, value) < stillness_degrees) {
+            settling_.reset();   // at rest where read
+        } else {
+            record(*settling_);
+        }
+    }
+}
+
+LegMotion AxisLegDriver::motion_of(const Leg& leg) const {
+    const AzEl last = *c_.state.last_position;
+    const auto at = *c_.state.last_position_at;
+    LegMotion motion;
+    motion.axis = leg.axis;
+    motion.start = leg.start;
     // Display degrees: an azimuth leg may command a number beyond 360 (az_mapping.hpp).
-    const double to = axis == Axis::azimuth ? normalize_azimuth(in_flight_->target.az) : in_flight_->target.el;
-    return LegMotion{axis, axis_value(*last, axis), to, *c_.state.last_position_at, in_flight_->sent_at};
+    motion.to = leg.axis == Axis::azimuth ? normalize_azimuth(leg.target.az) : leg.target.el;
+    motion.sent_at = leg.sent_at;
+    motion.latest = AxisReading{axis_value(last, leg.axis), at};
+    motion.pace = paces_.pace(leg.axis, axis_error(leg.axis, leg.start, motion.to));
+    if (leg.latest && leg.latest->at < at) {
+        motion.earlier = leg.latest;
+    } else if (leg.earlier && leg.earlier->at < at) {
+        motion.earlier = leg.earlier;
+    }
+    return motion;
+}
+
+MovingAxes AxisLegDriver::moving_axes() const {
+    MovingAxes moving;
+    if (!c_.state.last_position || !c_.state.last_position_at) {
+        return moving;
+    }
+    auto put = [&](const Leg& leg) { (leg.axis == Axis::azimuth ? moving.azimuth : moving.elevation) = motion_of(leg); };
+    // A reading newer than the settling leg's own was taken while no leg polled: it is the truth.
+    if (settling_ && settling_->latest && settling_->latest->at == *c_.state.last_position_at) {
+        put(*settling_);
+    }
+    if (in_flight_) {
+        put(*in_flight_);
+    }
+    return moving;
 }
 
 }  // namespace birdcage

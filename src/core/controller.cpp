@@ -382,7 +382,7 @@ bool Controller::idle() const { return !homing_ && driver_->idle(); }
 // Homing holds the shell like a leg does: the console must stay in the motor menu.
 bool Controller::leg_in_flight() const { return homing_ || driver_->leg_in_flight(); }
 
-std::optional<LegMotion> Controller::leg_motion() const { return driver_->leg_motion(); }
+MovingAxes Controller::moving_axes() const { return driver_->moving_axes(); }
 
 std::string Controller::describe() const {
     std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "birdcage/move_driver.hpp"
+#include "birdcage/position_model.hpp"
 
 namespace birdcage {
 
@@ -20,7 +21,7 @@ public:
     void reset() override;
     bool idle() const override { return !in_flight_ && pending_.empty(); }
     bool leg_in_flight() const override { return in_flight_.has_value(); }
-    std::optional<LegMotion> leg_motion() const override;
+    MovingAxes moving_axes() const override;
     bool sync_lost() const override { return false; }
 
 private:
@@ -42,6 +43,10 @@ private:
         std::chrono::milliseconds budget{0};
         std::optional<double> last_seen;       // the axis' position at the previous poll
         Clock::time_point last_change{};
+        // For the position model: where the axis stood when the leg was sent (display degrees),
+        // and the last two readings of it during the leg.
+        double start = 0.0;
+        std::optional<AxisReading> latest, earlier;
     };
 
     Status send(Leg& leg);
@@ -52,11 +57,17 @@ private:
     void replan_after_surprise();
     double distance(const Leg& leg) const;
     void finish(std::string_view how);
+    void record_reading(AzEl position);
+    LegMotion motion_of(const Leg& leg) const;
     void forget_commands();
 
     MoveContext c_;
     std::deque<Leg> pending_;
     std::optional<Leg> in_flight_;
+    // The leg that last arrived: within arrival_tolerance is not at rest, and the axis may still be
+    // covering the rest while the other axis' leg runs. Kept until a reading shows it still.
+    std::optional<Leg> settling_;
+    AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
     std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
     Clock::time_point last_poll_{};
     unsigned move_count_ = 0;
@@ -74,7 +85,7 @@ public:
     void reset() override;
     bool idle() const override { return !in_flight_ && !pending_; }
     bool leg_in_flight() const override { return in_flight_.has_value(); }
-    std::optional<LegMotion> leg_motion() const override { return std::nullopt; }
+    MovingAxes moving_axes() const override { return {}; }
     bool sync_lost() const override { return sync_lost_; }
 
 private:

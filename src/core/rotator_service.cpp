@@ -71,7 +71,7 @@ Result<AzEl> RotatorService::position() {
                                            : dish.last_error;
         return {AzEl{}, why};
     }
-    return {modelled_position(worker_.profile(), *dish.position, dish.leg_motion, worker_.clock().now()), Status::ok()};
+    return {modelled_position(worker_.profile(), *dish.position, dish.moving_axes, worker_.clock().now()), Status::ok()};
 }
 
 Status RotatorService::stop() {

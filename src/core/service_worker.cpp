@@ -288,7 +288,7 @@ void ServiceWorker::publish(const Status& step, bool talked) {
     if (auto position = controller_->last_position()) {
         published_.position = position;
     }
-    published_.leg_motion = controller_->leg_motion();
+    published_.moving_axes = controller_->moving_axes();
     published_.dish_idle = controller_->idle();
     published_.homing = controller_->homing();
     published_.unhomed = controller_->unhomed();

@@ -274,6 +274,17 @@ double seconds_travler_fit(double distance) {
     return std::max(1.0, std::fabs(3.23 * std::log(0.84 * distance) - 0.48));
 }
 
+double move_seconds(const FirmwareProfile& profile, Axis axis, double distance) {
+    switch (profile.motion_model) {
+    case MotionModel::trapezoid:
+        return seconds_trapezoid(distance, axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps,
+                                 profile.accel_dps2);
+    case MotionModel::travler_time_fit:
+        return seconds_travler_fit(distance);
+    }
+    return 0.0;
+}
+
 constexpr FirmwareProfile probe{
     .id = VariantId::carryout_g2,  // not used for decisions; the quirks below are the G2's worst case
     .short_name = "auto",
@@ -331,18 +342,37 @@ std::span<const FirmwareProfile> all_profiles() { return profiles; }
 std::span<const DetectionClue> detection_clues() { return clues; }
 
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees) {
-    const double distance = std::fabs(degrees);
-    double seconds = 0.0;
-    switch (profile.motion_model) {
-    case MotionModel::trapezoid:
-        seconds = seconds_trapezoid(distance, axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps,
-                                    profile.accel_dps2);
-        break;
-    case MotionModel::travler_time_fit:
-        seconds = seconds_travler_fit(distance);
-        break;
-    }
+    const double seconds = move_seconds(profile, axis, std::fabs(degrees));
     return std::chrono::milliseconds(static_cast<long long>(std::ceil(seconds * 1000.0)));
+}
+
+double travelled_after(const FirmwareProfile& profile, Axis axis, double degrees, double seconds) {
+    const double distance = std::fabs(degrees);
+    const double total = move_seconds(profile, axis, distance);
+    if (seconds <= 0.0 || distance <= 0.0) {
+        return 0.0;
+    }
+    if (seconds >= total || total <= 0.0) {
+        return distance;
+    }
+    if (profile.motion_model == MotionModel::trapezoid) {
+        // Accelerate at a, cruise at v if the move is long enough to reach it, brake at a.
+        const double v = axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps;
+        const double a = profile.accel_dps2;
+        const double ramp = std::min(v / a, total / 2.0);
+        if (seconds <= ramp) {
+            return 0.5 * a * seconds * seconds;
+        }
+        const double braking = total - seconds;
+        if (braking <= ramp) {
+            return distance - 0.5 * a * braking * braking;
+        }
+        return 0.5 * a * ramp * ramp + v * (seconds - ramp);
+    }
+    // No published acceleration (docs/firmware.md 3.4): a symmetric smooth start and stop over the
+    // fitted duration.
+    const double u = seconds / total;
+    return distance * u * u * (3.0 - 2.0 * u);
 }
 
 }  // namespace birdcage

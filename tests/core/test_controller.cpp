@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "birdcage/controller.hpp"
+#include "birdcage/position_model.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;
@@ -379,6 +380,35 @@ TEST_CASE("controller HAL 2.05: moves without a prompt, polling AZ/EL replies") 
     CHECK(contains(sent, "a 1 36.00"));
     CHECK(controller.last_position()->az == Approx(101));
     CHECK(controller.last_position()->el == Approx(36));
+}
+
+TEST_CASE("controller HAL 2.05: an axis that arrived within tolerance stays modelled until a reading shows it still") {
+    FakeTravler dish;
+    dish.step_per_query = 0.15;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::travler_hal205, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({91, 30.5}));
+    for (int calls = 0; calls < 100 && !controller.moving_axes().elevation; ++calls) {
+        clock.now += 100ms;
+        REQUIRE(controller.service());
+    }
+    // Azimuth arrived at 90.90 (within 0.2 of 91) and the elevation leg is in flight.
+    const MovingAxes moving = controller.moving_axes();
+    REQUIRE(moving.elevation);
+    REQUIRE(moving.azimuth);
+    CHECK(moving.azimuth->latest.value == Approx(90.9));
+    CHECK(moving.azimuth->to == Approx(91.0));
+    CHECK(modelled_position(controller.profile(), *controller.last_position(), moving, clock.now + 10s).az ==
+          Approx(91.0));
+    // The next readings: azimuth 91.00 (still moving), then 91.00 again (at rest): no longer modelled.
+    for (int polls = 0; polls < 2; ++polls) {
+        clock.now += 100ms;
+        REQUIRE(controller.service());
+    }
+    CHECK_FALSE(controller.moving_axes().azimuth);
+    CHECK(controller.last_position()->az == Approx(91.0));
 }
 
 TEST_CASE("controller Carryout 2003: target + g, listens during the move, reports honestly") {

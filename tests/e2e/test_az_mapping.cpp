@@ -25,6 +25,9 @@ namespace {
 constexpr double time_scale = 50.0;
 constexpr double pass_seconds = 240.0;   // simulated
 constexpr double reversal_allowed_deg = 3.0;
+// The dish ends the pass at rest within this of the last target (the last legs may stop inside the
+// firmware's arrival tolerance and the backend's same-angle rounding, never further).
+constexpr double end_tolerance_deg = 2.0;
 
 struct PassCase {
     const char* name;
@@ -91,7 +94,7 @@ Flight fly(const PassCase& c) {
     REQUIRE(e2e::wait_until(
         [&] {
             sample();
-            return e2e::settled_at(dish, end_az, c.el_min, 0.5);
+            return e2e::settled_at(dish, end_az, c.el_min, end_tolerance_deg);
         },
         60s));
     sample();
@@ -151,9 +154,10 @@ TEST_CASE("az mapping e2e: north-crossing passes under every emulator mapping, a
             INFO("worst reversal " << flight.worst_reversal << ", long ways " << flight.long_ways << ", end "
                                    << flight.end_mech << "; get_info: " << flight.info);
             WARN(c.name << ": worst reversal " << flight.worst_reversal << " deg, long ways " << flight.long_ways
+                        << ", end " << flight.end_display_error << " deg from the last target"
                         << ", end mechanical " << flight.end_mech);
             CHECK(flight.hazards == 0);
-            CHECK(flight.end_display_error <= 2.0);
+            CHECK(flight.end_display_error <= end_tolerance_deg);
             CHECK(flight.end_mech == Approx(c.end_mech).margin(3.0));
             if (c.forced_long_ways == 0) {
                 CHECK(flight.worst_reversal <= reversal_allowed_deg);

@@ -27,13 +27,14 @@ struct AxisReading {
 
 // A single-axis leg whose axis may still be moving, for a position model between polls: sent at
 // `sent_at` from `start` towards `to` (display degrees). `latest` is the axis' last reading;
-// `earlier` the one before it if that was also taken during this leg.
+// `previous` the one before it and `first_moving` the first that showed the axis under way, both
+// taken during this leg (add_reading()).
 struct LegMotion {
     Axis axis = Axis::azimuth;
     double start = 0.0, to = 0.0;
     Clock::time_point sent_at{};
     AxisReading latest;
-    std::optional<AxisReading> earlier;
+    std::optional<AxisReading> previous, first_moving;
     double pace = 1.0;   // until its readings time it: the axis' pace on legs this long (AxisPaces)
 };
 

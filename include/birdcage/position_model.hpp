@@ -20,10 +20,16 @@ namespace birdcage {
 // `last`); `now`: dish time.
 AzEl modelled_position(const FirmwareProfile& dish, AzEl last, const MovingAxes& moving, Clock::time_point now);
 
+// A reading taken during the leg: the latest (the one it replaces becomes `previous`), and the
+// first that shows the axis under way.
+void add_reading(LegMotion& leg, AxisReading reading);
+
 // One axis of that: where the leg's axis is at `now`.
 double modelled_axis(const FirmwareProfile& dish, const LegMotion& leg, Clock::time_point now);
 
-// The pace (model seconds per real second) the leg's last two readings show, if they time it.
+// The pace (model seconds per real second) the leg's readings show, if they time it: over the
+// last two readings where they are far enough apart (the pace where the axis is now: the curve's
+// shape may differ from the motor's), else from the first reading under way to the latest.
 std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion& leg);
 
 // How fast each axis has run through the motion model's curve, per leg length: the model's

@@ -198,9 +198,13 @@ Status AxisLegDriver::send(Leg& leg) {
     leg.last_change = leg.sent_at;
     leg.last_seen.reset();
     const auto& last = c_.state.last_position;
-    leg.start = axis_value(last ? *last : leg.target, leg.axis);
-    leg.latest.reset();
-    leg.earlier.reset();
+    leg.motion = LegMotion{};
+    leg.motion.axis = leg.axis;
+    leg.motion.start = axis_value(last ? *last : leg.target, leg.axis);
+    // Display degrees: an azimuth leg may command a number beyond 360 (az_mapping.hpp).
+    leg.motion.to = leg.axis == Axis::azimuth ? normalize_azimuth(leg.target.az) : leg.target.el;
+    leg.motion.sent_at = leg.sent_at;
+    leg.motion.latest = AxisReading{leg.motion.start, c_.state.last_position_at.value_or(leg.sent_at)};
     if (settling_ && settling_->axis == leg.axis) {
         settling_.reset();   // this leg moves the axis from here on
     }
@@ -371,43 +375,27 @@ void AxisLegDriver::replan_after_surprise() {
 
 void AxisLegDriver::record_reading(AzEl position) {
     const auto at = c_.state.last_position_at.value_or(c_.now());
-    auto record = [&](Leg& leg) {
-        leg.earlier = leg.latest;
-        leg.latest = AxisReading{axis_value(position, leg.axis), at};
-    };
     if (in_flight_) {
-        record(*in_flight_);
-        const LegMotion motion = motion_of(*in_flight_);
+        LegMotion& motion = in_flight_->motion;
+        add_reading(motion, AxisReading{axis_value(position, motion.axis), at});
         if (const auto pace = observed_pace(c_.profile, motion)) {
-            paces_.learn(motion.axis, std::fabs(axis_error(motion.axis, motion.start, motion.to)), *pace);
+            paces_.learn(motion.axis, axis_error(motion.axis, motion.start, motion.to), *pace);
         }
     }
     if (settling_) {
-        const double value = axis_value(position, settling_->axis);
-        if (settling_->latest && axis_error(settling_->axis, settling_->latest->value, value) < stillness_degrees) {
+        LegMotion& motion = settling_->motion;
+        const double value = axis_value(position, motion.axis);
+        if (axis_error(motion.axis, motion.latest.value, value) < stillness_degrees) {
             settling_.reset();   // at rest where read
         } else {
-            record(*settling_);
+            add_reading(motion, AxisReading{value, at});
         }
     }
 }
 
 LegMotion AxisLegDriver::motion_of(const Leg& leg) const {
-    const AzEl last = *c_.state.last_position;
-    const auto at = *c_.state.last_position_at;
-    LegMotion motion;
-    motion.axis = leg.axis;
-    motion.start = leg.start;
-    // Display degrees: an azimuth leg may command a number beyond 360 (az_mapping.hpp).
-    motion.to = leg.axis == Axis::azimuth ? normalize_azimuth(leg.target.az) : leg.target.el;
-    motion.sent_at = leg.sent_at;
-    motion.latest = AxisReading{axis_value(last, leg.axis), at};
-    motion.pace = paces_.pace(leg.axis, axis_error(leg.axis, leg.start, motion.to));
-    if (leg.latest && leg.latest->at < at) {
-        motion.earlier = leg.latest;
-    } else if (leg.earlier && leg.earlier->at < at) {
-        motion.earlier = leg.earlier;
-    }
+    LegMotion motion = leg.motion;
+    motion.pace = paces_.pace(motion.axis, axis_error(motion.axis, motion.start, motion.to));
     return motion;
 }
 
@@ -418,7 +406,7 @@ MovingAxes AxisLegDriver::moving_axes() const {
     }
     auto put = [&](const Leg& leg) { (leg.axis == Axis::azimuth ? moving.azimuth : moving.elevation) = motion_of(leg); };
     // A reading newer than the settling leg's own was taken while no leg polled: it is the truth.
-    if (settling_ && settling_->latest && settling_->latest->at == *c_.state.last_position_at) {
+    if (settling_ && settling_->motion.latest.at == *c_.state.last_position_at) {
         put(*settling_);
     }
     if (in_flight_) {

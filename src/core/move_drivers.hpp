@@ -43,10 +43,7 @@ private:
         std::chrono::milliseconds budget{0};
         std::optional<double> last_seen;       // the axis' position at the previous poll
         Clock::time_point last_change{};
-        // For the position model: where the axis stood when the leg was sent (display degrees),
-        // and the last two readings of it during the leg.
-        double start = 0.0;
-        std::optional<AxisReading> latest, earlier;
+        LegMotion motion;   // for the position model (send() starts it, polls add readings)
     };
 
     Status send(Leg& leg);

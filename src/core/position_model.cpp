@@ -9,8 +9,8 @@ namespace {
 
 // A reading moved less than this from the leg's start: the axis may not have started yet.
 constexpr double started_degrees = 0.02;
-// Two readings of one leg time the axis only if it moved at least this much between them: below,
-// the readings' rounding dominates.
+// Two readings of one leg time the axis only once it moved at least this much between them:
+// below, the readings' rounding dominates.
 constexpr double timing_degrees = 0.1;
 // The axis' pace against the motion model is believed within these bounds; beyond them a reading
 // is more likely a glitch than a motor running at a fraction or a multiple of its known speed.
@@ -60,24 +60,44 @@ double modelled_axis(const FirmwareProfile& dish, const LegMotion& leg, Clock::t
     return leg.axis == Axis::azimuth ? normalize_azimuth(position) : position;
 }
 
-std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion& leg) {
-    if (!leg.earlier || leg.earlier->at <= leg.sent_at || leg.latest.at <= leg.earlier->at) {
-        return std::nullopt;
+void add_reading(LegMotion& leg, AxisReading reading) {
+    if (leg.latest.at > leg.sent_at) {
+        leg.previous = leg.latest;
     }
+    leg.latest = reading;
+    if (!leg.first_moving && reading.at > leg.sent_at &&
+        std::fabs(delta(leg.axis, leg.start, reading.value)) >= started_degrees) {
+        leg.first_moving = reading;
+    }
+}
+
+std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion& leg) {
     const double signed_distance = delta(leg.axis, leg.start, leg.to);
     const double distance = std::fabs(signed_distance);
     const double direction = signed_distance < 0.0 ? -1.0 : 1.0;
     const double total = seconds(estimated_move_time(dish, leg.axis, distance));
     auto done = [&](double value) { return std::clamp(direction * delta(leg.axis, leg.start, value), 0.0, distance); };
-    const double earlier = done(leg.earlier->value), latest = done(leg.latest.value);
+    const double latest = done(leg.latest.value);
     // Readings at the end of the curve (arrived) say nothing of the time spent getting there.
-    if (total <= 0.0 || earlier < started_degrees || latest - earlier < timing_degrees ||
-        latest > distance - started_degrees) {
+    if (total <= 0.0 || leg.latest.at <= leg.sent_at || latest > distance - started_degrees) {
         return std::nullopt;
     }
-    const double modelled =
-        time_at(dish, leg.axis, distance, latest, total) - time_at(dish, leg.axis, distance, earlier, total);
-    return std::clamp(modelled / seconds(leg.latest.at - leg.earlier->at), min_pace, max_pace);
+    auto pace_since = [&](const std::optional<AxisReading>& from) -> std::optional<double> {
+        if (!from || from->at <= leg.sent_at || from->at >= leg.latest.at) {
+            return std::nullopt;
+        }
+        const double earlier = done(from->value);
+        if (earlier < started_degrees || latest - earlier < timing_degrees) {
+            return std::nullopt;
+        }
+        const double modelled =
+            time_at(dish, leg.axis, distance, latest, total) - time_at(dish, leg.axis, distance, earlier, total);
+        return std::clamp(modelled / seconds(leg.latest.at - from->at), min_pace, max_pace);
+    };
+    if (const auto local = pace_since(leg.previous)) {
+        return local;
+    }
+    return pace_since(leg.first_moving);
 }
 
 int AxisPaces::length_class(double distance) {

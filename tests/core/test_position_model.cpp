@@ -93,18 +93,24 @@ TEST_CASE("position model: two readings of one leg time the axis against the mod
     // A dish that runs the model's curve at two thirds of its pace: readings at model times
     // 0.3 and 0.4 of the move arrive at 0.45 and 0.6 of it.
     LegMotion slow = model;
-    slow.earlier = AxisReading{model_at(move * 3 / 10), t0 + move * 45 / 100};
+    slow.first_moving = AxisReading{model_at(move * 3 / 10), t0 + move * 45 / 100};
     slow.latest = AxisReading{model_at(move * 4 / 10), t0 + move * 60 / 100};
     const auto step = move / 10;   // a further 0.15 of real time is 0.1 of model time
     CHECK(modelled_axis(hal, slow, t0 + move * 60 / 100 + step * 3 / 2) == Approx(model_at(move / 2)).margin(0.02));
 
+    SECTION("the last two readings, where far enough apart, give the pace where the axis is now") {
+        // Started at the model's pace, slowed to two thirds of it since the previous reading.
+        slow.first_moving = AxisReading{model_at(move * 1 / 10), t0 + move * 1 / 10};
+        slow.previous = AxisReading{model_at(move * 3 / 10), t0 + move * 45 / 100};
+        CHECK(modelled_axis(hal, slow, t0 + move * 60 / 100 + step * 3 / 2) == Approx(model_at(move / 2)).margin(0.02));
+    }
     SECTION("an implausible pace is bounded") {
-        slow.earlier->at = t0 + move * 59 / 100;   // a tenth of the model's time for its distance
+        slow.first_moving->at = t0 + move * 59 / 100;   // a tenth of the model's time for its distance
         const double bounded = modelled_axis(hal, slow, t0 + move * 60 / 100 + step);
         CHECK(bounded == Approx(model_at(move * 8 / 10)).margin(0.02));   // four times the model's pace at most
     }
     SECTION("readings too close together to time the axis leave the model's pace") {
-        slow.earlier = AxisReading{slow.latest.value - 0.05, t0 + move * 59 / 100};
+        slow.first_moving = AxisReading{slow.latest.value - 0.05, t0 + move * 59 / 100};
         CHECK(modelled_axis(hal, slow, t0 + move * 60 / 100 + step) == Approx(model_at(move / 2)).margin(0.02));
     }
 }

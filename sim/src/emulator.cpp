@@ -191,12 +191,15 @@ struct Emulator::Impl {
                 allowed = elapsed < byte_time ? 0 : std::min<std::size_t>(allowed, static_cast<std::size_t>(elapsed / byte_time));
             }
             if (allowed == 0) continue;
+            // The count of paced bytes changes under the same lock as the write that sends them, so
+            // a client that has read the bytes never sees a count without them (fault_counters()).
+            std::unique_lock counting(mutex, std::defer_lock);
+            if (baud > 0) counting.lock();
             const ssize_t count = ::write(fd, wire.data(), allowed);
             if (count > 0) {
                 wire.erase(0, static_cast<std::size_t>(count));
                 if (baud > 0) {
                     line_free_at += byte_time * count;
-                    std::lock_guard lock(mutex);
                     counters.paced_bytes += static_cast<std::uint64_t>(count);
                 }
             }

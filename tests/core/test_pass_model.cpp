@@ -18,6 +18,7 @@
 #include "birdcage/azel.hpp"
 #include "birdcage/pass_model.hpp"
 #include "birdcage/pointing.hpp"
+#include "error_stats.hpp"
 
 using namespace birdcage;
 
@@ -73,16 +74,7 @@ struct TruePass {
     }
 };
 
-struct Errors {
-    double max = 0.0, sum_sq = 0.0;
-    int n = 0;
-    void add(double e) {
-        max = std::max(max, e);
-        sum_sq += e * e;
-        ++n;
-    }
-    double rms() const { return n ? std::sqrt(sum_sq / n) : 0.0; }
-};
+using Errors = birdcage::test::ErrorStats;
 
 constexpr double aheads[] = {5.0, 15.0, 30.0};
 

@@ -14,6 +14,7 @@
 
 #include "birdcage/azel.hpp"
 #include "birdcage/pointing.hpp"
+#include "error_stats.hpp"
 
 using namespace birdcage;
 
@@ -97,17 +98,7 @@ struct GpredictRun {
     }
 };
 
-struct Errors {
-    double max = 0.0;
-    double sum_sq = 0.0;
-    int n = 0;
-    void add(double e) {
-        max = std::max(max, e);
-        sum_sq += e * e;
-        ++n;
-    }
-    double rms() const { return n ? std::sqrt(sum_sq / n) : 0.0; }
-};
+using Errors = birdcage::test::ErrorStats;
 
 }  // namespace
 

@@ -15,7 +15,7 @@
 #   BIRDCAGE_BENCH_SWEEP_MODES  pointing modes of the sweep (default none,predictive)
 #   BIRDCAGE_BENCH_SWEEP_ARGS   extra tracking_bench arguments for every sweep run
 #   BIRDCAGE_BENCH_IMG          where the PNGs go (default docs/img)
-# About 25 minutes of wall time on 2 cores (96 matrix runs, 12 sweep runs).
+# About 30 minutes of wall time on 2 cores (112 matrix runs: 96 plus one oracle run per pass and dish; 12 sweep runs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -101,6 +101,7 @@ private:
     TargetPredictor predictor_;
     std::optional<AzEl> aim_;
     std::optional<AzEl> client_target_;   // the last target the client sent, as sent
+    std::optional<AzEl> previous_client_target_;   // the one before it (the client's last step)
     struct TimedStep {
         Clock::time_point started;
         int legs = 0;

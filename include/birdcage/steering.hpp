@@ -61,9 +61,10 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& input);
 namespace birdcage {
 
 // The azimuth direction a pass is taking, for the controller's cable-wrap choice, when the
-// estimate has no rate yet (deg/s; only its sign matters; 0 = unknown). See steering.cpp.
+// estimate has no rate yet (deg/s; only its sign matters; 0 = unknown): `previous_target` and
+// `target` are the client's last two targets, as sent. See steering.cpp.
 double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
-                              AzEl target, double el_min);
+                              const std::optional<AzEl>& previous_target, AzEl target, double el_min);
 
 // What one leg costs beyond its motion (exchange, polling), from a timed step: `busy_s` from the
 // aim to the dish idle again, `motion_s` the motor time of its `legs`. Smoothed with `previous`.

@@ -209,11 +209,12 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at) {
     // Every mode feeds the estimator: its azimuth rate tells the controller which way a pass
     // turns, so it can choose a cable-wrap branch with room for the whole pass.
     predictor_.observe(std::min(sent_at, now), target, controller_->last_position());
-    client_target_ = target;
+    previous_client_target_ = std::exchange(client_target_, target);
     if (pointing_.mode != PointingMode::predictive) {
-        return controller_->set_target(
-            target, azimuth_direction_hint(predictor_.predict(now), controller_->last_position(), target,
-                                           controller_->el_min()));
+        return controller_->set_target(target, azimuth_direction_hint(predictor_.predict(now),
+                                                                      controller_->last_position(),
+                                                                      previous_client_target_, target,
+                                                                      controller_->el_min()));
     }
     emit(options_.log, LogLevel::verbose, "predictive: " + predictor_.describe());
     aim_.reset();
@@ -247,8 +248,11 @@ Status ServiceWorker::steer() {
     aim_ = decision->aim;
     const double az_rate = decision->az_rate != 0.0
                                ? decision->az_rate
-                               : azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
-                                                        decision->aim, controller_->el_min());
+                               : client_target_ ? azimuth_direction_hint(predictor_.predict(now),
+                                                                         controller_->last_position(),
+                                                                         previous_client_target_, *client_target_,
+                                                                         controller_->el_min())
+                                                : 0.0;
     return controller_->set_target(decision->aim, az_rate);
 }
 
@@ -256,6 +260,7 @@ void ServiceWorker::forget_the_pass() {
     predictor_.reset();
     aim_.reset();
     client_target_.reset();
+    previous_client_target_.reset();
     timed_step_.reset();
 }
 

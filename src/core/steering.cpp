@@ -127,16 +127,19 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
 // is still below or near the dish's lowest elevation moves the dish, waiting there, a small step
 // along the satellite's azimuth track, as Gpredict does from the AOS point. The direction of that
 // step is the pass's, and knowing it now lets the one unwind a pass may need happen while the
-// satellite is still out of reach rather than as it rises into the beam.
+// satellite is still out of reach rather than as it rises into the beam. The step is the client's,
+// from its previous target: measured from the dish it would include the dish's own lead (predictive
+// aims run a deadband ahead), and a dish led past a target reads as a pass going the other way.
 double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
-                              AzEl target, double el_min) {
+                              const std::optional<AzEl>& previous_target, AzEl target, double el_min) {
     if (estimate && estimate->az_rate != 0.0) {
         return estimate->az_rate;
     }
-    if (!dish || dish->el > el_min + waiting_low_deg || target.el > el_min + wrap::pass_start_band_deg) {
+    if (!dish || !previous_target || dish->el > el_min + waiting_low_deg ||
+        target.el > el_min + wrap::pass_start_band_deg) {
         return 0.0;
     }
-    const double step = azimuth_difference(dish->az, target.az);
+    const double step = azimuth_difference(previous_target->az, target.az);
     const bool along_track = std::fabs(step) > same_angle_degrees && std::fabs(step) <= tracking_step_max_deg;
     return along_track ? std::copysign(direction_only_rate, step) : 0.0;
 }

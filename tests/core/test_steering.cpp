@@ -94,17 +94,27 @@ TEST_CASE("steering: nothing to steer by before any target") {
     CHECK_FALSE(next_aim(in));
 }
 
-TEST_CASE("steering: the wrap direction comes from the estimate, else from a small step while waiting low") {
+TEST_CASE("steering: the wrap direction comes from the estimate, else from the client's small step while waiting low") {
     Prediction moving;
     moving.az_rate = -0.7;
-    CHECK(azimuth_direction_hint(moving, AzEl{100, 40}, AzEl{90, 40}, 18.0) == -0.7);
+    CHECK(azimuth_direction_hint(moving, AzEl{100, 40}, AzEl{95, 40}, AzEl{90, 40}, 18.0) == -0.7);
     // Waiting at the lowest elevation, the client steps along the track: its sign is the pass's.
-    CHECK(azimuth_direction_hint(std::nullopt, AzEl{350, 18}, AzEl{5, 20}, 18.0) > 0.0);
-    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, AzEl{0, 20}, 18.0) < 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{350, 18}, AzEl{350, 18}, AzEl{5, 20}, 18.0) > 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, AzEl{10, 18}, AzEl{0, 20}, 18.0) < 0.0);
     // A large step is a new pointing, and a dish high in the sky is not waiting for a pass.
-    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, AzEl{90, 20}, 18.0) == 0.0);
-    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 40}, AzEl{15, 40}, 18.0) == 0.0);
-    CHECK(azimuth_direction_hint(std::nullopt, std::nullopt, AzEl{15, 20}, 18.0) == 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, AzEl{10, 18}, AzEl{90, 20}, 18.0) == 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 40}, AzEl{10, 40}, AzEl{15, 40}, 18.0) == 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, std::nullopt, AzEl{10, 18}, AzEl{15, 20}, 18.0) == 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, std::nullopt, AzEl{15, 20}, 18.0) == 0.0);
+}
+
+TEST_CASE("steering: a dish led past the client's target does not read as a pass going back") {
+    // Measured on the benchmark (iss-45, G2, predictive): the aim ran 0.09 deg past the client's
+    // latest target while the estimate was momentarily stationary; the step from the dish to the
+    // target pointed backwards and the pass-start branch choice sent the dish 120 deg the wrong way.
+    const AzEl dish{310.09, 18.0};
+    const AzEl previous{309.96, 18.0}, target{310.00, 18.0};
+    CHECK(azimuth_direction_hint(std::nullopt, dish, previous, target, 18.0) > 0.0);
 }
 
 TEST_CASE("steering: the measured leg overhead is what a step took beyond its motion, smoothed") {

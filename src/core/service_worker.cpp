@@ -96,15 +96,13 @@ Clock::duration ServiceWorker::step() {
 }
 
 // The mail in the order the client meant it: a stop posted before a target clears the old pass
-// first, so `S` then `P` (however quickly) ends up doing what `P` says.
+// first, so `S` then `P` (however quickly) ends up doing what `P` says; likewise `R` then `P`
+// homes first and then goes to the target.
 ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
     Outcome out;
     if (mail.stop) {
         controller_->cancel_pending();
         forget_the_pass();
-    }
-    if (mail.target) {
-        out.status = accept_target(*mail.target, mail.target_posted_at);
     }
     if (mail.home) {
         // The home runs inside controller_->service() a short slice per step, so the mailbox keeps
@@ -112,6 +110,12 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
         forget_the_pass();
         out.status = controller_->start_home();
         mailbox_.home_started();
+    }
+    if (mail.target) {
+        // A target beside a home was posted after it (post_home() drops the ones before): it is
+        // taken once the home has started, so its legs wait for the home's end.
+        const Status accepted = accept_target(*mail.target, mail.target_posted_at);
+        out.status = out.status ? accepted : out.status;
     }
     // A receiver job waits for the leg in flight; legs still queued wait for the job.
     bool ran_job = false;

@@ -146,6 +146,44 @@ TEST_CASE("service worker: a home requested mid-move is started by the next step
     CHECK_FALSE(service.mailbox.view().homing);
 }
 
+TEST_CASE("service worker: R then P, in any timing, homes first and then goes to the target; P then R homes") {
+    const AzEl target{150, 40};
+    auto position_of = [](const std::vector<std::string>& sent, const std::string& prefix) {
+        const auto it = std::find_if(sent.rbegin(), sent.rend(), [&](const std::string& c) { return c.rfind(prefix, 0) == 0; });
+        return it == sent.rend() ? -1 : static_cast<int>(sent.rend() - it) - 1;
+    };
+    // Bit 0: a worker step right after the first post; bit 1: after the second.
+    for (unsigned steps_after = 0; steps_after < 4; ++steps_after) {
+        for (const bool home_first : {true, false}) {
+            INFO((home_first ? "R, P" : "P, R") << "; steps after: " << steps_after);
+            HandDrivenService service;
+            for (int post = 0; post < 2; ++post) {
+                if ((post == 0) == home_first) {
+                    REQUIRE(service.mailbox.post_home());
+                } else {
+                    REQUIRE(service.mailbox.post_target(target, service.now));
+                }
+                if (steps_after & (1u << post)) {
+                    service.step();
+                }
+            }
+            service.drain();
+            const auto& sent = service.wire->commands();
+            const int home_end = position_of(sent, "h 0");
+            REQUIRE(home_end >= 0);
+            const int last_az_move = position_of(sent, "a 0 ");
+            if (home_first) {
+                // Measured through rotctld: a P taken in the same step as the home was dropped by it.
+                CHECK(last_az_move > home_end);
+                CHECK(service.g2.az == Approx(target.az));
+                CHECK(service.g2.el == Approx(target.el));
+            } else {
+                CHECK(last_az_move < home_end);   // nothing of the target before the home survives it
+            }
+        }
+    }
+}
+
 TEST_CASE("service worker: a receiver job withdrawn before the worker takes it never runs") {
     HandDrivenService service;
     auto job = std::make_shared<ServiceJob>();

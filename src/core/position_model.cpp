@@ -34,17 +34,30 @@ double time_at(const FirmwareProfile& dish, Axis axis, double distance, double d
     return 0.5 * (low + high);
 }
 
+// A leg's geometry on its motion curve: how far it goes, which way, in how long (the model's
+// duration), and how far along it a reading of the axis is.
+struct LegCurve {
+    LegCurve(const FirmwareProfile& dish, const LegMotion& of) : leg(of) {
+        const double signed_distance = delta(leg.axis, leg.start, leg.to);
+        distance = std::fabs(signed_distance);
+        direction = signed_distance < 0.0 ? -1.0 : 1.0;
+        total = seconds(estimated_move_time(dish, leg.axis, distance));
+    }
+    double done(double value) const { return std::clamp(direction * delta(leg.axis, leg.start, value), 0.0, distance); }
+
+    const LegMotion& leg;
+    double distance = 0.0, direction = 1.0, total = 0.0;
+};
+
 }  // namespace
 
 double modelled_axis(const FirmwareProfile& dish, const LegMotion& leg, Clock::time_point now) {
-    const double signed_distance = delta(leg.axis, leg.start, leg.to);
-    const double distance = std::fabs(signed_distance);
-    const double direction = signed_distance < 0.0 ? -1.0 : 1.0;
-    const double total = seconds(estimated_move_time(dish, leg.axis, distance));
+    const LegCurve curve(dish, leg);
+    const double distance = curve.distance, total = curve.total;
     if (distance < started_degrees || total <= 0.0) {
         return leg.latest.value;
     }
-    auto done = [&](double value) { return std::clamp(direction * delta(leg.axis, leg.start, value), 0.0, distance); };
+    auto done = [&](double value) { return curve.done(value); };
 
     const double prior = std::clamp(leg.pace, min_pace, max_pace);
     double model_time = 0.0;
@@ -56,7 +69,7 @@ double modelled_axis(const FirmwareProfile& dish, const LegMotion& leg, Clock::t
         const double pace = observed_pace(dish, leg).value_or(prior);
         model_time = time_at(dish, leg.axis, distance, latest, total) + pace * seconds(now - leg.latest.at);
     }
-    const double position = leg.start + direction * travelled_after(dish, leg.axis, distance, model_time);
+    const double position = leg.start + curve.direction * travelled_after(dish, leg.axis, distance, model_time);
     return leg.axis == Axis::azimuth ? normalize_azimuth(position) : position;
 }
 
@@ -72,11 +85,9 @@ void add_reading(LegMotion& leg, AxisReading reading) {
 }
 
 std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion& leg) {
-    const double signed_distance = delta(leg.axis, leg.start, leg.to);
-    const double distance = std::fabs(signed_distance);
-    const double direction = signed_distance < 0.0 ? -1.0 : 1.0;
-    const double total = seconds(estimated_move_time(dish, leg.axis, distance));
-    auto done = [&](double value) { return std::clamp(direction * delta(leg.axis, leg.start, value), 0.0, distance); };
+    const LegCurve curve(dish, leg);
+    const double distance = curve.distance, total = curve.total;
+    auto done = [&](double value) { return curve.done(value); };
     const double latest = done(leg.latest.value);
     // Readings at the end of the curve (arrived) say nothing of the time spent getting there.
     if (total <= 0.0 || leg.latest.at <= leg.sent_at || latest > distance - started_degrees) {

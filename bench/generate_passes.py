@@ -33,10 +33,28 @@ ORBITS = {
     "iss": (420.0, 51.64, 0.0005, 90.0),
     "sso": (820.0, 98.70, 0.0010, 90.0),
 }
-# (orbit, wanted peak elevation, wanted north crossing or None for "don't care")
+# What the set must contain besides a spread of peak elevations (issue 13): north crossings with the
+# azimuth growing (iss-45, iss-85) and shrinking (sso-70), passes no branch of a dish's azimuth
+# travel holds (Trav'ler 0..455: iss-85, sso-70; G2 -423.33..+23.33: iss-60, an ascending ISS pass
+# north of the zenith, rising west of 296.67 and setting east of +23.33).
+def crossing_north(info):
+    return info["crosses_north"]
+
+
+def not_crossing_north(info):
+    return not info["crosses_north"]
+
+
+def crossing_north_rising_west(info):
+    return info["crosses_north"] and info["aos_az"] < 280.0
+
+
+# (orbit, wanted peak elevation, what the pass must also be, or None for "don't care")
 WANTED = [
-    ("iss", 20.0, False), ("iss", 45.0, True), ("iss", 70.0, False), ("iss", 85.0, True),
-    ("sso", 20.0, False), ("sso", 45.0, False), ("sso", 70.0, True), ("sso", 85.0, False),
+    ("iss", 20.0, not_crossing_north), ("iss", 45.0, crossing_north), ("iss", 70.0, not_crossing_north),
+    ("iss", 85.0, crossing_north), ("sso", 20.0, not_crossing_north), ("sso", 45.0, not_crossing_north),
+    ("sso", 70.0, crossing_north), ("sso", 85.0, not_crossing_north),
+    ("iss", 60.0, crossing_north_rising_west),
 ]
 # A pass "crosses north" for the benchmark when its azimuth passes through 0 while the satellite is
 # above the lowest elevation any benchmarked dish can reach (Trav'ler 15 deg).
@@ -121,7 +139,7 @@ def pass_near(orbit, raan, tca_guess):
     return tca, peak
 
 
-def find_raan(orbit, target, want_north):
+def find_raan(orbit, target, wanted):
     coarse = {}
     raans = np.arange(0.0, 360.0, 0.5)
     for raan in raans:
@@ -150,7 +168,7 @@ def find_raan(orbit, target, want_north):
             continue
         info = describe_pass(orbit, raan, tca)
         results.append((raan, info))
-        if want_north is None or info["crosses_north"] == want_north:
+        if wanted is None or wanted(info):
             return raan, info
     if results:
         return results[0]
@@ -207,8 +225,8 @@ def main():
     directory = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "passes")
     os.makedirs(directory, exist_ok=True)
     index = []
-    for orbit, target, want_north in WANTED:
-        raan, info = find_raan(orbit, target, want_north)
+    for orbit, target, wanted in WANTED:
+        raan, info = find_raan(orbit, target, wanted)
         name = f"{orbit}-{int(target)}"
         write_pass(directory, name, orbit, raan, info)
         index.append((name, orbit, raan, info))

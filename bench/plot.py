@@ -3,10 +3,12 @@
 
     /usr/bin/python3 bench/plot.py <bench-out-dir> <image-dir>
 
-<bench-out-dir> holds matrix/ (the pass matrix) and scale-<k>/ (the time-scale sweep), as
-scripts/benchmark.sh lays them out; each has summary.csv (one row per run), latency.csv (every `p`
-and `P` of a variant x mode pooled) and runs/ (one trace per run). Writes PNGs into <image-dir> and
-tables.md into <bench-out-dir>. Needs Debian's python3-matplotlib and python3-numpy.
+<bench-out-dir> holds matrix/ (the pass matrix), mappings/ (north-crossing and forced-unwind passes
+under the other azimuth mappings), realtime/ (the k = 1 subset) and scale-<k>/ (the time-scale
+sweep), as scripts/benchmark.sh lays them out; each has summary.csv (one row per run), latency.csv
+(every `p` and `P` of a variant x mode pooled) and runs/ (one trace per run). Any but matrix/ may
+be missing. Writes PNGs into <image-dir> and tables.md into <bench-out-dir>. Needs Debian's
+python3-matplotlib and python3-numpy.
 """
 import csv
 import glob
@@ -32,10 +34,18 @@ MODE_COLOUR = {"none": "tab:blue", "leapfrog": "tab:orange", "predictive": "tab:
 # The oracle (the client posts the true position every cycle) runs at threshold 0: the floor of
 # every threshold's panel.
 ORACLE_THRESHOLD = "0"
-# Goals of issue 5 (docs/tracking.md): RMS per client threshold, and above the elevation cap.
+# Goals of issues 5 and 13 (docs/tracking.md): RMS per client threshold, and above the elevation cap.
 RMS_GOAL = {"0.5": 0.25, "5": 1.5}
+MAX_GOAL_FINE = 1.0            # max error at 0.5 deg on passes one branch holds
+FORCED_VS_ORACLE_GOAL = 1.5    # RMS on a forced-unwind pass, as a multiple of the oracle's
 CAP_EXCESS_GOAL = 0.5
 REACQUIRE_GOAL = 2.0
+P_ERROR_P95_GOAL = 0.1         # `p` against the true position, degrees
+P_P99_GOAL_MS = 1.0
+# The pointing mode a user gets without `-C pointing=` (FirmwareProfile::predictive_by_default in
+# src/core/variants.cpp): the goals are judged on it, the other modes shown beside it.
+DEFAULT_MODE = {"g2": "predictive", "hal205": "none"}
+DEFAULT_MAPPING = "nearest"    # the emulator's default; the matrix runs under it
 
 PER_PASS_NOTES = """\
 Columns: *tracked s* = seconds the satellite is inside the dish's EL limits (the error figures
@@ -231,17 +241,22 @@ def reacquire_text(value):
     return "never" if value < 0 else f"{value:.1f}"
 
 
-def per_pass_table(summary):
-    out = ["### Per pass", "", PER_PASS_NOTES, "",
-           "| pass | peak | N-cross | variant | mode | thr | tracked s | RMS | p95 | max | motor cmds | P sent | "
+def mapping_of(row):
+    return row.get("az_mapping") or DEFAULT_MAPPING
+
+
+def per_pass_table(summary, title="### Per pass", notes=PER_PASS_NOTES):
+    out = [title, "", notes, "",
+           "| pass | peak | N-cross | variant | mode | AZ mapping | thr | tracked s | RMS | p95 | max | motor cmds | P sent | "
            "pre-pass AZ | mid-pass extra AZ | unwound | avoidable | above cap s | cap excess | re-acquire s |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in sorted(summary, key=lambda r: (r["variant"], r["pass"], float(r["threshold"]), mode_key(r["mode"]))):
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(summary, key=lambda r: (r["variant"], r["pass"], mapping_of(r), float(r["threshold"]),
+                                            mode_key(r["mode"]))):
         tracked = number(r, "tracked_s") > 0
         err = (lambda k: fmt(number(r, k))) if tracked else (lambda k: "—")
         above = number(r, "above_cap_s")
         out.append(f"| {r['pass']} | {number(r, 'peak_el'):.0f}° | {'yes' if r['crosses_north'] == '1' else 'no'} | "
-                   f"{r['variant']} | {r['mode']} | {r['threshold']}° | {number(r, 'tracked_s'):.0f} | {err('rms')} | "
+                   f"{r['variant']} | {r['mode']} | {mapping_of(r)} | {r['threshold']}° | {number(r, 'tracked_s'):.0f} | {err('rms')} | "
                    f"{err('p95')} | {err('max')} | {r['motor_commands']} | {r['set_commands']} | "
                    f"{number(r, 'prepass_az_travel'):.0f}° | {number(r, 'extra_az_travel'):.0f}° | "
                    f"{'**yes**' if r['unwound'] == '1' else 'no'} | {'yes' if r['one_branch'] == '1' else 'no'} | "
@@ -302,8 +317,174 @@ def sweep_table(sweeps):
     return out
 
 
-def tables(summary, latency_sets, sweeps):
-    out = per_pass_table(summary) + [""] + summary_table(summary) + [""] + latency_table(latency_sets)
+MAPPING_NOTES = """\
+The same columns as the matrix, for the north-crossing and forced-unwind passes under the two
+other ways the emulated firmware may map an azimuth target onto its travel (`--az-mapping`):
+*literal* (a number is a mechanical angle) and *wrap_manager* (the firmware keeps the axis inside
+one 360° sector, wrap point at north). The backend is not told which it meets. *avoidable* is
+judged against what the mapping lets the dish reach: under a wrap manager at north, no north
+crossing is held by any branch."""
+
+REALTIME_NOTES = """\
+The same runs at k = 1 (real time: emulator, backend and client) beside their k = 5 matrix row.
+If the time scale distorted the backend or the client, the error and the motor commands would
+differ systematically between the two columns; single runs differ by their own noise (compare
+bimodal rows, e.g. an unwind in one run and not in the other)."""
+
+
+def key_of(row):
+    return (row["pass"], row["variant"], row["mode"], row["threshold"], mapping_of(row))
+
+
+def realtime_table(matrix, realtime):
+    by_key = {key_of(r): r for r in matrix}
+    out = ["### Real time (k = 1) against the matrix (k = 5)", "", REALTIME_NOTES, "",
+           "| pass | variant | mode | thr | RMS k=1 | RMS k=5 | max k=1 | max k=5 | motor cmds k=1 | k=5 | "
+           "P sent k=1 | k=5 | unwound k=1 | k=5 | `p` p99 k=1 | reported vs true p95 k=1 |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(realtime, key=lambda r: (r["variant"], r["pass"], float(r["threshold"]), mode_key(r["mode"]))):
+        m = by_key.get(key_of(r))
+        other = (lambda k, d=2: fmt(number(m, k), d)) if m else (lambda k, d=2: "—")
+        unwound = lambda row: "**yes**" if row["unwound"] == "1" else "no"  # noqa: E731
+        out.append(f"| {r['pass']} | {r['variant']} | {r['mode']} | {r['threshold']}° | {fmt(number(r, 'rms'))} | "
+                   f"{other('rms')} | {fmt(number(r, 'max'))} | {other('max')} | {r['motor_commands']} | "
+                   f"{other('motor_commands', 0)} | {r['set_commands']} | {other('set_commands', 0)} | "
+                   f"{unwound(r)} | {unwound(m) if m else '—'} | {fmt(number(r, 'p_p99_ms'), 3)} ms | "
+                   f"{fmt(number(r, 'p_error_p95_deg'), 3)}° |")
+    return out
+
+
+def runs_of(summary, variant, mode, threshold):
+    return [r for r in summary if r["variant"] == variant and r["mode"] == mode and r["threshold"] == threshold
+            and number(r, "tracked_s") > 0]
+
+
+def worst(rows, key):
+    """(value, pass) of the row with the highest `key`, or (nan, '')."""
+    if not rows:
+        return math.nan, ""
+    row = max(rows, key=lambda r: number(r, key))
+    return number(row, key), row["pass"]
+
+
+def verdict(ok):
+    return "**met**" if ok else "not met"
+
+
+def goal_rows(matrix, mappings, latency, variant, mode):
+    """One (goal, figure, met) per goal of issue 13, for this variant run in this mode."""
+    rows = []
+    fine = runs_of(matrix, variant, mode, "0.5")
+    held = [r for r in fine if r["one_branch"] == "1"]
+    forced = [r for r in fine if r["one_branch"] != "1"]
+    rms, at = worst(held, "rms")
+    met = sum(1 for r in held if number(r, "rms") <= RMS_GOAL["0.5"])
+    rows.append((f"0.5°: RMS ≤ {RMS_GOAL['0.5']}° where a branch holds the pass",
+                 f"worst {fmt(rms)}° ({at}); {met} of {len(held)} passes within", bool(held) and met == len(held)))
+    worst_max, at = worst(held, "max")
+    met = sum(1 for r in held if number(r, "max") <= MAX_GOAL_FINE)
+    rows.append((f"0.5°: max ≤ {MAX_GOAL_FINE}° where a branch holds the pass",
+                 f"worst {fmt(worst_max)}° ({at}); {met} of {len(held)} passes within",
+                 bool(held) and met == len(held)))
+    oracle = {r["pass"]: r for r in runs_of(matrix, variant, "oracle", ORACLE_THRESHOLD)}
+    ratios = [(number(r, "rms") / number(oracle[r["pass"]], "rms"), r["pass"]) for r in forced
+              if r["pass"] in oracle and number(oracle[r["pass"]], "rms") > 0]
+    if ratios:
+        ratio, at = max(ratios)
+        rows.append((f"0.5°, forced-unwind passes: RMS ≤ {FORCED_VS_ORACLE_GOAL}× the oracle's",
+                     "worst " + f"{ratio:.1f}× ({at}); " + ", ".join(f"{p} {x:.1f}×" for x, p in sorted(ratios, key=lambda x: x[1])),
+                     ratio <= FORCED_VS_ORACLE_GOAL))
+    coarse = runs_of(matrix, variant, mode, "5")
+    rms, at = worst(coarse, "rms")
+    met = sum(1 for r in coarse if number(r, "rms") <= RMS_GOAL["5"])
+    rows.append((f"5°: RMS ≤ {RMS_GOAL['5']}°", f"worst {fmt(rms)}° ({at}); {met} of {len(coarse)} passes within",
+                 bool(coarse) and met == len(coarse)))
+    if mode != "none":
+        over = []
+        for thr in ("0.5", "5"):
+            base = {r["pass"]: r for r in runs_of(matrix, variant, "none", thr)}
+            for r in runs_of(matrix, variant, mode, thr):
+                if r["pass"] in base and number(base[r["pass"]], "motor_commands") > 0:
+                    over.append((number(r, "motor_commands") / number(base[r["pass"]], "motor_commands"),
+                                 f"{r['pass']} {thr}°"))
+        if over:
+            ratio, at = max(over)
+            within = sum(1 for x, _ in over if x <= 1.0)
+            rows.append(("motor commands per pass ≤ `none`'s at the same threshold",
+                         f"worst {ratio:.1f}× ({at}); {within} of {len(over)} runs within", within == len(over)))
+    every = [r for r in matrix + mappings if r["variant"] == variant and r["mode"] == mode]
+    avoidable = [r for r in every if r["unwound"] == "1" and r["one_branch"] == "1"]
+    rows.append(("no avoidable unwind (matrix and mapping runs)",
+                 f"{len(avoidable)} of {len(every)} runs" +
+                 (" (" + ", ".join(f"{r['pass']} {r['threshold']}° {mapping_of(r)}" for r in avoidable) + ")"
+                  if avoidable else ""), not avoidable))
+    swing, at = worst(every, "prepass_az_travel")
+    rows.append(("no pre-pass swing beyond the chosen branch (pre-pass AZ ≤ 400°: one branch change and the "
+                 "approach)", f"worst {fmt(swing, 0)}° ({at})", not math.isnan(swing) and swing <= 400.0))
+    capped = [r for r in matrix if r["variant"] == variant and r["mode"] == mode and number(r, "above_cap_s") > 0
+              and number(r, "tracked_s") > 0]
+    if capped:
+        excess, at = worst(capped, "cap_excess_max")
+        rows.append((f"above the cap: excess ≤ {CAP_EXCESS_GOAL}°", f"worst {fmt(excess)}° ({at})",
+                     excess <= CAP_EXCESS_GOAL))
+        reacquire = [(number(r, "reacquire_s"), r["pass"] + " " + r["threshold"] + "°") for r in capped
+                     if not math.isnan(number(r, "reacquire_s"))]
+        if reacquire:
+            never = [p for v, p in reacquire if v < 0]
+            value, at = max(reacquire)
+            text = f"never ({', '.join(never)})" if never else f"worst {value:.1f} s ({at})"
+            rows.append((f"above the cap: re-acquire ≤ {REACQUIRE_GOAL:g} s", text,
+                         not never and value <= REACQUIRE_GOAL))
+    pooled = next((r for r in latency if r["variant"] == variant and r["mode"] == mode), None)
+    if pooled:
+        rows.append((f"`p` vs truth p95 ≤ {P_ERROR_P95_GOAL}°", f"{number(pooled, 'p_error_p95_deg'):.3f}°",
+                     number(pooled, "p_error_p95_deg") <= P_ERROR_P95_GOAL))
+        rows.append((f"`p` p99 ≤ {P_P99_GOAL_MS:g} ms through rotctld", f"{number(pooled, 'p_p99_ms'):.3f} ms",
+                     number(pooled, "p_p99_ms") <= P_P99_GOAL_MS))
+    return rows
+
+
+def goals_table(matrix, mappings, latency):
+    out = ["### Against the goals of issue 13", "",
+           f"Judged on each dish's default pointing mode ({', '.join(f'{v}: `{m}`' for v, m in DEFAULT_MODE.items())}), "
+           "with the other modes beside it; from the matrix (k = 5, AZ mapping nearest) and, for unwinds and "
+           "pre-pass travel, the mapping runs too.", "",
+           "| variant | goal | mode | figure | verdict |", "|---|---|---|---|---|"]
+    variants = [v for v in ["g2", "hal205"] if any(r["variant"] == v for r in matrix)]
+    for variant in variants:
+        modes = [DEFAULT_MODE.get(variant, "none")] + [m for m in ("none", "predictive", "leapfrog")
+                                                      if m != DEFAULT_MODE.get(variant, "none")]
+        per_mode = {m: goal_rows(matrix, mappings, latency, variant, m) for m in modes if runs_of(matrix, variant, m, "0.5")}
+        default = modes[0]
+        for i, (goal, figure, ok) in enumerate(per_mode.get(default, [])):
+            out.append(f"| {variant} | {goal} | **{default}** (default) | {figure} | {verdict(ok)} |")
+            for m in modes[1:]:
+                match = next((row for row in per_mode.get(m, []) if row[0] == goal), None)
+                if match:
+                    out.append(f"| | | {m} | {match[1]} | {verdict(match[2])} |")
+    return out
+
+
+def worst_passes(matrix):
+    """(pass, variant) of the highest-RMS pass per dish in its default mode, at each threshold."""
+    picked = []
+    for variant, mode in DEFAULT_MODE.items():
+        for thr in ("0.5", "5"):
+            _, at = worst(runs_of(matrix, variant, mode, thr), "rms")
+            if at and (at, variant) not in picked:
+                picked.append((at, variant))
+    return picked
+
+
+def tables(summary, latency_sets, sweeps, mappings=(), realtime=(), latency=()):
+    out = goals_table(summary, list(mappings), list(latency)) + [""]
+    out += per_pass_table(summary) + [""] + summary_table(summary) + [""]
+    if mappings:
+        out += per_pass_table(list(mappings), "### North crossings and forced unwinds under the other AZ mappings",
+                              MAPPING_NOTES) + [""]
+    if realtime:
+        out += realtime_table(summary, list(realtime)) + [""]
+    out += latency_table(latency_sets)
     if sweeps:
         out += [""] + sweep_table(sweeps)
     return "\n".join(out) + "\n"
@@ -315,11 +496,21 @@ def main():
     out_dir, image_dir = sys.argv[1], sys.argv[2]
     os.makedirs(image_dir, exist_ok=True)
     summary = read_csv(os.path.join(out_dir, "matrix", "summary.csv"))
+
+    def optional(*parts):
+        path = os.path.join(out_dir, *parts)
+        return read_csv(path) if os.path.exists(path) else []
+
+    mappings, realtime = optional("mappings", "summary.csv"), optional("realtime", "summary.csv")
+    matrix_latency = optional("matrix", "latency.csv")
     sweeps, latency_sets = {}, []
-    matrix_latency = os.path.join(out_dir, "matrix", "latency.csv")
-    if os.path.exists(matrix_latency):
+    if matrix_latency:
         scale = {r["scale"] for r in summary}
-        latency_sets.append((f"matrix {'/'.join(sorted(scale))}x", read_csv(matrix_latency)))
+        latency_sets.append((f"matrix {'/'.join(sorted(scale))}x", matrix_latency))
+    for label, name in (("mapping runs", "mappings"), ("real time 1x", "realtime")):
+        rows = optional(name, "latency.csv")
+        if rows:
+            latency_sets.append((label, rows))
     for d in sorted(glob.glob(os.path.join(out_dir, "scale-*")), key=lambda d: float(d.rsplit("-", 1)[1])):
         path = os.path.join(d, "summary.csv")
         if os.path.exists(path):
@@ -328,7 +519,7 @@ def main():
             if os.path.exists(os.path.join(d, "latency.csv")):
                 latency_sets.append((f"sweep {k:g}x", read_csv(os.path.join(d, "latency.csv"))))
     made = []
-    for pass_name, variant in TRACE_PLOTS:
+    for pass_name, variant in TRACE_PLOTS + [w for w in worst_passes(summary) if w not in TRACE_PLOTS]:
         name = plot_trace(os.path.join(out_dir, "matrix", "runs"), pass_name, variant, image_dir)
         if name:
             made.append(name)
@@ -338,7 +529,7 @@ def main():
     if sweeps:
         made.append(plot_scale(sweeps, image_dir))
     with open(os.path.join(out_dir, "tables.md"), "w") as f:
-        f.write(tables(summary, latency_sets, sweeps))
+        f.write(tables(summary, latency_sets, sweeps, mappings, realtime, matrix_latency))
     print("plots:", ", ".join(os.path.join(image_dir, m) for m in made))
     print("tables:", os.path.join(out_dir, "tables.md"))
 

@@ -5,7 +5,11 @@
 //
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
 //                  [--modes none,leapfrog,predictive,oracle] [--thresholds 0.5,5] [--window SECONDS]
-//                  [--out DIR] [--passes-dir DIR] [--conf KEY=VALUE]...
+//                  [--mappings nearest,literal,wrap_manager] [--out DIR] [--passes-dir DIR]
+//                  [--conf KEY=VALUE]...
+//
+// --mappings runs every pass under each way the emulated firmware may map an azimuth target onto
+// its travel (docs/firmware.md, "azimuth mapping"); the backend is not told which one it meets.
 //
 // Every run passes `-C time_scale=K` to rotctld, so the backend's clock and polling periods run at
 // the emulator's pace and the time scale no longer distorts what the backend does; the program
@@ -16,6 +20,8 @@
 #include "gpredict_client.hpp"
 #include "harness.hpp"
 #include "pass.hpp"
+
+#include "birdcage_sim/motor.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -87,11 +93,12 @@ constexpr double reacquire_within_deg = 1.0;
 struct Options {
     double scale = 5.0;  // as scripts/benchmark.sh runs the matrix
     int jobs = 2;
-    std::vector<std::string> passes = {"iss-20", "iss-45", "iss-70", "iss-85",
+    std::vector<std::string> passes = {"iss-20", "iss-45", "iss-60", "iss-70", "iss-85",
                                        "sso-20", "sso-45", "sso-70", "sso-85"};
     std::vector<std::string> variants = {"g2", "hal205"};
     std::vector<std::string> modes = {"none", "leapfrog", "predictive", "oracle"};
     std::vector<double> thresholds = {0.5, 5.0};
+    std::vector<std::string> mappings = {"nearest"};
     double window_s = 0.0;  // > 0: only this many seconds around the TCA
     std::string out = "bench-out";
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
@@ -125,6 +132,8 @@ struct RunSpec {
     const VariantRow* variant;
     const ModeRow* mode;
     double threshold;
+    birdcage::sim::AzMapping mapping = birdcage::sim::AzMapping::nearest;
+    std::string mapping_name = "nearest";
 };
 
 struct RunResult {
@@ -188,6 +197,8 @@ Options parse(int argc, char** argv) {
             for (const std::string& t : split(value())) {
                 o.thresholds.push_back(std::stod(t));
             }
+        } else if (arg == "--mappings") {
+            o.mappings = split(value());
         } else if (arg == "--window") {
             o.window_s = std::stod(value());
         } else if (arg == "--out") {
@@ -211,7 +222,8 @@ bool is_motor_command(const std::string& line) {
 std::string run_name(const RunSpec& s) {
     char thr[16];
     std::snprintf(thr, sizeof thr, "%g", s.threshold);
-    return std::string(s.pass->name()) + "_" + s.variant->key + "_" + s.mode->key + "_thr" + thr;
+    const std::string mapping = s.mapping == birdcage::sim::AzMapping::nearest ? "" : "_" + s.mapping_name;
+    return std::string(s.pass->name()) + "_" + s.variant->key + "_" + s.mode->key + "_thr" + thr + mapping;
 }
 
 RunResult run_one(const RunSpec& spec, const Options& options) {
@@ -236,6 +248,7 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     dish.time_scale = options.scale;
     dish.start_az = options.window_s > 0.0 ? at_start.az : pass.aos_az();
     dish.start_el = std::clamp(at_start.el, v.el_min, v.el_max);
+    dish.az_mapping = spec.mapping;
 
     // The backend's clock runs at the emulator's pace (conf time_scale), so its polling and leg
     // chaining happen at the same simulated moments as they would at real time.
@@ -342,8 +355,14 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
             lo = std::min(lo, az);
             hi = std::max(hi, az);
         }
+        // A firmware wrap manager keeps the axis inside one 360-degree sector of the travel.
+        double window_lo = v.az_lo, window_hi = v.az_hi;
+        if (spec.mapping == birdcage::sim::AzMapping::wrap_manager) {
+            window_lo = std::max(v.az_lo, birdcage::sim::wrap_sector_start(dish.az_wrap_point, v.az_lo, v.az_hi));
+            window_hi = std::min(v.az_hi, window_lo + 360.0);
+        }
         for (int n = -3; n <= 3 && !result.one_branch; ++n) {
-            result.one_branch = lo + 360.0 * n >= v.az_lo && hi + 360.0 * n <= v.az_hi;
+            result.one_branch = lo + 360.0 * n >= window_lo && hi + 360.0 * n <= window_hi;
         }
     }
 
@@ -416,19 +435,20 @@ std::string reacquire_text(const RunResult& r) {
 }
 
 void print_header() {
-    std::printf("%-7s %-7s %-10s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
-                "pass", "variant", "mode", "thr", "RMS", "p95", "max", "motor", "P", "preAz", "xtraAz", "U", "capExc",
+    std::printf("%-7s %-7s %-10s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
+                "pass", "variant", "mode", "map", "thr", "RMS", "p95", "max", "motor", "P", "preAz", "xtraAz", "U", "capExc",
                 "reacq", "p med", "p p99", "p max", "P med", "P p99", "|p|p95");
-    std::printf("%-7s %-7s %-10s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
-                "", "", "", "deg", "deg", "deg", "deg", "cmds", "sent", "deg", "deg", "", "max", "s", "ms", "ms", "ms",
+    std::printf("%-7s %-7s %-10s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
+                "", "", "", "", "deg", "deg", "deg", "deg", "cmds", "sent", "deg", "deg", "", "max", "s", "ms", "ms", "ms",
                 "ms", "ms", "deg");
 }
 
 void print_row(const RunResult& r) {
     const Figures p = figures_of(r.p_ms), set = figures_of(r.set_ms), pe = figures_of(r.p_error_deg);
-    std::printf("%-7s %-7s %-10s %4g | %6.3f %6.3f %6.3f | %5zu %4zu | %6.0f %7.0f %2s | %6s %5s | %6.3f %6.3f %6.3f | "
+    std::printf("%-7s %-7s %-10s %-4.4s %4g | %6.3f %6.3f %6.3f | %5zu %4zu | %6.0f %7.0f %2s | %6s %5s | %6.3f %6.3f %6.3f | "
                 "%6.3f %6.3f | %6.3f\n",
-                r.spec.pass->name().c_str(), r.spec.variant->key, r.spec.mode->key, r.spec.threshold, r.error.rms,
+                r.spec.pass->name().c_str(), r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(),
+                r.spec.threshold, r.error.rms,
                 r.error.p95, r.error.max, r.motor_commands, r.set_commands, r.prepass_az_travel, r.extra_az_travel,
                 r.unwound ? (r.one_branch ? "UA" : "U") : "", cap_text(r).c_str(), reacquire_text(r).c_str(),
                 p.median, p.p99, p.max, set.median, set.p99, pe.p95);
@@ -520,12 +540,19 @@ int main(int argc, char** argv) {
                     std::fprintf(stderr, "tracking_bench: unknown mode %s\n", mk.c_str());
                     return 2;
                 }
-                if (m->oracle) {
-                    specs.push_back({&pass, &*v, &*m, 0.0});
-                    continue;
-                }
-                for (double thr : options.thresholds) {
-                    specs.push_back({&pass, &*v, &*m, thr});
+                for (const std::string& mapping_name : options.mappings) {
+                    const auto mapping = birdcage::sim::parse_az_mapping(mapping_name);
+                    if (!mapping) {
+                        std::fprintf(stderr, "tracking_bench: unknown azimuth mapping %s\n", mapping_name.c_str());
+                        return 2;
+                    }
+                    if (m->oracle) {
+                        specs.push_back({&pass, &*v, &*m, 0.0, *mapping, mapping_name});
+                        continue;
+                    }
+                    for (double thr : options.thresholds) {
+                        specs.push_back({&pass, &*v, &*m, thr, *mapping, mapping_name});
+                    }
                 }
             }
         }
@@ -591,7 +618,7 @@ int main(int argc, char** argv) {
 
     std::filesystem::create_directories(options.out);
     std::ofstream summary(options.out + "/summary.csv");
-    summary << "pass,peak_el,crosses_north,variant,mode,threshold,scale,window_s,tracked_s,rms,p95,max,motor_commands,"
+    summary << "pass,peak_el,crosses_north,variant,mode,az_mapping,threshold,scale,window_s,tracked_s,rms,p95,max,motor_commands,"
                "set_commands,prepass_az_travel,extra_az_travel,unwound,one_branch,above_cap_s,cap_excess_p95,"
                "cap_excess_max,reacquire_s,p_median_ms,p_p95_ms,p_p99_ms,p_max_ms,P_median_ms,P_p95_ms,P_p99_ms,"
                "P_max_ms,p_error_p95_deg,p_error_p99_deg,p_error_max_deg,wire_floor_ms,failed_replies,wall_s\n";
@@ -611,10 +638,10 @@ int main(int argc, char** argv) {
         }
         char line[768];
         std::snprintf(line, sizeof line,
-                      "%s,%.2f,%d,%s,%s,%g,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%.1f,%d,%d,%.1f,%s,%s,%s,%.4f,%.4f,"
+                      "%s,%.2f,%d,%s,%s,%s,%g,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%.1f,%d,%d,%.1f,%s,%s,%s,%.4f,%.4f,"
                       "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%u,%.1f\n",
                       r.spec.pass->name().c_str(), r.spec.pass->peak_el(), r.spec.pass->crosses_north() ? 1 : 0,
-                      r.spec.variant->key, r.spec.mode->key, r.spec.threshold, options.scale, options.window_s,
+                      r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(), r.spec.threshold, options.scale, options.window_s,
                       r.tracked_s, r.error.rms, r.error.p95, r.error.max, r.motor_commands, r.set_commands,
                       r.prepass_az_travel, r.extra_az_travel, r.unwound ? 1 : 0, r.one_branch ? 1 : 0, r.above_cap_s,
                       cap_p95, cap_max, reacquire, p.median, p.p95, p.p99, p.max, set.median, set.p95, set.p99,

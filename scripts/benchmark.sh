@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The tracking benchmark in one command (issue 5): builds tracking_bench, runs the pass matrix and
-# the time-scale sweep through the stock rotctld + backend + emulator, then draws the plots into
-# docs/img/ and the tables into build-bench/bench/out/tables.md (pasted into docs/benchmarks.md).
+# The tracking benchmark in one command (issues 5 and 13): builds tracking_bench, runs the pass
+# matrix, the azimuth-mapping runs, the real-time subset and the time-scale sweep through the stock
+# rotctld + backend + emulator, then draws the plots into docs/img/ and the tables into
+# build-bench/bench/out/tables.md (pasted into docs/benchmarks.md).
 # Every run passes `-C time_scale=k` to rotctld, so the backend's clock follows the emulator's.
 #
 #   ./scripts/benchmark.sh
@@ -11,11 +12,15 @@
 #   BIRDCAGE_BENCH_BUILD        build directory (default build-bench)
 #   BIRDCAGE_BENCH_ARGS         extra tracking_bench arguments for the matrix, e.g.
 #                               "--passes iss-85 --variants g2 --modes none,predictive --thresholds 0.5"
+#   BIRDCAGE_BENCH_MAPPING_ARGS the azimuth-mapping runs (empty: none; default below)
+#   BIRDCAGE_BENCH_REALTIME_ARGS the real-time (k = 1) subset (empty: none; default below)
 #   BIRDCAGE_BENCH_SWEEP_SCALES time scales of the sweep (default "1 5 10"; empty: no sweep)
 #   BIRDCAGE_BENCH_SWEEP_MODES  pointing modes of the sweep (default none,predictive)
 #   BIRDCAGE_BENCH_SWEEP_ARGS   extra tracking_bench arguments for every sweep run
 #   BIRDCAGE_BENCH_IMG          where the PNGs go (default docs/img)
-# About 30 minutes of wall time on 2 cores (112 matrix runs: 96 plus one oracle run per pass and dish; 12 sweep runs).
+# About 90 minutes of wall time on 2 cores: the matrix (126 runs: 9 passes x 2 dishes x 3 modes x
+# 2 thresholds, plus one oracle run per pass and dish) ~35 min, the mapping runs (32) ~10 min, the
+# real-time subset (30 runs, 15 at a time) ~30 min, the sweep (12 runs) ~8 min.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -26,6 +31,13 @@ scale=${BIRDCAGE_BENCH_SCALE:-5}
 jobs=${BIRDCAGE_BENCH_JOBS:-8}
 sweep_scales=${BIRDCAGE_BENCH_SWEEP_SCALES-1 5 10}
 sweep_modes=${BIRDCAGE_BENCH_SWEEP_MODES:-none,predictive}
+# The north-crossing passes (both directions) and the forced-unwind ones, under the two other ways a
+# firmware may map an azimuth target onto its travel (the matrix runs the emulator's default).
+mapping_args=${BIRDCAGE_BENCH_MAPPING_ARGS-"--passes iss-45,iss-60,iss-85,sso-70 --modes none,predictive --thresholds 0.5 --mappings literal,wrap_manager"}
+# Real time (k = 1): does the k = 5 matrix hold? One pass of each kind that matters: a north
+# crossing both dishes can hold (iss-45), one only the Trav'ler can (iss-60), one only the G2 can
+# (sso-70). Real-time runs use little CPU, so 15 run at once.
+realtime_args=${BIRDCAGE_BENCH_REALTIME_ARGS-"--passes iss-45,iss-60,sso-70 --modes none,predictive,oracle --thresholds 0.5,5 --jobs 15"}
 images=${BIRDCAGE_BENCH_IMG:-docs/img}
 out=$build/bench/out
 
@@ -37,6 +49,15 @@ rm -rf "$out"
 # The matrix: every pass x variant x pointing mode x client threshold, at one time scale.
 # shellcheck disable=SC2086
 "$bench" --scale "$scale" --jobs "$jobs" --out "$out/matrix" ${BIRDCAGE_BENCH_ARGS:-}
+
+if [ -n "$mapping_args" ]; then
+    # shellcheck disable=SC2086
+    "$bench" --scale "$scale" --jobs "$jobs" --out "$out/mappings" $mapping_args
+fi
+if [ -n "$realtime_args" ]; then
+    # shellcheck disable=SC2086
+    "$bench" --scale 1 --out "$out/realtime" $realtime_args
+fi
 
 # Whether the time scale still distorts anything now that the backend is scaled too: one pass
 # segment at several scales, down to real time, two rigs at a time so latency is measured on a

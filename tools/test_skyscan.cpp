@@ -30,7 +30,7 @@ TEST_CASE("serpentine: elevation up in even columns, down in odd ones, every poi
     }
 }
 
-TEST_CASE("rows: our CSV and the upstream `az el rssi` format; headers and garbage skipped") {
+TEST_CASE("rows: our CSV and the upstream `az el rssi` format, headers and garbage skipped") {
     const auto ours = parse_row("174.00,43.00,562,2026-11-23T21:00:00Z");
     REQUIRE(ours);
     CHECK(ours->az == 174.0);
@@ -46,7 +46,7 @@ TEST_CASE("rows: our CSV and the upstream `az el rssi` format; headers and garba
     CHECK(format_row(*ours) == "174.00,43.00,562,2026-11-23T21:00:00Z");
 }
 
-TEST_CASE("resume: an interrupted last row is dropped and scanned again; nothing is repeated") {
+TEST_CASE("resume: an interrupted last row is dropped and scanned again, nothing is repeated") {
     const std::string text = "az,el,value,time\n10.00,20.00,401,t\n10.00,21.00,402,t\n10.00,22.0";
     CHECK(complete_length(text) == text.rfind('\n') + 1);
     const auto done = parse_scan(text);

@@ -62,7 +62,8 @@ namespace birdcage {
 
 // The azimuth direction a pass is taking, for the controller's cable-wrap choice, when the
 // estimate has no rate yet (deg/s; only its sign matters; 0 = unknown): `previous_target` and
-// `target` are the client's last two targets, as sent. See steering.cpp.
+// `target` are the client's last two targets, as sent (no previous one: the dish's position stands
+// in for it). See steering.cpp.
 double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
                               const std::optional<AzEl>& previous_target, AzEl target, double el_min);
 

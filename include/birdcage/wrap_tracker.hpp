@@ -74,6 +74,7 @@ private:
     bool recheck_branch_ = false;
     std::optional<double> target_mechanical_;
     std::optional<int> pass_direction_;   // azimuth direction of the pass being followed (+1/-1)
+    double pass_furthest_az_ = 0.0;       // display azimuth of the furthest target along it so far
 };
 
 }  // namespace birdcage

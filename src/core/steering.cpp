@@ -130,16 +130,18 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
 // satellite is still out of reach rather than as it rises into the beam. The step is the client's,
 // from its previous target: measured from the dish it would include the dish's own lead (predictive
 // aims run a deadband ahead), and a dish led past a target reads as a pass going the other way.
+// The client's first target has no previous one; the dish, not yet steered by this session, is
+// where the client left it (at a coarse threshold the next target may come only once the satellite
+// is well inside the beam, too late for an unwind before it).
 double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
                               const std::optional<AzEl>& previous_target, AzEl target, double el_min) {
     if (estimate && estimate->az_rate != 0.0) {
         return estimate->az_rate;
     }
-    if (!dish || !previous_target || dish->el > el_min + waiting_low_deg ||
-        target.el > el_min + wrap::pass_start_band_deg) {
+    if (!dish || dish->el > el_min + waiting_low_deg || target.el > el_min + wrap::pass_start_band_deg) {
         return 0.0;
     }
-    const double step = azimuth_difference(previous_target->az, target.az);
+    const double step = azimuth_difference(previous_target.value_or(*dish).az, target.az);
     const bool along_track = std::fabs(step) > same_angle_degrees && std::fabs(step) <= tracking_step_max_deg;
     return along_track ? std::copysign(direction_only_rate, step) : 0.0;
 }

@@ -18,6 +18,14 @@ constexpr int mechanical_proof_readings = 2;
 constexpr double same_branch_recheck_degrees = 1.0;
 // A target this far (display azimuth) from the previous one is a new pass or another satellite.
 constexpr double new_pass_jump_degrees = 30.0;
+// A pass's azimuth turns one way from rise to set, but the direction the caller infers from a
+// few targets does not: Gpredict's lead is quantised, so a target can land a few tenths of a
+// degree behind the one before, and a momentarily stationary estimate has no direction at all.
+// Taken at face value each flip was a new pass, and the pass-start rule swung the G2 a whole
+// wrap to the other branch and back (iss-45 at a 5 deg threshold: 592 deg of azimuth before the
+// pass, 347 without the flips). The opposite direction is believed once the targets have gone
+// this far back from the furthest one.
+constexpr double reversal_confirm_degrees = 3.0;
 
 std::string degrees_text(double value) { return format_degrees(value); }
 
@@ -85,19 +93,29 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
 //  - when the continuous branch lies outside the window (the limit is reached), the branch with
 //    the most room ahead in the direction of motion (the nearest without a rate hint).
 // A pass is started once: later targets of the same pass (same direction, no jump) keep
-// continuity, so the descent towards el_min at its end never triggers the pass-start rule.
+// continuity, so the descent towards el_min at its end never triggers the pass-start rule. Its
+// direction holds while the caller knows none and through noise (reversal_confirm_degrees).
 //
 // Continuity is measured from the branch of the previous target (not the dish's momentary
 // position, which may be half-way through a long slew to it), else where the azimuth leg in
 // flight ends, else the estimated mechanical azimuth, else the last command.
 double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps,
                                   double el_min, std::optional<double> leg_end, std::optional<double> commanded) {
-    const int direction = az_rate_dps > 0.0 ? 1 : (az_rate_dps < 0.0 ? -1 : 0);
+    int direction = az_rate_dps > 0.0 ? 1 : (az_rate_dps < 0.0 ? -1 : 0);
     const bool jumped = previous && std::fabs(azimuth_difference(previous->az, wanted.az)) > new_pass_jump_degrees;
-    if (direction == 0 || jumped) {
+    if (jumped) {
         pass_direction_.reset();
     }
+    if (pass_direction_) {
+        const double back_from_furthest = azimuth_difference(wanted.az, pass_furthest_az_) * *pass_direction_;
+        if (direction == 0 || (direction != *pass_direction_ && back_from_furthest < reversal_confirm_degrees)) {
+            direction = *pass_direction_;
+        }
+    }
     const bool new_pass = direction != 0 && pass_direction_ != direction;
+    if (new_pass || (direction != 0 && azimuth_difference(pass_furthest_az_, wanted.az) * direction > 0.0)) {
+        pass_furthest_az_ = wanted.az;
+    }
     const bool falling = previous && !jumped && wanted.el < previous->el - same_angle_degrees;
     const bool pass_starting = new_pass && !falling && wanted.el <= el_min + wrap::pass_start_band_deg;
     if (direction != 0) {

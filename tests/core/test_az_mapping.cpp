@@ -52,7 +52,7 @@ TEST_CASE("az mapping: what absolute numbers reach") {
     CHECK(azmap::wrap_sector(200, travler).min == Approx(200));
 }
 
-TEST_CASE("az mapping learner: moves every reading explains teach nothing; planning is the most permissive") {
+TEST_CASE("az mapping learner: moves every reading explains teach nothing, planning is the most permissive") {
     azmap::Learner learner(travler);
     CHECK_FALSE(learner.observe({120, 100, 100, 120, 120}));
     CHECK_FALSE(learner.observe({200, 120, 120, 200, 200}));

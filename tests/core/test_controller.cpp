@@ -263,7 +263,7 @@ TEST_CASE("controller G2: a leg that keeps creeping is abandoned after 2 x estim
     CHECK(controller.idle());
 }
 
-TEST_CASE_METHOD(G2Bench, "controller: cancel_pending drops legs not yet sent; the leg in flight finishes") {
+TEST_CASE_METHOD(G2Bench, "controller: cancel_pending drops legs not yet sent, the leg in flight finishes") {
     REQUIRE(controller.initialize());
     const std::size_t mark = wire.commands().size();
     REQUIRE(controller.set_target({190, 50}));
@@ -733,7 +733,7 @@ TEST_CASE_METHOD(HomingG2, "controller G2: a home whose prompt never returns giv
     CHECK(calls > 10);   // 180 s of dish time, not the first silent slice
 }
 
-TEST_CASE_METHOD(G2Bench, "controller G2: home() is the blocking form; a variant without homing refuses") {
+TEST_CASE_METHOD(G2Bench, "controller G2: home() is the blocking form, a variant without homing refuses") {
     REQUIRE(controller.initialize());
     REQUIRE(controller.home());
     CHECK(contains(wire.commands(), "h 1"));

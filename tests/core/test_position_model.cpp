@@ -28,7 +28,7 @@ MovingAxes azimuth_only(const LegMotion& leg) { return MovingAxes{leg, std::null
 
 }  // namespace
 
-TEST_CASE("position model: no leg in flight, the reading; a leg, from its start to its target") {
+TEST_CASE("position model: no leg in flight, the reading, a leg, from its start to its target") {
     const FirmwareProfile& g2 = profile(VariantId::carryout_g2);
     const AzEl last{100, 30};
     CHECK(modelled_position(g2, last, MovingAxes{}, t0 + 10s).az == Approx(100));

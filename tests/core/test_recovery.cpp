@@ -6,7 +6,7 @@
 using namespace birdcage;
 using namespace std::chrono_literals;
 
-TEST_CASE("recovery: a hang-up reopens the port at once; a reboot re-initialises at once") {
+TEST_CASE("recovery: a hang-up reopens the port at once, a reboot re-initialises at once") {
     const auto hung = classify_step({Status{Errc::disconnected, "EOF"}, true, false, false}, 0, 2);
     CHECK(hung.action == RecoveryAction::reopen);
     CHECK(hung.reason.find("hung up") != std::string::npos);
@@ -14,7 +14,7 @@ TEST_CASE("recovery: a hang-up reopens the port at once; a reboot re-initialises
     CHECK(rebooted.action == RecoveryAction::reinitialise);
 }
 
-TEST_CASE("recovery: timeouts re-synchronise only after the configured run; any answer resets the count") {
+TEST_CASE("recovery: timeouts re-synchronise only after the configured run, any answer resets the count") {
     const StepOutcome timeout{Status{Errc::timeout, "no prompt"}, true, false, false};
     const auto first = classify_step(timeout, 0, 2);
     CHECK(first.action == RecoveryAction::none);
@@ -35,7 +35,7 @@ TEST_CASE("recovery: a step that asked nothing proves nothing") {
     CHECK(idle.consecutive_failures == 1);
 }
 
-TEST_CASE("recovery: a failed attempt backs off doubling within bounds; a lost link is reopened first") {
+TEST_CASE("recovery: a failed attempt backs off doubling within bounds, a lost link is reopened first") {
     const auto first = classify_failed_attempt(Status{Errc::timeout, "still booting"}, 0ms, 100ms, 2000ms);
     CHECK_FALSE(first.reopen);
     CHECK(first.backoff == 100ms);

@@ -87,7 +87,7 @@ struct Dish {
 
 }  // namespace
 
-TEST_CASE("service: a hung-up port is reopened with backoff; p errors meanwhile, then works") {
+TEST_CASE("service: a hung-up port is reopened with backoff, p errors meanwhile, then works") {
     Dish dish;
     std::atomic<bool> plugged{true};
     std::atomic<int> opens{0};

@@ -129,7 +129,7 @@ TEST_CASE("service worker: a target is busy from the moment it is posted until t
     CHECK_FALSE(service.mailbox.view().idle);
 }
 
-TEST_CASE("service worker: a home requested mid-move is started by the next step; p keeps a position") {
+TEST_CASE("service worker: a home requested mid-move is started by the next step, p keeps a position") {
     HandDrivenService service;
     REQUIRE(service.mailbox.post_target({100, 30}, service.now));
     service.step();
@@ -146,7 +146,7 @@ TEST_CASE("service worker: a home requested mid-move is started by the next step
     CHECK_FALSE(service.mailbox.view().homing);
 }
 
-TEST_CASE("service worker: R then P, in any timing, homes first and then goes to the target; P then R homes") {
+TEST_CASE("service worker: R then P, in any timing, homes first and then goes to the target, P then R homes") {
     const AzEl target{150, 40};
     auto position_of = [](const std::vector<std::string>& sent, const std::string& prefix) {
         const auto it = std::find_if(sent.rbegin(), sent.rend(), [&](const std::string& c) { return c.rfind(prefix, 0) == 0; });

@@ -121,7 +121,7 @@ TEST_CASE("session: hazard guard refuses before any byte is written") {
     }
 }
 
-TEST_CASE("session: stale input is consumed first; boot lines set reboot_seen") {
+TEST_CASE("session: stale input is consumed first, boot lines set reboot_seen") {
     FakeG2 dish;
     dish.menu = "MOT";
     FakeTransport wire([&](const std::string& c) { return dish.respond(c); });

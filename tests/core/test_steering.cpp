@@ -105,7 +105,13 @@ TEST_CASE("steering: the wrap direction comes from the estimate, else from the c
     CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, AzEl{10, 18}, AzEl{90, 20}, 18.0) == 0.0);
     CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 40}, AzEl{10, 40}, AzEl{15, 40}, 18.0) == 0.0);
     CHECK(azimuth_direction_hint(std::nullopt, std::nullopt, AzEl{10, 18}, AzEl{15, 20}, 18.0) == 0.0);
-    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, std::nullopt, AzEl{15, 20}, 18.0) == 0.0);
+    // The client's first target: the step from where the dish waits (iss-45 on the G2 at a 5 deg
+    // threshold, the benchmark's figures: the dish at the AOS azimuth, the first target 13 deg along
+    // the track; the next came 68 s later with the satellite at 26 deg, and the branch change then
+    // cost 12 deg RMS over the pass).
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{299.78, 18}, std::nullopt, AzEl{313.05, 18}, 18.0) > 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, std::nullopt, AzEl{5, 20}, 18.0) < 0.0);
+    CHECK(azimuth_direction_hint(std::nullopt, AzEl{10, 18}, std::nullopt, AzEl{90, 20}, 18.0) == 0.0);
 }
 
 TEST_CASE("steering: a dish led past the client's target does not read as a pass going back") {

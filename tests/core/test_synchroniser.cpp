@@ -361,7 +361,7 @@ TEST_CASE("sync: under steady noise a late boot line after a stale prompt still 
     CHECK(synced.value.last_boot_line == "Loc Startup: IDU NOT Present");
 }
 
-TEST_CASE("sync: noise after a prompt leaves it the prompt; text after it on its line does not") {
+TEST_CASE("sync: noise after a prompt leaves it the prompt, text after it on its line does not") {
     SECTION("prompt, then noise read with it and after it, a noise line ending among it") {
         FakeTransport wire([](const std::string&) -> Commands {
             return {"\r\nMOT>k\x9aQ", "\x01\r7\xfe", "\xe0"};

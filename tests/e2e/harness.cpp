@@ -418,6 +418,12 @@ Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_
 
 Rig::~Rig() {
     rotctld_.reset();
+    // Debugging a benchmark or test run: BIRDCAGE_KEEP_ROTCTLD_LOGS=1 keeps each rotctld -vvvv log.
+    const char* keep = std::getenv("BIRDCAGE_KEEP_ROTCTLD_LOGS");
+    if (keep && std::string(keep) == "1") {
+        std::fprintf(stderr, "rotctld log kept: %s\n", log_path_.c_str());
+        return;
+    }
     unlink(log_path_.c_str());
 }
 

@@ -126,7 +126,7 @@ TEST_CASE("faults: inverted polarity makes p fail, restoring it recovers", "[e2e
     CHECK(rig.dish().hazards_received() == 0);
 }
 
-TEST_CASE("faults: the dish reboots mid-move; the backend re-initialises and resumes", "[e2e][faults]") {
+TEST_CASE("faults: the dish reboots mid-move, the backend re-initialises and resumes", "[e2e][faults]") {
     e2e::Rig rig(g2_at(100.0, 30.0), kG2, {"-C", "leapfrog=0"});
     e2e::RotctldConnection client(rig.port());
     REQUIRE(client.ask("P 300 50", 1) == "RPRT 0\n");
@@ -204,7 +204,7 @@ TEST_CASE("faults: reboot mid-move, Trav'ler Pro and Carryout G2", "[e2e][faults
     }
 }
 
-TEST_CASE("faults: unplug and replug; rotctld and the client connection survive", "[e2e][faults]") {
+TEST_CASE("faults: unplug and replug, rotctld and the client connection survive", "[e2e][faults]") {
     auto options = g2_at(100.0, 30.0);
     options.link_path = temp_link("unplug");
     e2e::Rig rig(options, kG2, {"-C", "leapfrog=0"});

@@ -42,7 +42,7 @@ TEST_CASE("K parks every variant with ordinary moves, never with stow", "[e2e][v
     }
 }
 
-TEST_CASE("R: homing on the G2; RPRT -11 (not available) where the firmware has none", "[e2e][verbs][reset]") {
+TEST_CASE("R: homing on the G2, RPRT -11 (not available) where the firmware has none", "[e2e][verbs][reset]") {
     SECTION("Trav'ler HAL 2.05 has no homing command") {
         e2e::Rig rig(e2e::dish_options(Variant::travler_hal205), 90102);
         e2e::RotctldConnection client(rig.port());

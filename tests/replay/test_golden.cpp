@@ -34,7 +34,7 @@ std::vector<std::string> phrases_of(const std::string& description)
 
 }  // namespace
 
-TEST_CASE("golden: a status is its Errc name; rewording its message changes nothing")
+TEST_CASE("golden: a status is its Errc name, rewording its message changes nothing")
 {
     const Status said_one_way{Errc::unsupported, "this dish cannot report its position at rest"};
     const Status said_another{Errc::unsupported, "position unavailable while the dish is idle"};

@@ -305,7 +305,7 @@ TEST_CASE("faults: hang-up without a link - the /dev/pts node goes, reconnect gi
     CHECK(client.command("", "TRK>") == "\r\nTRK>");
 }
 
-TEST_CASE("faults: AZ motor stall - message, axis short of its target; EL stall ends a g", "[faults][g2]")
+TEST_CASE("faults: AZ motor stall - message, axis short of its target, EL stall ends a g", "[faults][g2]")
 {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());

@@ -129,7 +129,7 @@ TEST_CASE("help layout: a word list hides menu entries the switches disable", "[
     CHECK(send(with, "?\r") == "?\r\nmotor mot ngsearch nvs os stow reboot q ?\r\nTRK>");
 }
 
-TEST_CASE("prompt followed by a space (switch; default none, §6.1)", "[console][switch]")
+TEST_CASE("prompt followed by a space (switch, default none, §6.1)", "[console][switch]")
 {
     Console plain(options_for(Variant::carryout_g2));
     CHECK(send(plain, "\r") == "\r\nTRK>");
@@ -178,7 +178,7 @@ TEST_CASE("boot: input is accepted right after the last boot line (default), dro
     CHECK(deaf.commands() == std::vector<std::string>{"q", "", ""});  // received, not acted on
 }
 
-TEST_CASE("boot: G2 late line after Boot Complete; a CR typed in between is answered after it", "[console][switch][boot][g2]")
+TEST_CASE("boot: G2 late line after Boot Complete, a CR typed in between is answered after it", "[console][switch][boot][g2]")
 {
     Options options = options_for(Variant::carryout_g2);
     options.already_booted = false;
@@ -264,7 +264,7 @@ TEST_CASE("line rate: the boot log of a 57600-baud Trav'ler is paced as well", "
     CHECK(console.take_output() == "\r\n");
 }
 
-TEST_CASE("idle line: an unsolicited line at a fixed period once booted (switch; default none)", "[console][switch]")
+TEST_CASE("idle line: an unsolicited line at a fixed period once booted (switch, default none)", "[console][switch]")
 {
     Console quiet(options_for(Variant::carryout_g2));
     CHECK(joined(run_for(quiet, 30.0, 0.01)).empty());

@@ -8,6 +8,7 @@
 // G2 (-423.33..+23.33), so some display azimuths have two mechanical branches, 360 apart.
 #pragma once
 
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -64,6 +65,7 @@ enum class Reason {
     pass_start,      // a pass is starting and the continuous branch lacks room for it
     forced_unwind,   // the continuous branch is beyond the usable window
     no_branch,       // no branch inside the window at all: the nearest window edge
+    culmination,     // past its culmination the pass needs more room than its branch has left
 };
 std::string_view reason_text(Reason reason);
 
@@ -81,6 +83,14 @@ struct Choice {
 //  - if the continuous branch lies outside `usable` (an unwind cannot be avoided): the branch with
 //    the most room ahead in `direction`, or the nearest to `reference` when direction is 0.
 Choice choose_branch(double display, double reference, int direction, bool pass_starting, Window usable);
+
+// An unwind no branch can spare a pass is cheapest near its culmination: an azimuth error of D
+// there costs 2 asin(cos(el) sin(D/2)) on the sky, the least it will cost anywhere in the pass
+// (docs/tracking.md §2.3). Just past the culmination, with `remaining_deg` of azimuth still to go
+// in `direction`: the branch of `display` with room for all of it, if the `continuous` one lacks
+// room by more than `slack_deg`; nullopt to stay (it fits, or no branch holds the rest either).
+std::optional<double> culmination_branch(double display, double continuous, int direction, double remaining_deg,
+                                         Window usable, double slack_deg);
 
 // The next mechanical azimuth to command on the way from `from` to `to`: `to` itself if it is at
 // most `max_leg` away, else the first of the fewest equal steps of at most `max_leg`.

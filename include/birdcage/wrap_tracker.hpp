@@ -75,6 +75,15 @@ private:
     std::optional<double> target_mechanical_;
     std::optional<int> pass_direction_;   // azimuth direction of the pass being followed (+1/-1)
     double pass_furthest_az_ = 0.0;       // display azimuth of the furthest target along it so far
+    // The pass being followed as its targets show it, for the unwind at its culmination.
+    struct PassProgress {
+        bool seen_from_start = false;     // its first target was near el_min, rising
+        double travelled_deg = 0.0;       // azimuth covered so far, in its direction
+        double top_el = -90.0;            // the highest target elevation so far
+        double travelled_at_top_deg = 0.0;
+        bool culmination_checked = false;
+    };
+    PassProgress pass_;
 };
 
 }  // namespace birdcage

@@ -60,8 +60,13 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
     };
     auto step_time = [&](Axis axis, double degrees) { return move_time(axis, degrees) + overhead_s; };
     const double cos_el = std::max(std::cos(clamp_el(current->position.el) * M_PI / 180.0), min_cos_el);
-    double deadband_el = in.pointing.deadband_deg;
-    double deadband_az = in.pointing.deadband_deg / cos_el;
+    double base_deadband = in.pointing.deadband_deg;
+    if (const auto client_threshold = in.predictor.lead_threshold_deg()) {
+        base_deadband = std::max(base_deadband, std::min(in.pointing.client_threshold_share * *client_threshold,
+                                                         in.pointing.max_client_deadband_deg));
+    }
+    double deadband_el = base_deadband;
+    double deadband_az = base_deadband / cos_el;
     const double az_rate = std::fabs(current->az_rate);
     // Above the elevation cap (the client's target at or over it) the dish holds the cap and
     // follows only the azimuth (docs/tracking.md §2.2), until a target comes back below the cap:
@@ -76,7 +81,7 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         // Beyond max_deadband_deg the aim would run so far ahead that the client sees the dish
         // off by more than its threshold and re-sends: a slow mount then just trails.
         if (busy <= max_motor_share ||
-            deadband_el * widen_factor > std::max(in.pointing.deadband_deg, in.pointing.max_deadband_deg)) {
+            deadband_el * widen_factor > std::max(base_deadband, in.pointing.max_deadband_deg)) {
             break;
         }
         deadband_az *= widen_factor;

@@ -72,6 +72,9 @@ std::string_view reason_text(Reason reason) {
         case Reason::pass_start: return "a pass is starting and the current branch has too little room ahead for it";
         case Reason::forced_unwind: return "continuing would pass the wrap limit (less the margin): unwinding";
         case Reason::no_branch: return "no branch inside the wrap window: the nearest edge";
+        case Reason::culmination:
+            return "past its culmination the pass needs more room than this branch has left: unwinding now, "
+                   "where it costs least";
     }
     return "?";
 }
@@ -112,6 +115,21 @@ Choice choose_branch(double display, double reference, int direction, bool pass_
         return {continuous, Reason::continuous, continuous};
     }
     return choice(direction != 0 ? pick(roomier) : pick(nearer), Reason::forced_unwind);
+}
+
+std::optional<double> culmination_branch(double display, double continuous, int direction, double remaining_deg,
+                                         Window usable, double slack_deg) {
+    if (direction == 0 || room_ahead(continuous, direction, usable) >= remaining_deg - slack_deg) {
+        return std::nullopt;
+    }
+    std::optional<double> best;
+    for (double candidate : branches(display, usable)) {
+        if (room_ahead(candidate, direction, usable) >= remaining_deg &&
+            (!best || std::fabs(candidate - continuous) < std::fabs(*best - continuous))) {
+            best = candidate;
+        }
+    }
+    return best;
 }
 
 double next_waypoint(double from, double to, double max_leg) {

@@ -26,6 +26,13 @@ constexpr double new_pass_jump_degrees = 30.0;
 // pass, 347 without the flips). The opposite direction is believed once the targets have gone
 // this far back from the furthest one.
 constexpr double reversal_confirm_degrees = 3.0;
+// The culmination is passed once a target is this far below the highest one (Gpredict's targets
+// wander by a few tenths of a degree with its quantised lead).
+constexpr double culmination_drop_degrees = 1.0;
+// A pass is only roughly symmetric about its culmination (the Earth turns beneath it), so the
+// azimuth still to come is taken as what came before, and an unwind is brought forward only
+// where the branch lacks room by more than this; a borderline pass keeps its branch.
+constexpr double culmination_slack_degrees = 5.0;
 
 std::string degrees_text(double value) { return format_degrees(value); }
 
@@ -105,6 +112,7 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
     const bool jumped = previous && std::fabs(azimuth_difference(previous->az, wanted.az)) > new_pass_jump_degrees;
     if (jumped) {
         pass_direction_.reset();
+        pass_ = PassProgress{};
     }
     if (pass_direction_) {
         const double back_from_furthest = azimuth_difference(wanted.az, pass_furthest_az_) * *pass_direction_;
@@ -113,11 +121,21 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         }
     }
     const bool new_pass = direction != 0 && pass_direction_ != direction;
-    if (new_pass || (direction != 0 && azimuth_difference(pass_furthest_az_, wanted.az) * direction > 0.0)) {
-        pass_furthest_az_ = wanted.az;
-    }
     const bool falling = previous && !jumped && wanted.el < previous->el - same_angle_degrees;
     const bool pass_starting = new_pass && !falling && wanted.el <= el_min + wrap::pass_start_band_deg;
+    const double progress = direction != 0 ? azimuth_difference(pass_furthest_az_, wanted.az) * direction : 0.0;
+    if (new_pass) {
+        pass_furthest_az_ = wanted.az;
+        pass_ = PassProgress{};
+        pass_.seen_from_start = pass_starting;
+    } else if (progress > 0.0) {
+        pass_furthest_az_ = wanted.az;
+        pass_.travelled_deg += progress;
+    }
+    if (wanted.el > pass_.top_el) {
+        pass_.top_el = wanted.el;
+        pass_.travelled_at_top_deg = pass_.travelled_deg;
+    }
     if (direction != 0) {
         pass_direction_ = direction;
     }
@@ -129,9 +147,27 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         }
     }
     // Nothing read or commanded yet: continuity from the start assumption (wrap::start_branch()).
-    const wrap::Choice choice =
-        wrap::choose_branch(wanted.az, reference.value_or(std::clamp(0.0, plan.min, plan.max)), direction,
-                            pass_starting, plan);
+    const double from = reference.value_or(std::clamp(0.0, plan.min, plan.max));
+    if (pass_direction_ && pass_.seen_from_start && !pass_.culmination_checked &&
+        wanted.el <= pass_.top_el - culmination_drop_degrees) {
+        // Once per pass, just past its culmination: the azimuth still to come after the culmination
+        // is about what came before it.
+        pass_.culmination_checked = true;
+        const double to_go = std::max(0.0, 2.0 * pass_.travelled_at_top_deg - pass_.travelled_deg);
+        const double continuous = wrap::nearest_branch(wanted.az, from);
+        if (const auto branch = wrap::culmination_branch(wanted.az, continuous, direction, to_go, plan,
+                                                         culmination_slack_degrees)) {
+            emit(log_, LogLevel::verbose,
+                 "azimuth " + degrees_text(wanted.az) + ": mechanical " + degrees_text(*branch) + " instead of " +
+                     degrees_text(continuous) + " (" + std::string(wrap::reason_text(wrap::Reason::culmination)) +
+                     "; about " + degrees_text(to_go) + " deg to go, " +
+                     degrees_text(wrap::room_ahead(continuous, direction, plan)) + " of room; window " +
+                     degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")");
+            target_mechanical_ = *branch;
+            return *branch;
+        }
+    }
+    const wrap::Choice choice = wrap::choose_branch(wanted.az, from, direction, pass_starting, plan);
     if (choice.reason != wrap::Reason::continuous) {
         std::string message = "azimuth " + degrees_text(wanted.az) + ": mechanical " +
                               degrees_text(choice.mechanical) + " instead of " + degrees_text(choice.continuous) +
@@ -150,6 +186,7 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
 void WrapTracker::forget_target() {
     target_mechanical_.reset();
     pass_direction_.reset();
+    pass_ = PassProgress{};
 }
 
 std::string WrapTracker::describe() const {

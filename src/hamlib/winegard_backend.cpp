@@ -392,6 +392,20 @@ const ConfParam kConfParams[] = {
      RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("0"); },
      [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.pointing.predictor.use_pass_model); },
      [](const WinegardPriv& priv) { return std::string(priv.pointing.predictor.use_pass_model ? "1" : "0"); }},
+    {14, "deadband_share", "Deadband share of the client threshold",
+     "Predictive mode: the deadband grows to this share of the client's own threshold, as learned from its "
+     "targets (at most 1 degree; 0: the deadband alone). Fewer motor starts at coarse thresholds",
+     RIG_CONF_NUMERIC, 0, 1, 0.05f,
+     [](const birdcage::FirmwareProfile&) { return format_number(birdcage::PointingOptions{}.client_threshold_share); },
+     [](const char* text, WinegardPriv& priv) {
+         double number = 0;
+         if (!parse_number(text, &number) || number < 0 || number > 1) {
+             return false;
+         }
+         priv.pointing.client_threshold_share = number;
+         return true;
+     },
+     [](const WinegardPriv& priv) { return format_number(priv.pointing.client_threshold_share); }},
 };
 constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
 

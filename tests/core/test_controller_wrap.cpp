@@ -265,8 +265,11 @@ TEST_CASE("controller wrap: the end of a pass never restarts it (el falling to e
     CHECK_FALSE(bench.logged("a pass is starting"));
 }
 
-TEST_CASE("controller wrap: forced unwind at the margin when a pass cannot fit") {
-    // G2, anticlockwise 40 -> 260 (140 deg): 40 is only -320, 101 deg from -421.33.
+TEST_CASE("controller wrap: a pass no branch holds unwinds just past its culmination") {
+    // G2, anticlockwise 40 -> 260 (140 deg): 40 is only -320, 101 deg from -421.33, and +40 is
+    // beyond the travel. At the culmination (330, mechanical -390) 70 deg are still to come and 31
+    // are left: the unwind comes with the first target a degree lower (316: -404 becomes -44),
+    // where it costs least on the sky.
     Bench bench(VariantId::carryout_g2, -320.0, 18.0, false);
     REQUIRE(bench.controller->initialize());
     double lowest = 0;
@@ -274,9 +277,27 @@ TEST_CASE("controller wrap: forced unwind at the margin when a pass cannot fit")
         lowest = std::min(lowest, bench.go(p.az, p.el, -0.5));
     }
     CHECK(lowest >= -421.33 - 0.01);   // never beyond the margin, never at the stop
-    CHECK(lowest < -419.0);
+    CHECK(lowest >= -400.0 - 0.01);    // turned back well before it
     CHECK(bench.dish.mech == Approx(-100).margin(0.01));   // 260 after one unwind
-    CHECK(bench.logged("unwinding"));
+    CHECK(bench.logged("past its culmination"));
+    CHECK_FALSE(bench.logged("continuing would pass the wrap limit"));
+    check_commands_safe(bench.dish);
+}
+
+TEST_CASE("controller wrap: a pass picked up mid-way unwinds at the margin when it cannot fit") {
+    // The same pass, the client starting with the satellite at 39 deg: its start unseen, the
+    // azimuth still to come is unknown, so the unwind waits for the limit (less the margin).
+    Bench bench(VariantId::carryout_g2, -320.0, 18.0, false);
+    REQUIRE(bench.controller->initialize());
+    double lowest = 0;
+    const auto points = pass(40, -140, 18, 50, 35);
+    for (std::size_t i = 8; i < points.size(); ++i) {
+        lowest = std::min(lowest, bench.go(points[i].az, points[i].el, -0.5));
+    }
+    CHECK(lowest >= -421.33 - 0.01);
+    CHECK(lowest < -419.0);
+    CHECK(bench.dish.mech == Approx(-100).margin(0.01));
+    CHECK(bench.logged("continuing would pass the wrap limit"));
     check_commands_safe(bench.dish);
 }
 

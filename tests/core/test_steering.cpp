@@ -57,6 +57,28 @@ TEST_CASE("steering: a moving satellite is aimed a deadband ahead, then left alo
     CHECK(later->motion_s > 0.0);
 }
 
+TEST_CASE("steering: the deadband grows to a share of the client's own threshold, at most a degree") {
+    // A Gpredict-like client at a 5 deg threshold: it re-sends when the dish trails by 5 deg, with
+    // a target 5 deg ahead, every few seconds; the estimator learns the 5 deg from the gaps.
+    TargetPredictor predictor;
+    for (double t = 0.0; t <= 30.0 + 1e-9; t += 3.0) {
+        predictor.observe(at(t), satellite(t + 5.0), satellite(t - 5.0));
+    }
+    REQUIRE(predictor.lead_threshold_deg());
+    CHECK(*predictor.lead_threshold_deg() == Approx(5.0).margin(0.5));
+    auto lead_with = [&](double share) {
+        SteeringInput in = input_at(30.0, predictor, std::nullopt);
+        in.pointing.client_threshold_share = share;
+        const auto aim = next_aim(in);
+        REQUIRE(aim);
+        return azimuth_difference(satellite(30.0).az, aim->aim.az);
+    };
+    const double fixed = lead_with(0.0);
+    const double shared = lead_with(0.5);
+    // Half of 5 deg is capped at 1 deg (on the sky; in azimuth / cos(el), el ~36 deg here).
+    CHECK(shared - fixed == Approx((1.0 - PointingOptions{}.deadband_deg) / std::cos(36.0 * M_PI / 180.0)).margin(0.15));
+}
+
 TEST_CASE("steering: a stationary target is held without lead, once") {
     TargetPredictor predictor;
     for (double t = 0.0; t <= 3.0; t += 1.0) {

@@ -3,6 +3,9 @@
 
 #include "birdcage/wrap_tracker.hpp"
 
+#include <cmath>
+#include <vector>
+
 using namespace birdcage;
 using namespace std::chrono_literals;
 
@@ -101,6 +104,63 @@ TEST_CASE("wrap tracker: a pass keeps its direction through noise and pauses, a 
     // the branch with room anticlockwise.
     at = tracker.choose_branch({309.0, 18.5}, AzEl{313.87, 18.32}, -0.1, 18.0, std::nullopt, std::nullopt);
     CHECK(at == Approx(309.0 - 360.0));
+}
+
+namespace {
+
+// A pass's targets as (az, el) along a symmetric track: rising from `el_min` at `start_az`, turning
+// `span` degrees clockwise through the culmination at `top_el`; returns each target's branch.
+std::vector<double> follow_pass(WrapTracker& tracker, double start_az, double span, double el_min, double top_el,
+                                int steps) {
+    std::vector<double> chosen;
+    std::optional<AzEl> previous;
+    for (int i = 0; i <= steps; ++i) {
+        const double f = static_cast<double>(i) / steps;
+        const AzEl target{normalize_azimuth(start_az + span * f), el_min + (top_el - el_min) * std::sin(M_PI * f)};
+        chosen.push_back(tracker.choose_branch(target, previous, 0.2, el_min, std::nullopt, std::nullopt));
+        previous = target;
+    }
+    return chosen;
+}
+
+}  // namespace
+
+TEST_CASE("wrap tracker: an unwind no branch can spare a pass happens just past its culmination") {
+    // iss-60 on the G2 (bench/passes): 257 -> 52 clockwise through north, 155 deg; the branch at
+    // -103 has 124 deg of room, the one at -463 is beyond the travel. Unwound at the limit, the
+    // dish turned 360 deg with the satellite at 35 deg; at the culmination (60 deg) the same turn
+    // costs half as much on the sky.
+    WrapTracker tracker(g2_travel, std::nullopt, {});
+    tracker.note_reading(257.0, t0);
+    const std::vector<double> chosen = follow_pass(tracker, 257.0, 155.0, 18.0, 60.0, 100);
+    CHECK(chosen.front() == Approx(-103.0));
+    CHECK(chosen[50] == Approx(334.5 - 360.0));          // the culmination, still on the first branch
+    // Target 57 is the first a degree below the top (59.0): the other branch, with 396 deg of room
+    // for the 88 deg still to come.
+    CHECK(chosen[56] == Approx(343.8 - 360.0));
+    CHECK(chosen[57] == Approx(345.35 - 720.0));
+    CHECK(chosen.back() == Approx(52.0 - 360.0));       // and on it to the end, no second unwind
+    for (std::size_t i = 58; i < chosen.size(); ++i) {
+        CHECK(chosen[i] - chosen[i - 1] == Approx(1.55).margin(0.01));
+    }
+}
+
+TEST_CASE("wrap tracker: a pass its branch holds is never unwound at its culmination") {
+    // The same pass on the Trav'ler (0..455): the branch at 257 holds it to 412.
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(257.0, t0);
+    const std::vector<double> chosen = follow_pass(tracker, 257.0, 155.0, 15.0, 60.0, 100);
+    CHECK(chosen.front() == Approx(257.0));
+    CHECK(chosen.back() == Approx(412.0));
+    // iss-85's shape (300 -> 120, 180 deg): the start branch at 300 has 153 deg of room, so the
+    // unwind comes at the culmination; on the branch at -60 there is none (the travel starts at 0).
+    WrapTracker keyhole(travler_travel, std::nullopt, {});
+    keyhole.note_reading(300.0, t0);
+    const std::vector<double> over = follow_pass(keyhole, 300.0, 180.0, 15.0, 85.0, 100);
+    CHECK(over.front() == Approx(300.0));
+    CHECK(over[55] == Approx(399.0));
+    CHECK(over[56] == Approx(400.8 - 360.0));   // the first target a degree below the top (85)
+    CHECK(over.back() == Approx(120.0));
 }
 
 TEST_CASE("wrap tracker: a reading taken back restores the previous estimate") {

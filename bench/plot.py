@@ -451,6 +451,18 @@ def goals_table(matrix, mappings, latency):
            "pre-pass travel, the mapping runs too.", "",
            "| variant | goal | mode | figure | verdict |", "|---|---|---|---|---|"]
     variants = [v for v in ["g2", "hal205"] if any(r["variant"] == v for r in matrix)]
+    passes = sorted({r["pass"] for r in matrix})
+    north = sorted({r["pass"] for r in matrix if r["crosses_north"] == "1"})
+    pass_set = [f"The pass set: {len(passes)} passes, {len(north)} of them crossing north ({', '.join(north)}).", "",
+                "| variant | AZ mapping | passes run | no branch holds (a forced unwind) |", "|---|---|---|---|"]
+    for variant in variants:
+        for mapping in [DEFAULT_MAPPING] + sorted({mapping_of(r) for r in mappings} - {DEFAULT_MAPPING}):
+            rows = [r for r in matrix + list(mappings) if r["variant"] == variant and mapping_of(r) == mapping]
+            if rows:
+                forced = sorted({r["pass"] for r in rows if r["one_branch"] != "1" and number(r, "tracked_s") > 0})
+                pass_set.append(f"| {variant} | {mapping} | {len({r['pass'] for r in rows})} | "
+                                f"{', '.join(forced) if forced else '—'} |")
+    out[2:2] = pass_set + [""]
     for variant in variants:
         modes = [DEFAULT_MODE.get(variant, "none")] + [m for m in ("none", "predictive", "leapfrog")
                                                       if m != DEFAULT_MODE.get(variant, "none")]

@@ -130,7 +130,12 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         pass_.seen_from_start = pass_starting;
     } else if (progress > 0.0) {
         pass_furthest_az_ = wanted.az;
-        pass_.travelled_deg += progress;
+        // Only what the dish follows in its elevation range counts: before AOS and after LOS a
+        // client clamps its targets at el_min while their azimuth keeps turning, and counted in,
+        // that turn made a pass the Trav'ler's branch holds by 1 deg look 10 deg too long.
+        if (wanted.el > el_min + same_angle_degrees) {
+            pass_.travelled_deg += progress;
+        }
     }
     if (wanted.el > pass_.top_el) {
         pass_.top_el = wanted.el;

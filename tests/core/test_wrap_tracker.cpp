@@ -163,6 +163,33 @@ TEST_CASE("wrap tracker: a pass its branch holds is never unwound at its culmina
     CHECK(over.back() == Approx(120.0));
 }
 
+TEST_CASE("wrap tracker: azimuth turned below el_min does not count towards the culmination unwind") {
+    // iss-45 on the Trav'ler (bench/passes): the client holds its targets at el_min from AOS
+    // (300) until the satellite reaches 15 deg at 310.8, then 70.4 deg up to the culmination
+    // (381.2) and 70.7 down to 451.9, inside the branch's 453 (the travel less its margin).
+    // Counted from 300, the first part looked 81 deg long and the branch 5 deg too short.
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(300.0, t0);
+    std::optional<AzEl> previous;
+    std::vector<double> chosen;
+    auto send = [&](AzEl target) {
+        chosen.push_back(tracker.choose_branch(target, previous, 0.2, 15.0, std::nullopt, std::nullopt));
+        previous = target;
+    };
+    for (double az = 300.0; az < 310.8; az += 1.0) {
+        send({az, 15.0});
+    }
+    for (int i = 0; i <= 100; ++i) {
+        const double f = i / 100.0;
+        send({normalize_azimuth(310.8 + 141.1 * f), 15.0 + 30.0 * std::sin(M_PI * f)});
+    }
+    CHECK(chosen.back() == Approx(451.9));
+    for (std::size_t i = 1; i < chosen.size(); ++i) {
+        CHECK(chosen[i] - chosen[i - 1] < 3.0);   // never a turn the other way round
+        CHECK(chosen[i] > chosen[i - 1]);
+    }
+}
+
 TEST_CASE("wrap tracker: a reading taken back restores the previous estimate") {
     WrapTracker tracker(g2_travel, std::nullopt, {});
     tracker.note_reading(90.0, t0);

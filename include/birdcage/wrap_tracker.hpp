@@ -5,6 +5,8 @@
 #pragma once
 
 #include <optional>
+#include <utility>
+#include <vector>
 #include <string>
 
 #include "birdcage/az_mapping.hpp"
@@ -81,6 +83,9 @@ private:
         double travelled_deg = 0.0;       // azimuth covered so far, in its direction
         double top_el = -90.0;            // the highest target elevation so far
         double travelled_at_top_deg = 0.0;
+        // (azimuth travelled, elevation) of the targets within a few degrees of the top: where
+        // the culmination lies between sparse targets.
+        std::vector<std::pair<double, double>> near_top;
         bool culmination_checked = false;
     };
     PassProgress pass_;

@@ -33,6 +33,60 @@ constexpr double culmination_drop_degrees = 1.0;
 // azimuth still to come is taken as what came before, and an unwind is brought forward only
 // where the branch lacks room by more than this; a borderline pass keeps its branch.
 constexpr double culmination_slack_degrees = 5.0;
+// A target this little beyond the travel's usable end is held at the end instead of unwinding:
+// a client leads the satellite by up to its threshold (Gpredict's 5 deg is up to 7 deg of azimuth
+// at 45 deg elevation), so the last targets of a pass the travel holds by a degree run past it,
+// and a 360 deg unwind for them pointed the Trav'ler 150 deg away for the rest of the pass.
+constexpr double hold_at_end_degrees = 10.0;
+// Targets within this of the highest one locate the culmination: a parabola of elevation over the
+// azimuth travelled has its vertex there. At Gpredict's 5 deg threshold the highest target can
+// lie 3 deg of azimuth short of it, which doubled into the estimate of what is still to come
+// (sso-70 on the Trav'ler: 54 deg estimated, 62 to go, no unwind until the limit).
+constexpr double near_top_degrees = 3.0;
+
+// The travel at the culmination from the targets near it: the vertex of the least-squares
+// parabola el(travel), if it is a maximum inside their span; else the highest target's travel.
+double culmination_travel(const std::vector<std::pair<double, double>>& points, double fallback) {
+    if (points.size() < 3) {
+        return fallback;
+    }
+    double lo = points.front().first, hi = lo, centre = 0.0;
+    for (const auto& [x, y] : points) {
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+        centre += x;
+    }
+    centre /= static_cast<double>(points.size());
+    double s[5] = {0, 0, 0, 0, 0}, t[3] = {0, 0, 0};
+    for (const auto& [x, y] : points) {
+        const double u = x - centre;
+        double power = 1.0;
+        for (int k = 0; k < 5; ++k) {
+            s[k] += power;
+            if (k < 3) {
+                t[k] += y * power;
+            }
+            power *= u;
+        }
+    }
+    const double m[3][3] = {{s[0], s[1], s[2]}, {s[1], s[2], s[3]}, {s[2], s[3], s[4]}};
+    auto det3 = [](const double a[3][3]) {
+        return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+               a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    };
+    const double det = det3(m);
+    if (std::fabs(det) < 1e-12) {
+        return fallback;
+    }
+    const double mb[3][3] = {{s[0], t[0], s[2]}, {s[1], t[1], s[3]}, {s[2], t[2], s[4]}};
+    const double mc[3][3] = {{s[0], s[1], t[0]}, {s[1], s[2], t[1]}, {s[2], s[3], t[2]}};
+    const double b = det3(mb) / det, c = det3(mc) / det;
+    if (c >= 0.0) {
+        return fallback;
+    }
+    const double vertex = centre - b / (2.0 * c);
+    return vertex >= lo && vertex <= hi ? vertex : fallback;
+}
 
 std::string degrees_text(double value) { return format_degrees(value); }
 
@@ -89,7 +143,8 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
 }
 
 // The rule (docs/tracking.md §2.3: no avoidable unwinds; unwind, when unavoidable, away from the
-// limit stops):
+// limit stops; just past its culmination if the pass's start was seen; never for a target a few
+// degrees past the end, or once the satellite has set, held at the end instead):
 //  - normally the target's branch nearest the previous target (continuity), if it lies inside
 //    the wrap window less the margins;
 //  - when a pass starts (the caller's rate hint is non-zero and the target is within
@@ -140,6 +195,10 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
     if (wanted.el > pass_.top_el) {
         pass_.top_el = wanted.el;
         pass_.travelled_at_top_deg = pass_.travelled_deg;
+        std::erase_if(pass_.near_top, [&](const auto& p) { return p.second < pass_.top_el - near_top_degrees; });
+    }
+    if (wanted.el > el_min + same_angle_degrees && wanted.el >= pass_.top_el - near_top_degrees) {
+        pass_.near_top.emplace_back(pass_.travelled_deg, wanted.el);
     }
     if (direction != 0) {
         pass_direction_ = direction;
@@ -158,7 +217,8 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         // Once per pass, just past its culmination: the azimuth still to come after the culmination
         // is about what came before it.
         pass_.culmination_checked = true;
-        const double to_go = std::max(0.0, 2.0 * pass_.travelled_at_top_deg - pass_.travelled_deg);
+        const double at_top = culmination_travel(pass_.near_top, pass_.travelled_at_top_deg);
+        const double to_go = std::max(0.0, 2.0 * at_top - pass_.travelled_deg);
         const double continuous = wrap::nearest_branch(wanted.az, from);
         if (const auto branch = wrap::culmination_branch(wanted.az, continuous, direction, to_go, plan,
                                                          culmination_slack_degrees)) {
@@ -170,6 +230,26 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
                      degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")");
             target_mechanical_ = *branch;
             return *branch;
+        }
+    }
+    {
+        // Past the usable end of the travel, a little (a client's lead), or once the satellite has
+        // set (the client holds its targets at el_min while their azimuth keeps turning): held at
+        // the end; the next pass chooses its branch afresh.
+        const double continuous = wrap::nearest_branch(wanted.az, from);
+        const double beyond = std::max(continuous - plan.max, plan.min - continuous);
+        const bool set_below_range = wanted.el <= el_min + same_angle_degrees && pass_.top_el > el_min + 1.0;
+        if (beyond > 0.0 && (beyond <= hold_at_end_degrees || set_below_range)) {
+            const double held = std::clamp(continuous, plan.min, plan.max);
+            if (!target_mechanical_ || std::fabs(*target_mechanical_ - held) > same_angle_degrees) {
+                emit(log_, LogLevel::verbose,
+                     "azimuth " + degrees_text(wanted.az) + ": held at mechanical " + degrees_text(held) + ", " +
+                         degrees_text(beyond) + " deg short of " + degrees_text(continuous) +
+                         (set_below_range ? " (the satellite has set)" : " (a client's lead, not worth an unwind)") +
+                         "; window " + degrees_text(plan.min) + ".." + degrees_text(plan.max));
+            }
+            target_mechanical_ = held;
+            return held;
         }
     }
     const wrap::Choice choice = wrap::choose_branch(wanted.az, from, direction, pass_starting, plan);

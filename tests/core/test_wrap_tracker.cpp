@@ -190,6 +190,81 @@ TEST_CASE("wrap tracker: azimuth turned below el_min does not count towards the 
     }
 }
 
+TEST_CASE("wrap tracker: targets a little past the end, or after the satellite set, are held at the end") {
+    // iss-45 on the Trav'ler at Gpredict's 5 deg threshold (the benchmark's targets): the pass
+    // ends at 451.9, inside the 453 the backend commands; the client's lead target 93.07 (453.07)
+    // was unwound to 93 - a 360 deg turn with the satellite still up, 150 deg of error after it.
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(310.7, t0);
+    std::optional<AzEl> previous;
+    auto send = [&](AzEl target) {
+        const double chosen = tracker.choose_branch(target, previous, 0.3, 15.0, std::nullopt, std::nullopt);
+        previous = target;
+        return chosen;
+    };
+    CHECK(send({310.72, 15.0}) == Approx(310.72));
+    CHECK(send({20.17, 44.99}) == Approx(380.17));
+    CHECK(send({57.65, 38.51}) == Approx(417.65));
+    CHECK(send({93.07, 23.39}) == Approx(453.0));      // 0.07 past: held, not unwound
+    // The satellite has set: the client holds el_min while the azimuth turns on to LOS (103).
+    for (double az = 94.0; az <= 103.0; az += 1.0) {
+        CHECK(send({az, 15.0}) == Approx(453.0));
+    }
+}
+
+TEST_CASE("wrap tracker: between sparse targets the culmination is where their elevations peak") {
+    // sso-70 on the Trav'ler at Gpredict's 5 deg threshold, the targets of one benchmark run up to
+    // the first a degree below the highest. The highest (75.89) lies 3.3 deg of azimuth before
+    // the culmination (72.6): from it, 54 deg seemed still to come against 52 of room, and the
+    // unwind waited for the limit (27.7 deg RMS). 62 are to come; the peak of a parabola through
+    // the targets near the top puts it there.
+    const AzEl targets[] = {
+        {152.12, 19.96},
+        {148.36, 30.02},
+        {148.28, 30.20},
+        {143.04, 40.40},
+        {142.89, 40.65},
+        {135.11, 50.73},
+        {134.81, 51.03},
+        {124.44, 59.08},
+        {123.90, 59.40},
+        {123.91, 59.39},
+        {123.36, 59.70},
+        {122.78, 60.02},
+        {122.19, 60.34},
+        {121.59, 60.65},
+        {110.92, 64.96},
+        {110.03, 65.23},
+        {109.12, 65.50},
+        {98.64, 67.89},
+        {97.47, 68.09},
+        {96.27, 68.28},
+        {95.06, 68.46},
+        {93.83, 68.63},
+        {92.56, 68.80},
+        {83.01, 69.68},
+        {81.60, 69.76},
+        {80.18, 69.83},
+        {78.75, 69.89},
+        {77.32, 69.93},
+        {75.89, 69.97},
+        {65.79, 69.87},
+        {64.37, 69.81},
+        {62.95, 69.74},
+        {61.56, 69.65},
+        {57.73, 69.36},
+        {53.77, 68.96}};
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(156.8, t0);
+    std::optional<AzEl> previous;
+    double chosen = 0.0;
+    for (const AzEl& target : targets) {
+        chosen = tracker.choose_branch(target, previous, -0.3, 15.0, std::nullopt, std::nullopt);
+        previous = target;
+    }
+    CHECK(chosen == Approx(53.77 + 360.0));
+}
+
 TEST_CASE("wrap tracker: a reading taken back restores the previous estimate") {
     WrapTracker tracker(g2_travel, std::nullopt, {});
     tracker.note_reading(90.0, t0);

@@ -18,9 +18,9 @@
 #   BIRDCAGE_BENCH_SWEEP_MODES  pointing modes of the sweep (default none,predictive)
 #   BIRDCAGE_BENCH_SWEEP_ARGS   extra tracking_bench arguments for every sweep run
 #   BIRDCAGE_BENCH_IMG          where the PNGs go (default docs/img)
-# About 90 minutes of wall time on 2 cores: the matrix (126 runs: 9 passes x 2 dishes x 3 modes x
-# 2 thresholds, plus one oracle run per pass and dish) ~35 min, the mapping runs (32) ~10 min, the
-# real-time subset (30 runs, 15 at a time) ~30 min, the sweep (12 runs) ~8 min.
+# About 45 minutes of wall time on 2 cores: the matrix (126 runs: 9 passes x 2 dishes x 3 modes x
+# 2 thresholds, plus one oracle run per pass and dish) and the mapping runs (32) 29 min, the
+# real-time subset (30 runs at once) 10 min, the sweep (12 runs) ~8 min.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -1,4 +1,5 @@
 #include "birdcage/pointing.hpp"
+#include "birdcage/least_squares.hpp"
 
 #include <algorithm>
 #include <array>
@@ -51,20 +52,12 @@ Fit slope_at_end(const Samples& samples, Get value, double accel_bound) {
         return {};
     }
     // Centre on the newest sample so the slope at t_end is the linear coefficient.
-    std::array<double, 5> st{};  // sums of t^0..t^4
-    std::array<double, 3> sy{};  // sums of y*t^0..t^2
+    QuadraticSums sums;
     for (const auto& s : samples) {
-        const double t = s.t - t_end;
-        const double y = value(s);
-        double power = 1.0;
-        for (int k = 0; k < 5; ++k) {
-            st[k] += power;
-            if (k < 3) {
-                sy[k] += y * power;
-            }
-            power *= t;
-        }
+        sums.add(s.t - t_end, value(s));
     }
+    const auto& st = sums.u;
+    const auto& sy = sums.yu;
     const double linear_det = st[0] * st[2] - st[1] * st[1];
     if (std::fabs(linear_det) < 1e-12) {
         return {};
@@ -72,22 +65,10 @@ Fit slope_at_end(const Samples& samples, Get value, double accel_bound) {
     double rate = (st[0] * sy[1] - st[1] * sy[0]) / linear_det;
     double accel = 0.0;
     if (n >= quadratic_min_samples && span >= quadratic_min_span_s) {
-        // Normal equations for y = a + b t + c t^2 (Cramer's rule).
-        const double m[3][3] = {{st[0], st[1], st[2]}, {st[1], st[2], st[3]}, {st[2], st[3], st[4]}};
-        auto det3 = [](const double a[3][3]) {
-            return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                   a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-        };
-        const double det = det3(m);
-        if (std::fabs(det) > 1e-9) {
-            double mb[3][3] = {{st[0], sy[0], st[2]}, {st[1], sy[1], st[3]}, {st[2], sy[2], st[4]}};
-            double mc[3][3] = {{st[0], st[1], sy[0]}, {st[1], st[2], sy[1]}, {st[2], st[3], sy[2]}};
-            const double b = det3(mb) / det;
-            const double c = det3(mc) / det;
-            if (std::fabs(2.0 * c) <= accel_bound) {
-                rate = b;
-                accel = 2.0 * c;
-            }
+        const auto quadratic = solve_quadratic(sums, 1e-9);
+        if (quadratic && std::fabs(2.0 * quadratic->c) <= accel_bound) {
+            rate = quadratic->b;
+            accel = 2.0 * quadratic->c;
         }
     }
     return {rate, accel, true};

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "birdcage/least_squares.hpp"
 #include "birdcage/protocol.hpp"
 
 namespace birdcage {
@@ -57,34 +58,15 @@ double culmination_travel(const std::vector<std::pair<double, double>>& points, 
         centre += x;
     }
     centre /= static_cast<double>(points.size());
-    double s[5] = {0, 0, 0, 0, 0}, t[3] = {0, 0, 0};
+    QuadraticSums sums;
     for (const auto& [x, y] : points) {
-        const double u = x - centre;
-        double power = 1.0;
-        for (int k = 0; k < 5; ++k) {
-            s[k] += power;
-            if (k < 3) {
-                t[k] += y * power;
-            }
-            power *= u;
-        }
+        sums.add(x - centre, y);
     }
-    const double m[3][3] = {{s[0], s[1], s[2]}, {s[1], s[2], s[3]}, {s[2], s[3], s[4]}};
-    auto det3 = [](const double a[3][3]) {
-        return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-               a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-    };
-    const double det = det3(m);
-    if (std::fabs(det) < 1e-12) {
+    const auto fit = solve_quadratic(sums, 1e-12);
+    if (!fit || fit->c >= 0.0) {
         return fallback;
     }
-    const double mb[3][3] = {{s[0], t[0], s[2]}, {s[1], t[1], s[3]}, {s[2], t[2], s[4]}};
-    const double mc[3][3] = {{s[0], s[1], t[0]}, {s[1], s[2], t[1]}, {s[2], s[3], t[2]}};
-    const double b = det3(mb) / det, c = det3(mc) / det;
-    if (c >= 0.0) {
-        return fallback;
-    }
-    const double vertex = centre - b / (2.0 * c);
+    const double vertex = centre - fit->b / (2.0 * fit->c);
     return vertex >= lo && vertex <= hi ? vertex : fallback;
 }
 

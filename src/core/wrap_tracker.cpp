@@ -221,7 +221,9 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         const double continuous = wrap::nearest_branch(wanted.az, from);
         const double beyond = std::max(continuous - plan.max, plan.min - continuous);
         const bool set_below_range = wanted.el <= el_min + same_angle_degrees && pass_.top_el > el_min + 1.0;
-        if (beyond > 0.0 && (beyond <= hold_at_end_degrees || set_below_range)) {
+        // Only while following a pass: a single target (a park at AZ 0 on the Trav'ler, whose
+        // usable travel starts at 2) goes to its branch inside the travel, however it turns.
+        if (pass_direction_ && beyond > 0.0 && (beyond <= hold_at_end_degrees || set_below_range)) {
             const double held = std::clamp(continuous, plan.min, plan.max);
             if (!target_mechanical_ || std::fabs(*target_mechanical_ - held) > same_angle_degrees) {
                 emit(log_, LogLevel::verbose,

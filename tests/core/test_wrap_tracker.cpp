@@ -265,6 +265,18 @@ TEST_CASE("wrap tracker: between sparse targets the culmination is where their e
     CHECK(chosen == Approx(53.77 + 360.0));
 }
 
+TEST_CASE("wrap tracker: a single target just outside the usable travel goes to its branch inside it") {
+    // K on the Trav'ler parks at AZ 0: mechanical 0 is 2 deg short of the usable 2..453, so the
+    // target is 360, not held at 2 (the hold is for a pass's last targets only).
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(180.0, t0);
+    CHECK(tracker.choose_branch({0.0, 45.0}, std::nullopt, 0.0, 15.0, std::nullopt, std::nullopt) == Approx(360.0));
+    WrapTracker from_low(travler_travel, std::nullopt, {});
+    from_low.note_reading(30.0, t0);
+    CHECK(from_low.choose_branch({0.0, 45.0}, AzEl{30.0, 45.0}, 0.0, 15.0, std::nullopt, std::nullopt) ==
+          Approx(360.0));
+}
+
 TEST_CASE("wrap tracker: a reading taken back restores the previous estimate") {
     WrapTracker tracker(g2_travel, std::nullopt, {});
     tracker.note_reading(90.0, t0);

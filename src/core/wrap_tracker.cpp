@@ -194,6 +194,7 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
     }
     // Nothing read or commanded yet: continuity from the start assumption (wrap::start_branch()).
     const double from = reference.value_or(std::clamp(0.0, plan.min, plan.max));
+    const double continuous = wrap::nearest_branch(wanted.az, from);
     if (pass_direction_ && pass_.seen_from_start && !pass_.culmination_checked &&
         wanted.el <= pass_.top_el - culmination_drop_degrees) {
         // Once per pass, just past its culmination: the azimuth still to come after the culmination
@@ -201,7 +202,6 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         pass_.culmination_checked = true;
         const double at_top = culmination_travel(pass_.near_top, pass_.travelled_at_top_deg);
         const double to_go = std::max(0.0, 2.0 * at_top - pass_.travelled_deg);
-        const double continuous = wrap::nearest_branch(wanted.az, from);
         if (const auto branch = wrap::culmination_branch(wanted.az, continuous, direction, to_go, plan,
                                                          culmination_slack_degrees)) {
             emit(log_, LogLevel::verbose,
@@ -218,7 +218,6 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         // Past the usable end of the travel, a little (a client's lead), or once the satellite has
         // set (the client holds its targets at el_min while their azimuth keeps turning): held at
         // the end; the next pass chooses its branch afresh.
-        const double continuous = wrap::nearest_branch(wanted.az, from);
         const double beyond = std::max(continuous - plan.max, plan.min - continuous);
         const bool set_below_range = wanted.el <= el_min + same_angle_degrees && pass_.top_el > el_min + 1.0;
         // Only while following a pass: a single target (a park at AZ 0 on the Trav'ler, whose

@@ -15,6 +15,14 @@ namespace {
 constexpr double max_tick = 0.02;           // simulated seconds per event step
 constexpr double search_dwell = 0.5;        // INVENTED pause between search moves
 
+AxisParams with_dynamics(AxisParams axis, std::optional<double> velocity, const MotorDynamics& motor)
+{
+    if (velocity) axis.max_velocity = *velocity;
+    if (motor.accel) axis.max_accel = *motor.accel;
+    axis.startup_delay = motor.startup_delay;
+    return axis;
+}
+
 double initial_mechanical_az(const VariantProfile& profile, double start_az)
 {
     if (start_az >= profile.az.min && start_az <= profile.az.max) return start_az;
@@ -39,7 +47,9 @@ std::vector<std::string_view> split_words(std::string_view line)
 Engine::Engine(const Options& opts)
     : options(opts),
       profile(profile_for(opts.variant)),
-      motors(profile.az, profile.el, profile.skew, initial_mechanical_az(profile, opts.start_az),
+      motors(with_dynamics(profile.az, opts.motor.az_velocity, opts.motor),
+             with_dynamics(profile.el, opts.motor.el_velocity, opts.motor), profile.skew,
+             initial_mechanical_az(profile, opts.start_az),
              std::clamp(opts.start_el, profile.el.min, profile.el.max)),
       sky(opts.seed, opts.rssi_floor),
       rng(opts.seed ^ 0x5eedu),

@@ -222,6 +222,16 @@ const std::vector<Flag>& flags()
          [](Options& o, auto f, auto v) { o.late_boot_line_delay = number_at_least(f, v, 0.0); }},
         {"--boot-input-drop-ms", "MS", "input dropped this long after the last boot line (default 0)",
          [](Options& o, auto f, auto v) { o.boot_input_drop = number_at_least(f, v, 0.0) / 1000.0; }},
+        {"--motor-startup-delay", "S", "seconds from a move command to the first motion (default 0)",
+         [](Options& o, auto f, auto v) { o.motor.startup_delay = number_at_least(f, v, 0.0); }},
+        {"--motor-speed", "AZ,EL", "top speeds in deg/s (default: the variant's)", [](Options& o, auto f, auto v) {
+             const auto comma = v.find(',');
+             if (comma == std::string_view::npos) throw UsageError{std::string(f) + ": expected AZ,EL"};
+             o.motor.az_velocity = number_at_least(f, v.substr(0, comma), 1e-3);
+             o.motor.el_velocity = number_at_least(f, v.substr(comma + 1), 1e-3);
+         }},
+        {"--motor-accel", "A", "acceleration in deg/s^2, both axes (default: the variant's)",
+         [](Options& o, auto f, auto v) { o.motor.accel = number_at_least(f, v, 1e-3); }},
         {"--idle-line", "TEXT", "unsolicited line printed every --idle-line-period", [](Options& o, auto, auto v) { o.idle_line = v; }},
         {"--idle-line-period", "S", "seconds between unsolicited lines (default 0 = never)",
          [](Options& o, auto f, auto v) { o.idle_line_period = number_at_least(f, v, 0.0); }},

@@ -88,6 +88,14 @@ struct FaultCounters {
     std::uint64_t paced_bytes = 0;    // bytes written at set_output_pacing's rate
 };
 
+// Overrides of the variant's motor parameters (unset: the variant's value). Simulated time.
+struct MotorDynamics {
+    double startup_delay = 0.0;            // seconds from a move command to the first motion
+    std::optional<double> az_velocity;     // deg/s
+    std::optional<double> el_velocity;     // deg/s
+    std::optional<double> accel;           // deg/s^2, both axes
+};
+
 struct Options {
     Variant variant = Variant::carryout_g2;
     double time_scale = 1.0;      // simulated seconds per real second
@@ -158,6 +166,12 @@ struct Options {
     // `?` listing (§6.3, §3.3, §8.3). Upper case applies to the command words only.
     HelpLayout help_layout = HelpLayout::described;
     bool help_upper_case = false;
+
+    // --- motor dynamics (docs/firmware.md §3.4, §6.4; docs/tracking.md §1.4) ---------------
+    // The variant's speeds and acceleration are the defaults. Only the G2's are read from its
+    // NVS; the Trav'ler's are one fit to two whole-move timings, which a motor that starts late
+    // and then runs faster meets as well, so each part is open and can be chosen here.
+    MotorDynamics motor;
 
     // --- boot timing and unsolicited output (§14 HAL0.5, G2.7) ---------------------------
     // Simulated seconds between boot lines. INVENTED: no source gives boot timing.

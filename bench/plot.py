@@ -43,7 +43,7 @@ REACQUIRE_GOAL = 2.0
 P_ERROR_P95_GOAL = 0.1         # `p` against the true position, degrees
 P_P99_GOAL_MS = 1.0
 # The pointing mode a user gets without `-C pointing=` (FirmwareProfile::predictive_by_default in
-# src/core/variants.cpp): the goals are judged on it, the other modes shown beside it.
+# src/core/firmware/variants.cpp): the goals are judged on it, the other modes shown beside it.
 DEFAULT_MODE = {"g2": "predictive", "hal205": "none"}
 DEFAULT_MAPPING = "nearest"    # the emulator's default; the matrix runs under it
 

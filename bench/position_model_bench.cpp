@@ -9,7 +9,7 @@
 //   position_model_bench [--legs N]
 #include <birdcage_sim/motor.hpp>
 
-#include "birdcage/position_model.hpp"
+#include "birdcage/tracking/position_model.hpp"
 
 #include <algorithm>
 #include <chrono>

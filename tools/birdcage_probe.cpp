@@ -23,11 +23,11 @@
 #include <unistd.h>
 #include <vector>
 
-#include "birdcage/framer.hpp"
-#include "birdcage/protocol.hpp"
-#include "birdcage/synchroniser.hpp"
-#include "birdcage/transport.hpp"
-#include "birdcage/variants.hpp"
+#include "birdcage/console/framer.hpp"
+#include "birdcage/firmware/protocol.hpp"
+#include "birdcage/console/synchroniser.hpp"
+#include "birdcage/console/transport.hpp"
+#include "birdcage/firmware/variants.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "birdcage_version.hpp"
 

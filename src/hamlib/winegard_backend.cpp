@@ -6,12 +6,12 @@
 #include "hamlib_compat.h"
 #include "winegard.h"
 
-#include "birdcage/errors.hpp"
-#include "birdcage/log.hpp"
-#include "birdcage/receiver.hpp"
-#include "birdcage/rotator_service.hpp"
-#include "birdcage/transport.hpp"
-#include "birdcage/variants.hpp"
+#include "birdcage/base/errors.hpp"
+#include "birdcage/base/log.hpp"
+#include "birdcage/dish/receiver.hpp"
+#include "birdcage/service/rotator_service.hpp"
+#include "birdcage/console/transport.hpp"
+#include "birdcage/firmware/variants.hpp"
 
 #include <array>
 #include <cctype>

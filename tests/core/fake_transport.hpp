@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/transport.hpp"
+#include "birdcage/console/transport.hpp"
 
 namespace birdcage::test {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/controller.hpp"
-#include "birdcage/position_model.hpp"
+#include "birdcage/dish/controller.hpp"
+#include "birdcage/tracking/position_model.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/controller.hpp"
-#include "birdcage/wrap.hpp"
+#include "birdcage/dish/controller.hpp"
+#include "birdcage/tracking/wrap.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

@@ -6,9 +6,9 @@
 #include <cctype>
 #include <map>
 
-#include "birdcage/detect.hpp"
-#include "birdcage/session.hpp"
-#include "birdcage/synchroniser.hpp"
+#include "birdcage/console/detect.hpp"
+#include "birdcage/console/session.hpp"
+#include "birdcage/console/synchroniser.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

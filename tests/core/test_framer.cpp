@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/framer.hpp"
+#include "birdcage/console/framer.hpp"
 
 using namespace birdcage;
 using Kind = FrameEvent::Kind;

@@ -1,6 +1,6 @@
 #include <catch2/catch.hpp>
 
-#include "birdcage/leapfrog.hpp"
+#include "birdcage/tracking/leapfrog.hpp"
 
 using birdcage::apply_leapfrog;
 using birdcage::AzEl;

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/azel.hpp"
-#include "birdcage/pass_model.hpp"
-#include "birdcage/pointing.hpp"
+#include "birdcage/base/azel.hpp"
+#include "birdcage/tracking/pass_model.hpp"
+#include "birdcage/tracking/pointing.hpp"
 #include "error_stats.hpp"
 
 using namespace birdcage;

@@ -12,8 +12,8 @@
 #include <optional>
 #include <vector>
 
-#include "birdcage/azel.hpp"
-#include "birdcage/pointing.hpp"
+#include "birdcage/base/azel.hpp"
+#include "birdcage/tracking/pointing.hpp"
 #include "error_stats.hpp"
 
 using namespace birdcage;

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "birdcage/position_model.hpp"
+#include "birdcage/tracking/position_model.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/protocol.hpp"
+#include "birdcage/firmware/protocol.hpp"
 
 using namespace birdcage;
 using Lines = std::vector<std::string>;

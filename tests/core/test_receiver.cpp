@@ -1,6 +1,6 @@
 // receiver.hpp's pure parts: the LNB supply commands and values, the reading's time budget.
-#include "birdcage/receiver.hpp"
-#include "birdcage/variants.hpp"
+#include "birdcage/dish/receiver.hpp"
+#include "birdcage/firmware/variants.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,7 +1,7 @@
 // The recovery classifier (recovery.hpp): step outcomes in, verdicts out.
 #include <catch2/catch.hpp>
 
-#include "birdcage/recovery.hpp"
+#include "birdcage/service/recovery.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

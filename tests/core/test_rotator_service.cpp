@@ -7,7 +7,7 @@
 #include <mutex>
 #include <thread>
 
-#include "birdcage/rotator_service.hpp"
+#include "birdcage/service/rotator_service.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

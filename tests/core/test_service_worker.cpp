@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/service_mailbox.hpp"
-#include "birdcage/service_worker.hpp"
+#include "birdcage/service/service_mailbox.hpp"
+#include "birdcage/service/service_worker.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/session.hpp"
+#include "birdcage/console/session.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

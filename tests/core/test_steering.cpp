@@ -5,8 +5,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "birdcage/steering.hpp"
-#include "birdcage/variants.hpp"
+#include "birdcage/tracking/steering.hpp"
+#include "birdcage/firmware/variants.hpp"
 
 using namespace birdcage;
 

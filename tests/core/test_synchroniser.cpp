@@ -3,8 +3,8 @@
 // garbage, NULs, a wrong baud rate), and the failure messages.
 #include <catch2/catch.hpp>
 
-#include "birdcage/controller.hpp"
-#include "birdcage/synchroniser.hpp"
+#include "birdcage/dish/controller.hpp"
+#include "birdcage/console/synchroniser.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

@@ -7,7 +7,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "birdcage/transport.hpp"
+#include "birdcage/console/transport.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/variants.hpp"
+#include "birdcage/firmware/variants.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <vector>
 
-#include "birdcage/azel.hpp"
-#include "birdcage/variants.hpp"
-#include "birdcage/wrap.hpp"
+#include "birdcage/base/azel.hpp"
+#include "birdcage/firmware/variants.hpp"
+#include "birdcage/tracking/wrap.hpp"
 
 using namespace birdcage;
 using wrap::Reason;

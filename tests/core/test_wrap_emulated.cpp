@@ -12,9 +12,9 @@
 #include <thread>
 #include <vector>
 
-#include "birdcage/controller.hpp"
-#include "birdcage/transport.hpp"
-#include "birdcage/wrap.hpp"
+#include "birdcage/dish/controller.hpp"
+#include "birdcage/console/transport.hpp"
+#include "birdcage/tracking/wrap.hpp"
 #include "birdcage_sim/emulator.hpp"
 
 using namespace std::chrono_literals;

@@ -1,7 +1,7 @@
 // The wrap tracker on its own: no console, no clock (times are passed in).
 #include <catch2/catch.hpp>
 
-#include "birdcage/wrap_tracker.hpp"
+#include "birdcage/tracking/wrap_tracker.hpp"
 
 #include <cmath>
 #include <vector>

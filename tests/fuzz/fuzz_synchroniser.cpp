@@ -4,9 +4,9 @@
 // Properties: the synchroniser returns within its budget (counted in the reads the fake serves);
 // a prompt it reports ends the console text it read (only line noise may follow it); detection never sends `q` while the
 // console's output ends at the G2 root prompt with G2 evidence in it.
-#include "birdcage/detect.hpp"
-#include "birdcage/synchroniser.hpp"
-#include "birdcage/variants.hpp"
+#include "birdcage/console/detect.hpp"
+#include "birdcage/console/synchroniser.hpp"
+#include "birdcage/firmware/variants.hpp"
 
 #include <array>
 #include <cstddef>

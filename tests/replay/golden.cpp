@@ -5,8 +5,8 @@
 #include <set>
 #include <sstream>
 
-#include "birdcage/az_mapping.hpp"
-#include "birdcage/protocol.hpp"
+#include "birdcage/tracking/az_mapping.hpp"
+#include "birdcage/firmware/protocol.hpp"
 #include "birdcage_sim/transcript.hpp"
 
 namespace birdcage::golden {

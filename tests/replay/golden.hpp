@@ -8,9 +8,9 @@
 #include <string_view>
 #include <vector>
 
-#include "birdcage/console_events.hpp"
-#include "birdcage/controller.hpp"
-#include "birdcage/errors.hpp"
+#include "birdcage/console/console_events.hpp"
+#include "birdcage/dish/controller.hpp"
+#include "birdcage/base/errors.hpp"
 
 namespace birdcage::golden {
 

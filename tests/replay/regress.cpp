@@ -20,11 +20,11 @@
 #include <thread>
 #include <vector>
 
-#include "birdcage/controller.hpp"
-#include "birdcage/protocol.hpp"
-#include "birdcage/session.hpp"
-#include "birdcage/transport.hpp"
-#include "birdcage/variants.hpp"
+#include "birdcage/dish/controller.hpp"
+#include "birdcage/firmware/protocol.hpp"
+#include "birdcage/console/session.hpp"
+#include "birdcage/console/transport.hpp"
+#include "birdcage/firmware/variants.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "golden.hpp"

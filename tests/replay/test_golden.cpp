@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/controller.hpp"
+#include "birdcage/dish/controller.hpp"
 #include "fake_transport.hpp"
 #include "golden.hpp"
 

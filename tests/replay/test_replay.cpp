@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "birdcage/controller.hpp"
-#include "birdcage/transport.hpp"
+#include "birdcage/dish/controller.hpp"
+#include "birdcage/console/transport.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "golden.hpp"

@@ -1,0 +1,62 @@
+// A move driver turns a target into console commands and follows them until the dish gets there:
+// one per move style of the variant table (MoveStyle), chosen by make_move_driver(). The
+// controller owns the state they share (MoveContext) and composes one driver with the wrap
+// tracker, the position reader and the console setup.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+
+#include "birdcage/base/azel.hpp"
+#include "birdcage/base/clock.hpp"
+#include "birdcage/dish/dish_state.hpp"
+#include "birdcage/base/errors.hpp"
+#include "birdcage/base/log.hpp"
+#include "birdcage/base/plain_types.hpp"
+#include "birdcage/console/session.hpp"
+#include "birdcage/firmware/variants.hpp"
+#include "birdcage/tracking/wrap_tracker.hpp"
+
+namespace birdcage {
+
+struct MoveContext {
+    ConsoleSession& session;
+    const FirmwareProfile& profile;
+    DishState& state;
+    WrapTracker& wrap;
+    PositionReader& reader;
+    LogSink log;
+    std::function<Clock::time_point()> now;   // dish time (clock.hpp)
+    double el_min, el_max;
+
+    // The target is void (the firmware dropped its moves): the same target sent again is a new move.
+    void forget_target() const {
+        state.target.reset();
+        wrap.forget_target();
+    }
+};
+
+class MoveDriver {
+public:
+    virtual ~MoveDriver() = default;
+    // Queues what takes the dish to `wanted` (clamped; DishState::target), commanding `command`
+    // (wanted plus any leapfrog lead). `previous`: the target before; `az_rate_dps`: see
+    // Controller::set_target(). Replaces whatever was queued. No I/O.
+    virtual void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps) = 0;
+    // One pump step: follows the leg in flight, sends the next one.
+    virtual Status service() = 0;
+    // Drops what is not sent yet; stops the leg in flight where the firmware lets input stop it.
+    virtual void cancel() = 0;
+    // Forgets every leg and what was commanded (initialisation, homing).
+    virtual void reset() = 0;
+    virtual bool idle() const = 0;
+    virtual bool leg_in_flight() const = 0;
+    virtual MovingAxes moving_axes() const = 0;
+    // The console showed it is not where the controller left it: initialise again.
+    virtual bool sync_lost() const = 0;
+};
+
+std::unique_ptr<MoveDriver> make_move_driver(const MoveContext& context);
+
+}  // namespace birdcage

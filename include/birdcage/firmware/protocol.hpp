@@ -1,0 +1,84 @@
+// Pure protocol: command builders, reply parsers and the hazard guard's rules. No I/O, no clock.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "birdcage/base/azel.hpp"
+#include "birdcage/base/errors.hpp"
+#include "birdcage/firmware/variants.hpp"
+
+namespace birdcage {
+
+// ---- number formatting -------------------------------------------------------------------------
+
+// Fixed two decimals ("180.00"): never exponent form, never "-0.00". Requires a finite value.
+std::string format_degrees(double degrees);
+
+// ---- command builders --------------------------------------------------------------------------
+
+std::string build_axis_move(Axis axis, double degrees);   // "a 0 180.00"
+std::string build_combined_move(AzEl target);             // "g 180.00 45.00"
+std::string build_nvs_dump(int index);                    // "d 20"  (G2 NVS>)
+std::string build_rssi(int samples);                      // "rssi 10" (G2 DVB>)
+
+// ---- reply parsers -----------------------------------------------------------------------------
+// Each parser takes the reply lines (echo and prompt already removed). A reply that does not
+// contain every required field is an error: garbage never produces a position.
+
+// Trav'ler: `AZ = <f>` and `EL = <f>` (SK optional), optional sign, any whitespace or line layout.
+Result<AzEl> parse_travler_position(std::span<const std::string> lines);
+
+// G2: `Angle[0] = <f>` and `Angle[1] = <f>`. The INT_MAX sentinel of unhomed axes -> Errc::not_homed.
+Result<AzEl> parse_g2_position(std::span<const std::string> lines);
+
+// G2 move acknowledgement `Angle = <f>`.
+Result<double> parse_g2_move_ack(std::span<const std::string> lines);
+
+// Carryout 2003 live output while `g` runs: `... <azcdeg>   el = <elcdeg>` (docs/firmware.md 8.4).
+// Returns the last complete sample among the lines.
+Result<AzEl> parse_carryout_live(std::span<const std::string> lines);
+
+// Dispatches on profile.position_format.
+Result<AzEl> parse_position(const FirmwareProfile& profile, std::span<const std::string> lines);
+
+struct NvsEntry {
+    int index = -1;
+    std::string name;
+    std::string current, saved, default_value;
+};
+// One G2 `d <idx>` table line: ` 20) Disable Tracker Proc?            FALSE       FALSE       FALSE`.
+std::optional<NvsEntry> parse_g2_nvs_line(std::string_view line);
+
+struct RssiReading {
+    int reads = 0;
+    int average = 0;
+    int current = 0;
+};
+// G2 `rssi <n>` body: `iterations:<n>  interval(msec):20` / ` Reads:<n>  RSSI[avg: <v>  cur: <v>]`.
+Result<RssiReading> parse_g2_rssi(std::span<const std::string> lines);
+
+// ---- hazard guard rules ------------------------------------------------------------------------
+
+// What the session knows when it decides whether a command may be sent.
+struct HazardContext {
+    std::string_view menu;       // "root", "mot", "nvs", ... ; empty = unknown
+    bool allow_nvs_write = false;
+    bool axes_unhomed = false;   // a position reply showed the INT_MAX sentinel
+};
+
+// Ok, or Errc::hazard / Errc::not_homed naming the documented hazard. Rules:
+//  - `q` at the root menu (or where the menu is unknown) on quirk_q_at_root_kills_shell firmware;
+//  - argument-less `scan` (ADC scan on an unhomed AZ targets INT_MAX and hangs the console);
+//  - NVS/EEPROM writes: `e <idx> <v>`, `ee <idx> <v>`, and `s` in (or possibly in) NVS, unless allowed;
+//  - `stow`, `reboot`, `def`, `inv ...`, `Q`;
+//  - moves (`a <id> <deg>`, `g ...`, `azscanwxp`) while the axes are known to be unhomed.
+Status hazard_check(const FirmwareProfile& profile, std::string_view command, const HazardContext& context);
+
+// The menu a prompt stands for: the profile's root prompt -> "root", `EE>` -> "eeprom",
+// otherwise the lower-cased word ("MOT>" -> "mot"). Empty for an empty prompt.
+std::string menu_for_prompt(const FirmwareProfile& profile, std::string_view prompt);
+
+}  // namespace birdcage

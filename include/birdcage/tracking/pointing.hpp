@@ -1,0 +1,128 @@
+// Predictive pointing: infer the satellite's motion from the stream of client targets and aim the
+// dish where the satellite will be, instead of where the client last said it was.
+//
+// Why the backend has to infer it: the Hamlib rotator API carries no time tags or rates, and the
+// clients that drive it reveal the trajectory only sparsely. Gpredict (docs/tracking.md §5,
+// docs/tracking.md §3.2) sends a target only when the read-back differs from the satellite by
+// more than its threshold (default 5°), and then sends a point *ahead* of the satellite (a lead of
+// up to one threshold). A dish that jumps to each target therefore sweeps from one threshold
+// ahead to one threshold behind: ~threshold/√3 RMS whatever the backend does (≈2.9° at 5°).
+//
+// What this estimator does with each target T_k arriving at t_k:
+//   * velocity: least-squares slope of the recent targets (a constant lead cancels out);
+//   * lead: the client's lead is learned from "lag" events: when the dish followed the previous
+//     target and fell behind, the client fires once the satellite is one threshold past the dish
+//     and sends a point one threshold further, so T - dish ≈ 2 v τ along the track. The lead is
+//     kept as a threshold in degrees (Gpredict's box is per axis, in plain degrees) and turned
+//     into a time τ = threshold / |v|∞ for the current rate;
+//   * the satellite is then at S(t) = T_k - v τ + v (t - t_k), extrapolated for a bounded time.
+// A target that repeats the last one, or lands far from the prediction, restarts the estimate
+// (the client stopped, parked or switched satellites): the dish then goes to that target and
+// holds it, with no overshoot.
+//
+// Pure and clock-free: the caller passes the times (RotatorService uses the controller's clock,
+// which runs k× faster against the emulator).
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <optional>
+#include <string>
+
+#include "birdcage/base/azel.hpp"
+#include "birdcage/tracking/pass_model.hpp"
+#include "birdcage/base/plain_types.hpp"
+
+namespace birdcage {
+
+enum class PointingMode {
+    none,        // go to each target as sent
+    leapfrog,    // the seed's overshoot of a lagging axis (Controller applies it)
+    predictive,  // TargetPredictor below
+};
+
+std::optional<PointingMode> pointing_mode_from_name(std::string_view name);
+std::string_view pointing_mode_name(PointingMode mode);
+
+struct PredictorSettings {
+    // Least-squares window for the velocity (targets older than this are dropped from the fit,
+    // but the last two are always kept). Long enough to average Gpredict's lead quantisation
+    // (a quarter cycle, 0.25 s) over several samples.
+    double fit_window_s = 30.0;
+    // A gap longer than this between targets restarts the estimate (the client stopped).
+    double max_gap_s = 120.0;
+    // How long past the last target the motion is extrapolated: this many times the last
+    // interval between targets, bounded below and above.
+    double extrapolate_intervals = 3.0;
+    double min_extrapolation_s = 10.0;
+    double max_extrapolation_s = 90.0;
+    // A target farther than this from the predicted target restarts the estimate.
+    double restart_gate_deg = 20.0;
+    // Above this elevation the azimuth rate changes quickly (keyhole): azimuth is extrapolated
+    // at most zenith_extrapolation_s past the last target.
+    double zenith_guard_el = 75.0;
+    double zenith_extrapolation_s = 2.0;
+    // Above this on-sky rate two targets are two pointings, not a satellite (LEO: <= 1.2 deg/s,
+    // docs/tracking.md §2.1).
+    double max_sky_rate_dps = 3.0;
+    // Below this on-sky rate the target counts as stationary.
+    double stationary_dps = 0.002;
+    // Predict from a model of the whole pass (pass_model.hpp) whenever its fit is good; the local
+    // estimate above stays the fallback (few targets, manual pointing). Off by default (conf
+    // pass_model): on the benchmark it removes one Trav'ler unwind but raises motor commands and
+    // worsens one near-zenith pass (docs/tracking.md §6); the tracking work decides its default.
+    bool use_pass_model = false;
+    PassModelSettings pass_model;
+};
+
+struct Prediction {
+    AzEl position;          // azimuth in [0, 360)
+    double az_rate = 0.0;   // deg/s of the (unwrapped) azimuth
+    double el_rate = 0.0;
+    bool moving = false;    // false: hold `position` (stationary or extrapolation expired)
+};
+
+class TargetPredictor {
+public:
+    explicit TargetPredictor(PredictorSettings settings = {});
+
+    // A new client target at time `t`; `dish` is the position the backend reports now (what the
+    // client compared against), if known.
+    void observe(Clock::time_point t, AzEl target, std::optional<AzEl> dish);
+    void reset();
+
+    // The estimated satellite direction at time `t` (t may lie ahead of now).
+    std::optional<Prediction> predict(Clock::time_point t) const;
+
+    // For logs and tests.
+    std::optional<double> lead_threshold_deg() const { return lead_threshold_; }
+    bool pass_model_in_use() const { return settings_.use_pass_model && pass_model_.good(); }
+    std::string describe() const;
+
+private:
+    struct Sample {
+        double t;    // seconds since origin_
+        double az;   // unwrapped, continuous with the previous sample
+        double el;
+    };
+    double seconds(Clock::time_point t) const;
+    void fit();
+    void restart(double t, AzEl target);
+
+    PredictorSettings settings_;
+    Clock::time_point origin_{};
+    bool has_origin_ = false;
+    std::deque<Sample> samples_;
+    double az_rate_ = 0.0, el_rate_ = 0.0;     // at the anchor
+    double az_accel_ = 0.0, el_accel_ = 0.0;
+    bool have_rate_ = false;
+    bool held_ = false;   // the last target repeated the one before: the client holds still
+    std::optional<double> lead_threshold_;  // learned client threshold, degrees (per axis)
+    std::deque<double> lead_observations_;
+    // The estimated satellite position at anchor_t_ (the last target minus the lead).
+    double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;
+    double last_interval_s_ = 0.0;
+    PassModel pass_model_;
+};
+
+}  // namespace birdcage

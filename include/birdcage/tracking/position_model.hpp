@@ -1,0 +1,49 @@
+// Where the dish is between polls, pure. A leg in flight runs its axis from where it stood when the
+// leg was sent to the leg's target along the variant's motion model (variants.hpp:
+// travelled_after). The latest reading places the axis on that curve (how far along it is) and,
+// with the reading before it in the same leg, times it (how fast the real axis goes through the
+// curve), so the model follows the dish's pace rather than the table's guess of it: the Trav'lers
+// publish no speed or acceleration (docs/firmware.md 3.4). Paces seen on earlier legs carry over
+// to the next leg of about the same length (AxisPaces), before its own readings time it.
+#pragma once
+
+#include <array>
+#include <optional>
+
+#include "birdcage/base/azel.hpp"
+#include "birdcage/base/plain_types.hpp"
+#include "birdcage/firmware/variants.hpp"
+
+namespace birdcage {
+
+// `last`: the last reading; `moving`: the legs whose axes may still be moving (none: the dish is at
+// `last`); `now`: dish time.
+AzEl modelled_position(const FirmwareProfile& dish, AzEl last, const MovingAxes& moving, Clock::time_point now);
+
+// A reading taken during the leg: the latest (the one it replaces becomes `previous`), and the
+// first that shows the axis under way.
+void add_reading(LegMotion& leg, AxisReading reading);
+
+// One axis of that: where the leg's axis is at `now`.
+double modelled_axis(const FirmwareProfile& dish, const LegMotion& leg, Clock::time_point now);
+
+// The pace (model seconds per real second) the leg's readings show, if they time it: over the
+// last two readings where they are far enough apart (the pace where the axis is now: the curve's
+// shape may differ from the motor's), else from the first reading under way to the latest.
+std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion& leg);
+
+// How fast each axis has run through the motion model's curve, per leg length: the model's
+// durations come from a fit whose error depends on the length (a fixed acceleration takes
+// sqrt(length) on short moves, the fit does not), so one factor per axis would not do.
+class AxisPaces {
+public:
+    double pace(Axis axis, double distance) const;   // 1 until a leg of that length was timed
+    void learn(Axis axis, double distance, double observed);
+
+private:
+    static constexpr int length_classes = 8;   // < 0.25 deg, then doubling up to >= 16 deg
+    static int length_class(double distance);
+    std::array<std::array<std::optional<double>, length_classes>, 2> paces_{};
+};
+
+}  // namespace birdcage

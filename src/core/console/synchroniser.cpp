@@ -1,0 +1,448 @@
+#include "birdcage/console/synchroniser.hpp"
+
+#include <algorithm>
+#include <array>
+
+#include "birdcage/console/framer.hpp"
+
+namespace birdcage {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr std::size_t recent_limit = 8192;   // bytes of output kept for the give-up message and recent_output()
+constexpr std::size_t lines_quoted = 4;
+constexpr std::size_t baud_sample = 256;     // bytes judged by the wrong-baud check
+
+bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || byte == '\t'; }
+bool is_line_end(char c) { return c == '\r' || c == '\n'; }
+
+// A line of console text rather than line noise: an idle RS-485 bus can produce random bytes
+// without end, a third of them printable by chance, and once in a while a CR or LF among them. A
+// dish never prints unprintable bytes, so a line needs (almost) none to count as text.
+bool is_text_line(std::size_t text_bytes, std::size_t noise_bytes) { return text_bytes > 0 && noise_bytes * 4 <= text_bytes; }
+
+// The length of the prompt `line` starts with when the rest of it is line noise (mostly
+// unprintable bytes, as a noisy idle bus sends after the prompt); 0 otherwise. A prompt followed
+// by text with a stray noise byte in it is no prompt: the console is still printing.
+std::size_t prompt_before_noise(std::string_view line) {
+    const std::size_t close = line.find('>');
+    if (close == std::string_view::npos || !looks_like_prompt(line.substr(0, close + 1))) {
+        return 0;
+    }
+    std::size_t text = 0;
+    std::size_t noise = 0;
+    for (char c : line.substr(close + 1)) {
+        ++(is_text_byte(static_cast<unsigned char>(c)) ? text : noise);
+    }
+    return noise > 0 && !is_text_line(text, noise) ? close + 1 : 0;
+}
+
+bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
+    return std::any_of(markers.begin(), markers.end(),
+                       [&](std::string_view marker) { return line.find(marker) != std::string_view::npos; });
+}
+
+// The text lines of `raw` (is_text_line), noise bytes removed; empty and noise lines dropped.
+std::vector<std::string> printable_lines(std::string_view raw) {
+    std::vector<std::string> lines;
+    std::string line;
+    std::size_t noise = 0;
+    auto finish = [&] {
+        if (line.find_first_not_of(" \t") != std::string::npos && is_text_line(line.size(), noise)) {
+            lines.push_back(line);
+        }
+        line.clear();
+        noise = 0;
+    };
+    for (char c : raw) {
+        if (is_line_end(c)) {
+            finish();
+        } else if (is_text_byte(static_cast<unsigned char>(c))) {
+            line += c;
+        } else {
+            ++noise;
+        }
+    }
+    finish();
+    return lines;
+}
+
+std::string seconds_text(std::chrono::milliseconds ms) { return std::to_string(ms.count() / 1000) + " s"; }
+
+// The auto-detect profile stands for every variant: name each rate with the variants using it.
+std::string usual_baud_text(const FirmwareProfile& profile) {
+    if (&profile != &probe_profile()) {
+        return std::to_string(profile.baud);
+    }
+    std::vector<std::pair<int, std::string>> rates;
+    for (const FirmwareProfile& row : all_profiles()) {
+        auto same = std::find_if(rates.begin(), rates.end(), [&](const auto& r) { return r.first == row.baud; });
+        if (same == rates.end()) {
+            rates.emplace_back(row.baud, std::string(row.short_name));
+        } else {
+            same->second += ", " + std::string(row.short_name);
+        }
+    }
+    std::string text;
+    for (const auto& [baud, names] : rates) {
+        text += (text.empty() ? "" : " or ") + std::to_string(baud) + " (" + names + ")";
+    }
+    return text;
+}
+
+}  // namespace
+
+std::string trailing_prompt(std::string_view output) {
+    // Line endings and noise after the prompt (an idle RS-485 bus keeps producing bytes) do not
+    // hide it; noise inside its line does.
+    std::size_t end = output.size();
+    while (end > 0 && (is_line_end(output[end - 1]) || !is_text_byte(static_cast<unsigned char>(output[end - 1])))) {
+        --end;
+    }
+    std::size_t begin = end;
+    while (begin > 0 && !is_line_end(output[begin - 1])) {
+        --begin;
+    }
+    const std::string_view line = output.substr(begin, end - begin);
+    if (!looks_like_prompt(line)) {   // also rejects any noise byte: a prompt is printable text only
+        return {};
+    }
+    std::string prompt(line);
+    while (!prompt.empty() && prompt.back() == ' ') {
+        prompt.pop_back();
+    }
+    return prompt;
+}
+
+std::string quoted_tail(std::string_view output, std::size_t count) {
+    std::vector<std::string_view> lines;
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= output.size(); ++i) {
+        if (i == output.size() || is_line_end(output[i])) {
+            if (i > start) {
+                lines.push_back(output.substr(start, i - start));
+            }
+            start = i + 1;
+        }
+    }
+    const std::size_t first = lines.size() > count ? lines.size() - count : 0;
+    std::string text;
+    for (std::size_t i = first; i < lines.size(); ++i) {
+        text += (text.empty() ? "\"" : ", \"") + escape_bytes(lines[i]) + "\"";
+    }
+    return text;
+}
+
+bool looks_like_wrong_baud(std::string_view raw) {
+    std::size_t noise = 0;
+    std::size_t line_ends = 0;
+    for (char c : raw) {
+        if (is_line_end(c)) {
+            ++line_ends;
+        } else if (!is_text_byte(static_cast<unsigned char>(c))) {
+            ++noise;
+        }
+    }
+    if (raw.size() < 8) {
+        return false;
+    }
+    // At the wrong rate most frames decode to bytes outside ASCII; the few that decode as text
+    // never form lines ending in a prompt.
+    if (noise * 10 >= raw.size() * 3) {
+        return true;
+    }
+    return raw.size() >= 48 && line_ends == 0 && trailing_prompt(raw).empty();
+}
+
+SyncSettings console_sync_settings(const FirmwareProfile& profile, std::chrono::milliseconds budget) {
+    SyncSettings settings;
+    settings.line_ending = profile.line_ending;
+    settings.boot_markers = profile.reboot_markers;
+    settings.boot_complete_markers = profile.boot_complete_markers;
+    settings.budget = budget;
+    if (profile.prompt_known()) {
+        settings.expected = "the console's prompt (" + std::string(profile.root_prompt) + " at the root, " +
+                            std::string(profile.motor_prompt) + " in the motor menu, or another submenu's)";
+    } else {
+        // Undocumented prompts: `?` lists the menu on every variant (docs/firmware.md 2, 8.1).
+        settings.probe_command = "?";
+        settings.expected = "a prompt (WORD>) after a line ending, or the same answer to ? twice";
+    }
+    settings.usual_baud = usual_baud_text(profile);
+    return settings;
+}
+
+ConsoleSynchroniser::ConsoleSynchroniser(Transport& transport, SyncSettings settings, LogSink log, DishClock clock)
+    : transport_(transport), settings_(std::move(settings)), log_(std::move(log)), clock_(std::move(clock)),
+      next_progress_(settings_.progress_interval) {}
+
+Clock::time_point ConsoleSynchroniser::now() const {
+    return std::max(clock_.now(), virtual_now_);
+}
+
+ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::milliseconds first_byte_within,
+                                                        std::chrono::milliseconds gap, Clock::time_point limit) {
+    Heard heard;
+    std::array<char, 512> buffer{};
+    Clock::time_point wait_until = std::min(limit, now() + first_byte_within);
+    // The line being received: where it starts, its printable and its noise bytes.
+    std::size_t line_start = 0;
+    std::size_t line_text = 0;
+    std::size_t line_noise = 0;
+    std::size_t lines_end = 0;   // the end of the last line of text
+    for (;;) {
+        const auto got = transport_.read(buffer.data(), buffer.size(), wait_until);
+        if (!got) {
+            if (got.status.code != Errc::timeout) {
+                heard.failed = true;
+                heard.failure = got.status;
+                return heard;
+            }
+            virtual_now_ = std::max(virtual_now_, wait_until);
+            return heard;
+        }
+        const std::string_view bytes(buffer.data(), got.value);
+        emit(log_, LogLevel::trace, "RES " + escape_bytes(bytes));
+        heard.raw.append(bytes);
+        // Only the console's text keeps a reply open: a line of text when its line ending arrives,
+        // or a clean prompt being the line so far. Line noise never does, however long it lasts,
+        // so "quiet" comes on a line that is never silent.
+        bool spoke = false;
+        for (std::size_t i = heard.raw.size() - bytes.size(); i < heard.raw.size(); ++i) {
+            const char c = heard.raw[i];
+            if (is_line_end(c)) {
+                if (const std::size_t prompt = prompt_before_noise(std::string_view(heard.raw).substr(line_start, i - line_start))) {
+                    lines_end = line_start + prompt;
+                } else if (is_text_line(line_text, line_noise)) {
+                    lines_end = i + 1;
+                    spoke = true;
+                }
+                line_start = i + 1;
+                line_text = 0;
+                line_noise = 0;
+            } else if (is_text_byte(static_cast<unsigned char>(c))) {
+                ++line_text;
+            } else {
+                ++line_noise;
+            }
+        }
+        // Where the text ends within the line being received: a clean line is text (a prompt, or
+        // a line still arriving, which hides any prompt before it); a prompt followed by noise
+        // bytes is the prompt (a dish never prints an unprintable byte, so its prompt ended
+        // there, as the framer's rule 3c says); other lines count as for is_text_line.
+        const std::string_view line = std::string_view(heard.raw).substr(line_start);
+        const std::size_t previous_end = heard.text_end;
+        heard.text_end = lines_end;
+        if (line_noise == 0 && line_text > 0) {
+            heard.text_end = heard.raw.size();
+            spoke = spoke || looks_like_prompt(line);
+        } else if (const std::size_t prompt = line_noise > 0 ? prompt_before_noise(line) : 0) {
+            heard.text_end = line_start + prompt;
+            spoke = spoke || heard.text_end > previous_end;
+        } else if (is_text_line(line_text, line_noise)) {
+            heard.text_end = heard.raw.size();
+        }
+        if (spoke) {
+            wait_until = std::min(limit, now() + gap);
+        }
+        if (now() >= limit) {
+            return heard;
+        }
+    }
+}
+
+bool ConsoleSynchroniser::booting() const { return boot_in_progress_; }
+
+void ConsoleSynchroniser::absorb(std::string_view raw, ConsoleSnapshot& snapshot) {
+    if (raw.empty()) {
+        return;
+    }
+    for (char c : raw) {
+        if (!is_line_end(c) && !is_text_byte(static_cast<unsigned char>(c))) {
+            ++noise_bytes_;
+        }
+    }
+    bytes_heard_ += raw.size();
+    recent_.append(raw);
+    if (recent_.size() > recent_limit) {
+        recent_.erase(0, recent_.size() - recent_limit);
+    }
+    for (std::string& line : printable_lines(raw)) {
+        const bool complete = contains_any(line, settings_.boot_complete_markers);
+        if (complete || contains_any(line, settings_.boot_markers)) {
+            boot_in_progress_ = !complete;
+            snapshot.boot_heard = true;
+            snapshot.last_boot_line = line;
+            emit(log_, LogLevel::verbose, "dish boot output: " + line);
+        }
+        snapshot.heard.push_back(std::move(line));
+    }
+    check_baud(raw);
+}
+
+void ConsoleSynchroniser::check_baud(std::string_view raw) {
+    if (baud_warned_) {
+        return;
+    }
+    const std::string_view sample = std::string_view(recent_).substr(recent_.size() > baud_sample ? recent_.size() - baud_sample : 0);
+    if (!looks_like_wrong_baud(sample) && !looks_like_wrong_baud(raw)) {
+        return;
+    }
+    baud_warned_ = true;
+    emit(log_, LogLevel::warning,
+         "the console's replies look like a wrong baud rate (" + std::to_string(noise_bytes_) + " of " +
+             std::to_string(bytes_heard_) + " bytes unprintable, e.g. \"" + escape_bytes(sample.substr(0, 48)) +
+             "\")" + (settings_.usual_baud.empty() ? std::string() : "; this dish usually runs at " + settings_.usual_baud + " baud (rotctld -s)") +
+             "; also check the wiring (a swapped RX pair garbles at the right rate)");
+}
+
+Status ConsoleSynchroniser::write(std::string_view bytes) {
+    emit(log_, LogLevel::trace, "CMD " + escape_bytes(bytes));
+    return transport_.write(bytes, now() + settings_.reply_window);
+}
+
+void ConsoleSynchroniser::report_progress(const ConsoleSnapshot& snapshot, Clock::time_point started) {
+    const auto elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(now() - started);
+    if (!announced_wait_) {
+        announced_wait_ = true;
+        emit(log_, LogLevel::warning,
+             (snapshot.last_boot_line.empty()
+                  ? std::string("the console does not answer yet; waiting for the dish to finish booting")
+                  : "the dish is booting (\"" + escape_bytes(snapshot.last_boot_line) + "\"); waiting for it to finish") +
+                 " (up to " + seconds_text(settings_.budget) + ")");
+        return;
+    }
+    if (elapsed < next_progress_) {
+        return;
+    }
+    // The milestone crossed (30 s, 60 s, ...): the rounds between reports are not aligned to it.
+    std::chrono::milliseconds milestone{0};
+    while (next_progress_ <= elapsed) {
+        milestone = next_progress_;
+        next_progress_ += settings_.progress_interval;
+    }
+    emit(log_, LogLevel::warning,
+         "still waiting for the dish to boot: " + seconds_text(milestone) +
+             (snapshot.last_boot_line.empty() ? std::string(", no boot output yet")
+                                              : "; last boot output \"" + escape_bytes(snapshot.last_boot_line) + "\""));
+}
+
+Status ConsoleSynchroniser::give_up(const ConsoleSnapshot& snapshot, std::string_view why) const {
+    std::string seen = quoted_tail(recent_, lines_quoted);
+    if (seen.empty()) {
+        seen = "nothing (the line stayed silent: check power, wiring and baud" +
+               (settings_.usual_baud.empty() ? std::string() : ", usually " + settings_.usual_baud) + ")";
+    } else if (noise_bytes_ > 0) {
+        seen += " (" + std::to_string(noise_bytes_) + " of " + std::to_string(bytes_heard_) + " bytes unprintable)";
+    }
+    return Status{Errc::timeout, std::string(why) + " within " + seconds_text(snapshot.waited) + ": expected " +
+                                     settings_.expected + "; the console showed " + seen};
+}
+
+Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
+    ConsoleSnapshot snapshot;
+    const Clock::time_point started = now();
+    // However small the budget (a recovery slice), a console that is up gets its chance: three
+    // rounds of quiet, poke and reply confirm a prompt even if the first reply was stale.
+    const auto floor = 3 * (settings_.quiet_gap + settings_.reply_window + settings_.quiet_gap);
+    const Clock::time_point limit = started + std::max(settings_.budget, std::chrono::duration_cast<std::chrono::milliseconds>(floor));
+    auto fail_io = [&](const Status& status) { return Result<ConsoleSnapshot>{std::move(snapshot), status}; };
+    auto waited = [&] { return std::chrono::duration_cast<std::chrono::milliseconds>(now() - started); };
+
+    // Stale input: evidence (boot lines) but never a prompt.
+    Heard stale = collect(0ms, 0ms, now());
+    if (stale.failed) {
+        return fail_io(stale.failure);
+    }
+    absorb(stale.raw, snapshot);
+    if (booting()) {
+        report_progress(snapshot, started);   // opened mid-boot: say so at once
+    }
+
+    std::string candidate;                  // a prompt seen once; a second poke must end on it too
+    std::vector<std::string> probe_answer;  // the probe's reply once; a second must repeat it
+    while (now() < limit) {
+        // Let the console finish what it is saying; unsolicited output voids a candidate.
+        const Heard unsolicited = collect(booting() ? settings_.boot_listen : settings_.quiet_gap,
+                                          settings_.quiet_gap, limit);
+        if (unsolicited.failed) {
+            return fail_io(unsolicited.failure);
+        }
+        absorb(unsolicited.raw, snapshot);
+        if (unsolicited.text_end > 0) {
+            candidate.clear();
+            probe_answer.clear();
+            // A dish that prints its boot log for minutes is waited for too: say so.
+            if (booting()) {
+                report_progress(snapshot, started);
+            }
+            continue;
+        }
+        if (now() >= limit) {
+            break;
+        }
+
+        if (Status written = write(settings_.line_ending); !written) {
+            return fail_io(written);
+        }
+        const Heard reply = collect(settings_.reply_window, settings_.quiet_gap, limit);
+        if (reply.failed) {
+            return fail_io(reply.failure);
+        }
+        absorb(reply.raw, snapshot);
+        if (std::string prompt = trailing_prompt(reply.text()); !prompt.empty() && !booting()) {
+            if (prompt == candidate) {
+                snapshot.prompt = std::move(prompt);
+                snapshot.waited = waited();
+                emit(log_, LogLevel::verbose, "console in sync at prompt " + snapshot.prompt + " after " +
+                                                  seconds_text(snapshot.waited));
+                return {std::move(snapshot), Status::ok()};
+            }
+            candidate = std::move(prompt);
+            continue;
+        }
+        candidate.clear();
+
+        if (!settings_.probe_command.empty() && !booting()) {
+            const std::string probe = std::string(settings_.probe_command) + std::string(settings_.line_ending);
+            if (Status written = write(probe); !written) {
+                return fail_io(written);
+            }
+            const Heard answer = collect(settings_.reply_window, settings_.quiet_gap, limit);
+            if (answer.failed) {
+                return fail_io(answer.failure);
+            }
+            const std::size_t first_new = snapshot.heard.size();
+            absorb(answer.raw, snapshot);
+            if (std::string prompt = trailing_prompt(answer.text()); !prompt.empty() && !booting()) {
+                candidate = std::move(prompt);   // the next bare line ending confirms it
+                continue;
+            }
+            std::vector<std::string> lines(snapshot.heard.begin() + static_cast<std::ptrdiff_t>(first_new),
+                                           snapshot.heard.end());
+            std::erase(lines, std::string(settings_.probe_command));   // the echo
+            const bool clean = !lines.empty() && !booting() &&
+                               std::none_of(lines.begin(), lines.end(), [&](const std::string& l) {
+                                   return contains_any(l, settings_.boot_markers) ||
+                                          contains_any(l, settings_.boot_complete_markers);
+                               });
+            if (clean && lines == probe_answer) {
+                snapshot.probe_reply = std::move(lines);
+                snapshot.waited = waited();
+                emit(log_, LogLevel::verbose, "console in sync without a prompt: \"" + std::string(settings_.probe_command) +
+                                                  "\" answered the same twice, after " + seconds_text(snapshot.waited));
+                return {std::move(snapshot), Status::ok()};
+            }
+            probe_answer = clean ? std::move(lines) : std::vector<std::string>{};
+            if (clean) {
+                continue;   // ask once more at once
+            }
+        }
+        report_progress(snapshot, started);
+    }
+    snapshot.waited = waited();
+    return {std::move(snapshot), give_up(snapshot, "no prompt confirmed")};
+}
+
+}  // namespace birdcage

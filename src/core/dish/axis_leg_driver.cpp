@@ -1,0 +1,418 @@
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "birdcage/firmware/protocol.hpp"
+#include "move_drivers.hpp"
+
+namespace birdcage {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr auto query_timeout = 2000ms;        // `a`: ~60 bytes even at 57600 baud is ~11 ms
+constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (docs/tracking.md 1.2)
+constexpr auto still_window = 2000ms;         // an axis unchanged this long has stopped
+constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
+// With prompts, the reply to a move may wait for the move's end (G2 after-motion acks): this much
+// beyond the leg's budget. Without prompts the reply is the quiet gap after the move's output.
+constexpr auto prompt_after_move_margin = 2000ms;
+constexpr auto unknown_prompt_send_timeout = 1000ms;
+constexpr double stillness_degrees = 0.02;    // position changes smaller than this are noise
+// An acknowledged angle this far from the one sent means the firmware changed it (clamped, or
+// named another branch); the ack prints two decimals.
+constexpr double ack_match_degrees = 0.01;
+// A mechanical acknowledgement further than this from both the number sent and the intended
+// branch names a branch the backend did not plan.
+constexpr double ack_branch_degrees = 1.0;
+// Consecutive readings further apart than this were not one continuous path (the estimate's branch
+// was wrong, or the readings too sparse to follow the axis): the leg teaches nothing about the mapping.
+constexpr double path_jump_degrees = 90.0;
+
+std::string degrees_text(double value) { return format_degrees(value); }
+double axis_value(AzEl position, Axis axis) { return axis == Axis::azimuth ? position.az : position.el; }
+double axis_error(Axis axis, double from, double to) {
+    return axis == Axis::azimuth ? std::fabs(azimuth_difference(from, to)) : std::fabs(to - from);
+}
+std::string axis_text(Axis axis) { return std::to_string(static_cast<int>(axis)); }
+
+}  // namespace
+
+void AxisLegDriver::reset() {
+    pending_.clear();
+    in_flight_.reset();
+    settling_.reset();
+    forget_commands();
+}
+
+void AxisLegDriver::forget_commands() {
+    commanded_az_.reset();
+    commanded_el_.reset();
+}
+
+void AxisLegDriver::plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps) {
+    pending_.clear();
+    // The mechanical azimuth: the target's branch, plus the leapfrog lead, inside the usable window.
+    const std::optional<double> leg_end =
+        in_flight_ && in_flight_->axis == Axis::azimuth ? std::optional<double>(in_flight_->final_mech_az) : std::nullopt;
+    const double target_mech = c_.wrap.choose_branch(wanted, previous, az_rate_dps, c_.el_min, leg_end, commanded_az_);
+    const wrap::Window plan = c_.wrap.plan_window();
+    const double command_mech =
+        std::clamp(target_mech + azimuth_difference(wanted.az, command.az), plan.min, plan.max);
+    command.az = c_.wrap.command_value(command_mech);
+
+    const auto mech_az = c_.wrap.mechanical();
+    const auto& last = c_.state.last_position;
+    auto needed = [&](Axis axis, double value) {
+        const auto& commanded = axis == Axis::azimuth ? commanded_az_ : commanded_el_;
+        if (commanded) {
+            return std::fabs(*commanded - value) >= same_angle_degrees;
+        }
+        // Nothing commanded on this axis yet: skip the leg only if the dish already reads the target
+        // (arrival_tolerance is for ending a leg in motion; skipping by it would leave up to that
+        // much pointing error, e.g. after a TV search stopped the dish near the target).
+        if (axis == Axis::azimuth) {
+            return !mech_az || std::fabs(*mech_az - value) >= same_angle_degrees;
+        }
+        return !last || std::fabs(last->el - value) >= same_angle_degrees;
+    };
+    Leg az_leg;
+    az_leg.axis = Axis::azimuth;
+    az_leg.target = command;
+    az_leg.mech_az = command_mech;
+    az_leg.final_mech_az = command_mech;
+    Leg el_leg;
+    el_leg.axis = Axis::elevation;
+    el_leg.target = command;
+    // Alternate which axis goes first so neither starves the other (seeds 003/004).
+    const bool az_first = move_count_ % 2 == 0;
+    ++move_count_;
+    for (const Leg& leg : az_first ? std::array<Leg, 2>{az_leg, el_leg} : std::array<Leg, 2>{el_leg, az_leg}) {
+        if (needed(leg.axis, leg.axis == Axis::azimuth ? leg.mech_az : leg.target.el)) {
+            pending_.push_back(leg);
+        }
+    }
+}
+
+Status AxisLegDriver::service() {
+    if (in_flight_) {
+        const Status status = follow();
+        if (in_flight_ || !status) {
+            return status;
+        }
+    }
+    if (pending_.empty()) {
+        return Status::ok();
+    }
+    Leg leg = pending_.front();
+    pending_.pop_front();
+    if (leg.axis == Axis::azimuth) {
+        plan_azimuth_leg(leg);
+    }
+    return send(leg);
+}
+
+// An azimuth leg longer than wrap::max_leg_deg goes by waypoints (see wrap::next_waypoint() for
+// why), each planned from where the dish is when it is sent; the rest of the leg stays queued.
+void AxisLegDriver::plan_azimuth_leg(Leg& leg) {
+    const double from = c_.wrap.mechanical().value_or(commanded_az_.value_or(leg.final_mech_az));
+    leg.mech_az = leg.waypoints_left > 0 ? wrap::next_waypoint(from, leg.final_mech_az) : leg.final_mech_az;
+    leg.target.az = c_.wrap.command_value(leg.mech_az);
+    if (leg.mech_az == leg.final_mech_az) {
+        return;
+    }
+    Leg rest = leg;
+    rest.mech_az = rest.final_mech_az;
+    rest.target.az = c_.wrap.command_value(rest.final_mech_az);
+    --rest.waypoints_left;
+    pending_.push_front(rest);
+    emit(c_.log, LogLevel::verbose,
+         "azimuth by waypoints: " + degrees_text(leg.target.az) + " (mechanical " + degrees_text(leg.mech_az) +
+             ") on the way from " + degrees_text(from) + " to mechanical " + degrees_text(leg.final_mech_az));
+}
+
+double AxisLegDriver::distance(const Leg& leg) const {
+    if (leg.axis == Axis::azimuth) {
+        const auto mech_az = c_.wrap.mechanical();
+        return mech_az ? std::fabs(leg.mech_az - *mech_az) : wrap::max_leg_deg;
+    }
+    if (!c_.state.last_position) {
+        return c_.el_max - c_.el_min;
+    }
+    return std::fabs(leg.target.el - c_.state.last_position->el);
+}
+
+Status AxisLegDriver::send(Leg& leg) {
+    const auto estimate = estimated_move_time(c_.profile, leg.axis, distance(leg));
+    leg.budget = estimate * 2 + leg_margin;
+    const std::string command = build_axis_move(leg.axis, axis_value(leg.target, leg.axis));
+    const auto timeout = c_.profile.prompt_known() ? leg.budget + prompt_after_move_margin : unknown_prompt_send_timeout;
+    ReplyComplete complete;
+    if (c_.profile.move_ack == MoveAckFormat::g2_angle) {
+        complete = [](std::span<const std::string> lines) { return static_cast<bool>(parse_g2_move_ack(lines)); };
+    }
+    const auto reply = c_.session.transact(command, timeout, complete);
+    if (!reply && reply.status.code != Errc::timeout) {
+        if (reply.status.code == Errc::not_homed) {
+            c_.state.unhomed = true;
+        }
+        return reply.status;
+    }
+    if (!reply) {
+        emit(c_.log, LogLevel::warning, "no prompt after " + command + "; assuming the move runs");
+    } else if (c_.profile.move_ack == MoveAckFormat::g2_angle) {
+        const auto ack = parse_g2_move_ack(reply.value.lines);
+        if (ack.status.code == Errc::not_homed) {
+            c_.state.unhomed = true;
+            c_.session.set_axes_unhomed(true);
+            c_.session.report(ConsoleEvent::reply_to(ConsoleEvent::Kind::unhomed, command));
+            return ack.status;
+        }
+        if (ack) {
+            c_.session.report(ConsoleEvent::move_acknowledged(command, ack.value));
+        }
+        if (!ack) {
+            const std::string first_line = reply.value.lines.empty() ? std::string() : reply.value.lines.front();
+            c_.session.report(ConsoleEvent::reply_to(ConsoleEvent::Kind::unrecognised, command, first_line));
+            emit(c_.log, LogLevel::warning, "move not acknowledged: " + ack.status.message);
+        } else if (axis_error(leg.axis, ack.value, axis_value(leg.target, leg.axis)) > ack_match_degrees) {
+            emit(c_.log, LogLevel::verbose, "dish acknowledged " + degrees_text(ack.value) + " for " + command);
+        } else if (leg.axis == Axis::azimuth && std::fabs(ack.value - leg.target.az) > ack_branch_degrees &&
+                   std::fabs(ack.value - leg.mech_az) > ack_branch_degrees) {
+            // A mechanical acknowledgement (e.g. -60.00 for `a 0 300.00`) names the branch taken.
+            emit(c_.log, LogLevel::warning,
+                 "dish acknowledged " + degrees_text(ack.value) + " for " + command + ", not the intended mechanical " +
+                     degrees_text(leg.mech_az) + ": its wrap mapping differs from the backend's model");
+        }
+    }
+    if (leg.axis == Axis::azimuth) {
+        commanded_az_ = leg.mech_az;
+        const auto mech_az = c_.wrap.mechanical();
+        leg.path_known = mech_az.has_value();
+        leg.from_mech = leg.lowest = leg.highest = mech_az.value_or(leg.mech_az);
+        leg.expected_end.reset();
+    } else {
+        commanded_el_ = leg.target.el;
+    }
+    leg.sent_at = c_.now();
+    leg.last_change = leg.sent_at;
+    leg.last_seen.reset();
+    const auto& last = c_.state.last_position;
+    leg.motion = LegMotion{};
+    leg.motion.axis = leg.axis;
+    leg.motion.start = axis_value(last ? *last : leg.target, leg.axis);
+    // Display degrees: an azimuth leg may command a number beyond 360 (az_mapping.hpp).
+    leg.motion.to = leg.axis == Axis::azimuth ? normalize_azimuth(leg.target.az) : leg.target.el;
+    leg.motion.sent_at = leg.sent_at;
+    leg.motion.latest = AxisReading{leg.motion.start, c_.state.last_position_at.value_or(leg.sent_at)};
+    if (settling_ && settling_->axis == leg.axis) {
+        settling_.reset();   // this leg moves the axis from here on
+    }
+    last_poll_ = leg.sent_at;
+    emit(c_.log, LogLevel::verbose, "sent " + command + " (estimated " + std::to_string(estimate.count()) + " ms)");
+    in_flight_ = leg;
+    return Status::ok();
+}
+
+// A position poll during the leg; an azimuth leg also records the path its readings swept.
+Result<AzEl> AxisLegDriver::poll() {
+    const std::optional<double> before = c_.wrap.mechanical();
+    const std::optional<Clock::time_point> before_at = c_.wrap.reading_at();
+    const unsigned readings_before = c_.wrap.readings();
+    auto position = c_.reader.ask(query_timeout);
+    const auto mech_az = c_.wrap.mechanical();
+    if (!in_flight_ || in_flight_->axis != Axis::azimuth || !mech_az || c_.wrap.readings() == readings_before) {
+        return position;
+    }
+    Leg& leg = *in_flight_;
+    // Readings that report the branch follow the axis whatever the gap; displayed ones only while
+    // the axis cannot have turned half a circle in between.
+    const auto t = *c_.wrap.reading_at();
+    const double gap_s = before_at ? std::chrono::duration<double>(t - *before_at).count() : 0.0;
+    const bool followed = c_.wrap.reports_mechanical() || gap_s * c_.profile.az_speed_dps < path_jump_degrees;
+    if (!before || std::fabs(*mech_az - *before) > path_jump_degrees || !followed) {
+        leg.path_known = false;
+    }
+    leg.lowest = std::min(leg.lowest, *mech_az);
+    leg.highest = std::max(leg.highest, *mech_az);
+    return position;
+}
+
+void AxisLegDriver::finish(std::string_view how) {
+    if (!in_flight_) {
+        return;
+    }
+    emit(c_.log, LogLevel::verbose, "leg " + std::string(how));
+    in_flight_.reset();
+}
+
+Status AxisLegDriver::follow() {
+    Leg& leg = *in_flight_;
+    const auto t = c_.now();
+    if (t - last_poll_ < poll_interval) {
+        return Status::ok();
+    }
+    last_poll_ = t;
+    const bool over_budget = t - leg.sent_at > leg.budget;
+    const auto position = poll();
+    if (!position && position.status.code != Errc::protocol) {
+        if (position.status.code == Errc::timeout && !over_budget) {
+            return Status::ok();  // some consoles answer only once the motor stops
+        }
+        finish("abandoned: " + position.status.message);
+        return position.status;
+    }
+    if (!position) {
+        if (!c_.state.fault_reported && !over_budget) {
+            return Status::ok();  // an unusable reply; poll again
+        }
+        finish("abandoned: " + position.status.message);  // e.g. AZ MOTOR STALLED
+        if (c_.state.fault_reported) {
+            // The firmware dropped its queued moves (docs/firmware.md 6.3): so do we. The target is
+            // forgotten, so the client sending the same P again retries the move.
+            pending_.clear();
+            c_.forget_target();
+            forget_commands();
+        }
+        return position.status;
+    }
+    record_reading(position.value);
+    // Azimuth in mechanical degrees: arriving on the display azimuth of the wrong branch is not arriving.
+    const auto mech_az = c_.wrap.mechanical();
+    const bool azimuth = leg.axis == Axis::azimuth && mech_az;
+    if (azimuth) {
+        observe_azimuth_leg(leg, false);
+    }
+    const double seen = azimuth ? *c_.wrap.mechanical() : axis_value(position.value, leg.axis);
+    const double goal = azimuth ? leg.expected_end.value_or(leg.mech_az) : axis_value(leg.target, leg.axis);
+    const auto error = [&](double from, double to) {
+        return azimuth ? std::fabs(to - from) : axis_error(leg.axis, from, to);
+    };
+    const auto end_leg = [&](std::string_view how) {
+        if (!azimuth) {
+            finish(how);
+            return;
+        }
+        observe_azimuth_leg(leg, true);
+        const bool elsewhere = std::fabs(*c_.wrap.mechanical() - leg.mech_az) > path_jump_degrees;
+        finish(how);
+        if (elsewhere) {
+            replan_after_surprise();
+        }
+    };
+    if (error(seen, goal) <= c_.profile.arrival_tolerance) {
+        settling_ = leg;
+        end_leg("arrived");
+        return Status::ok();
+    }
+    if (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees) {
+        leg.last_seen = seen;
+        leg.last_change = t;
+    } else if (t - leg.last_change >= still_window && t - leg.sent_at >= still_window) {
+        emit(c_.log, LogLevel::warning, "axis " + axis_text(leg.axis) + " stopped at " + degrees_text(seen) +
+                                            ", short of " + degrees_text(goal));
+        end_leg("stopped");
+        return Status::ok();
+    }
+    if (t - leg.sent_at > leg.budget) {   // the budget may have grown with what this poll taught
+        finish("timed out");
+        return Status{Errc::timeout, "axis " + axis_text(leg.axis) + " did not reach " + degrees_text(goal) + " in " +
+                                         std::to_string(leg.budget.count()) + " ms"};
+    }
+    return Status::ok();
+}
+
+// Feeds the mapping learner with an azimuth leg (whole or so far). When the evidence changes, the
+// leg's end is where the reading now planned with takes it, and the budget allows for the long way
+// round the firmware may be taking.
+void AxisLegDriver::observe_azimuth_leg(Leg& leg, bool at_rest) {
+    const auto mech_az = c_.wrap.mechanical();
+    if (!leg.path_known || !mech_az) {
+        return;
+    }
+    azmap::Learner& learner = c_.wrap.learner();
+    const auto learnt = learner.observe(
+        {leg.target.az, leg.from_mech, leg.lowest, leg.highest, at_rest ? mech_az : std::nullopt});
+    if (!learnt) {
+        return;
+    }
+    emit(c_.log, LogLevel::verbose, *learnt);
+    const auto point = learner.wrap_point();
+    leg.expected_end =
+        azmap::predict(learner.planning(), leg.target.az, leg.from_mech, c_.wrap.travel(), point.value_or(0.0));
+    const auto whole_travel = estimated_move_time(c_.profile, Axis::azimuth, c_.wrap.window().span());
+    leg.budget = std::max(leg.budget, std::chrono::duration_cast<std::chrono::milliseconds>(c_.now() - leg.sent_at) +
+                                          whole_travel * 2 + leg_margin);
+}
+
+// The dish ended an azimuth leg on another branch than planned (the mapping was not the one planned
+// with): the legs queued under that plan are dropped and the current target is put on a branch of
+// what is now known, from where the dish is.
+void AxisLegDriver::replan_after_surprise() {
+    std::erase_if(pending_, [](const Leg& leg) { return leg.axis == Axis::azimuth; });
+    const auto mech_az = c_.wrap.mechanical();
+    const auto& target = c_.state.target;
+    if (!target || !mech_az) {
+        c_.wrap.set_target_mechanical(std::nullopt);
+        return;
+    }
+    const wrap::Window plan = c_.wrap.plan_window();
+    const double mechanical = wrap::choose_branch(target->az, *mech_az, 0, false, plan).mechanical;
+    c_.wrap.set_target_mechanical(mechanical);
+    emit(c_.log, LogLevel::verbose, "azimuth " + degrees_text(target->az) + " re-planned on mechanical " +
+                                        degrees_text(mechanical) + " from " + degrees_text(*mech_az) + " (window " +
+                                        degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")");
+    if (std::fabs(mechanical - *mech_az) < same_angle_degrees) {
+        return;
+    }
+    Leg leg;
+    leg.axis = Axis::azimuth;
+    leg.target = *target;
+    leg.mech_az = leg.final_mech_az = mechanical;
+    leg.target.az = c_.wrap.command_value(mechanical);
+    pending_.push_front(leg);
+}
+
+void AxisLegDriver::record_reading(AzEl position) {
+    const auto at = c_.state.last_position_at.value_or(c_.now());
+    if (in_flight_) {
+        LegMotion& motion = in_flight_->motion;
+        add_reading(motion, AxisReading{axis_value(position, motion.axis), at});
+        if (const auto pace = observed_pace(c_.profile, motion)) {
+            paces_.learn(motion.axis, axis_error(motion.axis, motion.start, motion.to), *pace);
+        }
+    }
+    if (settling_) {
+        LegMotion& motion = settling_->motion;
+        const double value = axis_value(position, motion.axis);
+        if (axis_error(motion.axis, motion.latest.value, value) < stillness_degrees) {
+            settling_.reset();   // at rest where read
+        } else {
+            add_reading(motion, AxisReading{value, at});
+        }
+    }
+}
+
+LegMotion AxisLegDriver::motion_of(const Leg& leg) const {
+    LegMotion motion = leg.motion;
+    motion.pace = paces_.pace(motion.axis, axis_error(motion.axis, motion.start, motion.to));
+    return motion;
+}
+
+MovingAxes AxisLegDriver::moving_axes() const {
+    MovingAxes moving;
+    if (!c_.state.last_position || !c_.state.last_position_at) {
+        return moving;
+    }
+    auto put = [&](const Leg& leg) { (leg.axis == Axis::azimuth ? moving.azimuth : moving.elevation) = motion_of(leg); };
+    // A reading newer than the settling leg's own was taken while no leg polled: it is the truth.
+    if (settling_ && settling_->motion.latest.at == *c_.state.last_position_at) {
+        put(*settling_);
+    }
+    if (in_flight_) {
+        put(*in_flight_);
+    }
+    return moving;
+}
+
+}  // namespace birdcage

@@ -1,0 +1,423 @@
+#include "birdcage/dish/controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "birdcage/tracking/leapfrog.hpp"
+#include "birdcage/firmware/protocol.hpp"
+#include "birdcage/console/synchroniser.hpp"
+
+namespace birdcage {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr auto query_timeout = 2000ms;          // `a`: ~60 bytes even at 57600 baud is ~11 ms
+// `h <id>` blocks the shell until the axis is homed. Homing is motion, so the bound is dish time
+// (clock.hpp): the emulator's time scale shortens it as it shortens the homing.
+constexpr auto home_timeout = 180000ms;
+// While homing, one service() call reads the console this long (real time) for the prompt: short
+// enough that the caller's loop stays responsive, long enough not to spin.
+constexpr auto home_listen_slice = 100ms;
+constexpr auto skip_init_sync_budget = 5000ms;  // skip_init: the dish is said to be up already
+constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
+
+std::string degrees_text(double value) { return format_degrees(value); }
+
+}  // namespace
+
+Controller::Controller(Transport& transport, ControllerOptions options)
+    : profile_(birdcage::profile(options.variant)),
+      options_(std::move(options)),
+      session_(transport, profile_, options_.log),
+      el_min_(profile_.el_min),
+      el_max_(profile_.el_max),
+      // A travel with negative angles (G2) has no negative absolute numbers: '-' is a relative move (§6.3).
+      wrap_(azmap::Travel{{profile_.az_min, profile_.az_max}, profile_.az_min < 0.0}, options_.az_mapping,
+            options_.log),
+      reader_(session_, profile_, wrap_, state_, [this] { return now(); }),
+      menus_(session_, profile_, options_.log) {
+    auto override_limit = [this](const std::optional<double>& user, double& limit, const char* name) {
+        if (!user) {
+            return;
+        }
+        if (!std::isfinite(*user)) {
+            emit(options_.log, LogLevel::warning, std::string("ignoring non-finite ") + name);
+            return;
+        }
+        limit = std::clamp(*user, profile_.el_min, profile_.el_max);
+        if (limit != *user) {
+            emit(options_.log, LogLevel::warning,
+                 std::string(name) + " " + degrees_text(*user) + " is beyond the " +
+                     std::string(profile_.short_name) + " limits; using " + degrees_text(limit));
+        }
+    };
+    override_limit(options_.el_min, el_min_, "el_min");
+    override_limit(options_.el_max, el_max_, "el_max");
+    if (el_min_ > el_max_) {
+        emit(options_.log, LogLevel::warning, "el_min > el_max; using the variant's limits");
+        el_min_ = profile_.el_min;
+        el_max_ = profile_.el_max;
+    }
+    session_.set_event_sink(options_.console_events);
+    driver_ = make_move_driver(
+        MoveContext{session_, profile_, state_, wrap_, reader_, options_.log, [this] { return now(); }, el_min_, el_max_});
+}
+
+Controller::~Controller() = default;
+
+Clock::time_point Controller::now() const { return options_.clock.now(); }
+
+// A booting, idle or noisy console is brought to a confirmed prompt by the one synchroniser
+// (never on a single line: see synchroniser.hpp); it also says at default verbosity that it waits.
+Status Controller::wait_for_boot() {
+    session_.clear_reboot_seen();
+    const auto synced = session_.synchronise(console_sync_settings(profile_, boot_budget_));
+    if (!synced) {
+        return Status{synced.status.code, "the " + std::string(profile_.display_name) +
+                                              " console did not come into sync: " + synced.status.message};
+    }
+    if (synced.value.boot_heard) {
+        emit(options_.log, LogLevel::warning, "dish booted (last boot output \"" + synced.value.last_boot_line + "\")");
+    }
+    return Status::ok();
+}
+
+Status Controller::in_submenu(std::string_view menu, const std::function<Status(ConsoleSession&)>& work) {
+    if (leg_in_flight()) {
+        return {Errc::busy, "a leg is in flight; the motor menu must stay open"};
+    }
+    return menus_.visit(menu, work);
+}
+
+void Controller::warn_if_unhomed() const {
+    if (profile_.has(quirk_requires_homing) && state_.unhomed) {
+        emit(options_.log, LogLevel::error,
+             "the dish's axes are not homed (it reports INT_MAX); moves are refused until it is homed: "
+             "use reset (rotctl R 1), which runs h 1 and h 0");
+    }
+}
+
+// Read-only: the firmware's TV search runs after boot unless NVS "Disable Tracker Proc?" is TRUE
+// (docs/firmware.md 6.2 item 14, Appendix A). The backend never writes NVS; it only warns.
+Status Controller::check_tracker_disabled() {
+    if (profile_.tracker_disable_nvs_index < 0) {
+        return Status::ok();
+    }
+    tracker_checked_ = true;
+    const auto entry = menus_.read_nvs(profile_.tracker_disable_nvs_index);
+    if (!entry) {
+        return entry.status;
+    }
+    if (entry.value && entry.value->current == "FALSE") {
+        tracker_enabled_ = true;
+        emit(options_.log, LogLevel::warning,
+             "NVS " + std::to_string(entry.value->index) + " (" + entry.value->name +
+                 ") is FALSE: the firmware's TV-satellite search runs after every boot and will move the dish on "
+                 "its own. Set it to TRUE yourself (nvs, e " + std::to_string(entry.value->index) +
+                 " TRUE, s, reboot); the backend never writes NVS.");
+    }
+    return Status::ok();
+}
+
+Status Controller::start_home() {
+    if (profile_.home_commands.empty()) {
+        return Status{Errc::unsupported, std::string(profile_.display_name) +
+                                             " has no homing command (it calibrates at power-up only)"};
+    }
+    if (!initialised_) {
+        return Status{Errc::not_initialised, "initialize() has not succeeded"};
+    }
+    // Whatever was queued or in flight is void: homing recalibrates both axes.
+    driver_->reset();
+    forget_target();
+    wrap_.forget_position();
+    homing_ = HomingRun{};
+    return Status::ok();
+}
+
+Status Controller::home() {
+    if (Status started = start_home(); !started) {
+        return started;
+    }
+    while (homing_) {
+        if (Status step = service(); !step) {
+            return step;
+        }
+    }
+    return Status::ok();
+}
+
+Status Controller::service_homing() {
+    HomingRun& run = *homing_;
+    if (run.next >= profile_.home_commands.size()) {
+        return finish_homing();
+    }
+    const std::string command(profile_.home_commands[run.next]);
+    const auto failed = [&](const Status& why) {
+        homing_.reset();
+        return Status{why.code, "homing (" + command + "): " + why.message};
+    };
+    Result<Reply> heard;
+    if (!run.awaiting_prompt) {
+        emit(options_.log, LogLevel::verbose, "homing: " + command);
+        heard = session_.transact(command, home_listen_slice);
+        run.sent_at = now();
+        run.awaiting_prompt = true;
+        if (!heard && heard.status.code != Errc::timeout) {
+            return failed(heard.status);
+        }
+    } else {
+        heard = session_.listen(home_listen_slice);
+        if (!heard) {
+            return failed(heard.status);
+        }
+    }
+    if (!heard.value.prompt.empty()) {
+        run.awaiting_prompt = false;
+        ++run.next;
+        return service_homing();   // the next command at once, or the end
+    }
+    if (now() - run.sent_at > home_timeout) {
+        return failed(Status{Errc::timeout, "no prompt within " + std::to_string(home_timeout.count()) + " ms"});
+    }
+    return Status::ok();
+}
+
+Status Controller::finish_homing() {
+    homing_.reset();
+    state_.unhomed = false;
+    session_.set_axes_unhomed(false);
+    const auto position = reader_.ask(query_timeout);
+    if (!position) {
+        return Status{position.status.code, "after homing: " + position.status.message};
+    }
+    emit(options_.log, LogLevel::verbose, "homed: " + describe());
+    return Status::ok();
+}
+
+Status Controller::reinitialize(std::chrono::milliseconds boot_budget) {
+    return initialize_within(std::min(boot_budget, options_.boot_timeout));
+}
+
+Status Controller::initialize() { return initialize_within(options_.boot_timeout); }
+
+// From whatever the console shows to the motor menu: synchronise (waiting out a boot), leave any
+// submenu, stop the TV search, enter the motor menu.
+Status Controller::open_motor_menu() {
+    if (options_.skip_init) {
+        emit(options_.log, LogLevel::verbose, "skip_init: assuming the dish is booted and in its motor menu");
+        if (profile_.prompt_known()) {
+            if (const auto synced = session_.synchronise(console_sync_settings(profile_, skip_init_sync_budget)); !synced) {
+                return synced.status;
+            }
+        }
+        return Status::ok();
+    }
+    if (Status booted = wait_for_boot(); !booted) {
+        return booted;
+    }
+    if (Status left = menus_.leave_submenus(); !left) {
+        return left;
+    }
+    if (Status killed = menus_.run_steps(profile_.search_kill, "stopping the TV search"); !killed) {
+        return killed;
+    }
+    return menus_.enter_motor_menu("entering the motor menu");
+}
+
+Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
+    boot_budget_ = boot_budget;
+    initialised_ = false;
+    homing_.reset();
+    // Whatever was commanded before is void (a reboot stops the axes, a hang-up loses replies).
+    driver_->reset();
+    forget_target();
+    wrap_.recheck_branch();
+    if (Status opened = open_motor_menu(); !opened) {
+        return opened;
+    }
+    if (profile_.prompt_known() && session_.menu() != menu_for_prompt(profile_, profile_.motor_prompt)) {
+        return Status{Errc::protocol, "expected the motor prompt " + std::string(profile_.motor_prompt) +
+                                          ", console shows " + session_.last_prompt()};
+    }
+    session_.clear_reboot_seen();
+    if (!profile_.position_query.empty()) {
+        const auto position = reader_.ask(query_timeout);
+        if (!position && position.status.code != Errc::not_homed) {
+            if (position.status.code == Errc::disconnected || position.status.code == Errc::io) {
+                return position.status;
+            }
+            emit(options_.log, LogLevel::warning, "initial position query failed: " + position.status.message);
+        }
+    }
+    warn_if_unhomed();
+    motor_menu_ = session_.menu();   // where every later reply must come from (needs_reinit())
+    initialised_ = true;
+    emit(options_.log, LogLevel::verbose, "initialised: " + describe());
+    return Status::ok();
+}
+
+bool Controller::moved_on_its_own(const AzEl& before, const AzEl& now) const {
+    return std::fabs(azimuth_difference(before.az, now.az)) > unexpected_motion_degrees ||
+           std::fabs(before.el - now.el) > unexpected_motion_degrees;
+}
+
+Result<AzEl> Controller::query_position() {
+    if (homing_) {
+        return {state_.last_position.value_or(AzEl{}), Status{Errc::busy, "homing: the console is busy until it ends"}};
+    }
+    if (profile_.position_query.empty()) {
+        if (state_.last_position) {
+            return {*state_.last_position, Status::ok()};
+        }
+        return {{}, Status{Errc::unsupported, "this dish cannot report its position at rest and none has been commanded yet"}};
+    }
+    const auto before = state_.last_position;
+    const auto mech_before = wrap_.mechanical();
+    const bool at_rest = idle() && initialised_;
+    auto position = reader_.ask(query_timeout);
+    // At rest a reading far from the last one is either the dish moving on its own or a reply that
+    // lost bytes on the line (`123.45` -> `13.45` still parses). Ask again: a real position repeats,
+    // a corrupted one is refused and the previous position kept.
+    if (position && before && at_rest && moved_on_its_own(*before, position.value)) {
+        const AzEl first = position.value;
+        const auto again = reader_.ask(query_timeout);
+        if (!again || moved_on_its_own(first, again.value)) {
+            state_.last_position = before;
+            wrap_.restore_mechanical(mech_before);
+            return {*before, Status{Errc::protocol, "inconsistent position readings (az " + degrees_text(first.az) +
+                                                         " el " + degrees_text(first.el) +
+                                                         ", then not repeated): line noise? keeping the last position"}};
+        }
+        position = again;
+    }
+    // The dish moving on its own at rest is the firmware's TV search (tracker enabled): find out
+    // why once, read-only (docs/firmware.md 6.2 item 14).
+    if (position && before && at_rest && !tracker_checked_ && profile_.tracker_disable_nvs_index >= 0 &&
+        moved_on_its_own(*before, position.value)) {
+        emit(options_.log, LogLevel::warning, "the dish moves on its own while idle; checking whether its tracker is enabled");
+        if (Status checked = check_tracker_disabled(); !checked) {
+            return {position.value, checked};
+        }
+    }
+    return position;
+}
+
+Status Controller::set_target(AzEl target, double az_rate_dps) {
+    if (!std::isfinite(target.az) || !std::isfinite(target.el)) {
+        return Status{Errc::invalid_argument, "target must be finite"};
+    }
+    if (state_.unhomed) {
+        return Status{Errc::not_homed, "the axes are not homed; moves are refused"};
+    }
+    if (!std::isfinite(az_rate_dps)) {
+        az_rate_dps = 0.0;
+    }
+    // Gpredict's 0..360 and -180..180 modes (and Hamlib's -180..540) all reduce to a display
+    // azimuth; the cable-wrap branch is the move driver's choice.
+    AzEl wanted{normalize_azimuth(target.az), std::clamp(target.el, el_min_, el_max_)};
+    if (options_.az_min && options_.az_max && *options_.az_min < *options_.az_max) {
+        const double clamped = std::clamp(wanted.az, *options_.az_min, *options_.az_max);
+        if (clamped != wanted.az) {
+            emit(options_.log, LogLevel::verbose, "azimuth " + degrees_text(wanted.az) + " clamped to " +
+                                                      degrees_text(clamped) + " (az_min/az_max)");
+            wanted.az = clamped;
+        }
+    }
+    if (wanted.el != target.el) {
+        emit(options_.log, LogLevel::verbose, "elevation " + degrees_text(target.el) + " clamped to " +
+                                                  degrees_text(wanted.el));
+    }
+    const std::optional<AzEl> previous = state_.target;
+    if (previous && std::fabs(azimuth_difference(previous->az, wanted.az)) < same_angle_degrees &&
+        std::fabs(previous->el - wanted.el) < same_angle_degrees) {
+        return Status::ok();
+    }
+    state_.target = wanted;
+    AzEl command = wanted;
+    if (options_.leapfrog && state_.last_position) {
+        command = apply_leapfrog(wanted, *state_.last_position);
+        command.el = std::clamp(command.el, el_min_, el_max_);
+    }
+    driver_->plan(wanted, command, previous, az_rate_dps);
+    return Status::ok();
+}
+
+void Controller::forget_target() {
+    state_.target.reset();
+    wrap_.forget_target();
+}
+
+Status Controller::service() {
+    if (initialised_ && session_.reboot_seen()) {
+        initialised_ = false;
+        homing_.reset();
+        driver_->reset();
+        return Status{Errc::not_initialised, "the dish printed boot output: it rebooted; initialise again"};
+    }
+    if (!initialised_) {
+        return idle() ? Status::ok() : Status{Errc::not_initialised, "initialize() has not succeeded"};
+    }
+    if (homing_) {
+        return service_homing();
+    }
+    return driver_->service();
+}
+
+void Controller::cancel_pending() {
+    forget_target();
+    driver_->cancel();
+}
+
+bool Controller::needs_reinit() const {
+    if (!initialised_ || driver_->sync_lost() || session_.reboot_seen()) {
+        return true;
+    }
+    return !motor_menu_.empty() && !session_.menu().empty() && session_.menu() != motor_menu_;
+}
+
+bool Controller::idle() const { return !homing_ && driver_->idle(); }
+
+// Homing holds the shell like a leg does: the console must stay in the motor menu.
+bool Controller::leg_in_flight() const { return homing_ || driver_->leg_in_flight(); }
+
+MovingAxes Controller::moving_axes() const { return driver_->moving_axes(); }
+
+std::string Controller::describe() const {
+    std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +
+                       std::string(profile_.short_name) + ", " +
+                       std::to_string(options_.line_baud > 0 ? options_.line_baud : profile_.baud) + " baud";
+    if (options_.line_baud > 0 && options_.line_baud != profile_.baud) {
+        text += " (this firmware usually runs at " + std::to_string(profile_.baud) + ")";
+    }
+    if (!session_.last_prompt().empty()) {
+        text += ", prompt " + session_.last_prompt();
+    }
+    text += "]";
+    if (!options_.detection_note.empty()) {
+        text += "; " + options_.detection_note;
+    }
+    text += initialised_ ? "; initialised" : "; not initialised";
+    if (state_.unhomed) {
+        text += "; axes NOT homed (reset, R 1, homes them)";
+    }
+    if (tracker_enabled_) {
+        text += "; WARNING: NVS " + std::to_string(profile_.tracker_disable_nvs_index) +
+                " Disable Tracker Proc? is FALSE (the TV search will move the dish)";
+    }
+    if (state_.last_position) {
+        text += "; position az " + degrees_text(state_.last_position->az) + " el " + degrees_text(state_.last_position->el);
+        text += state_.position_estimated ? " (last commanded; this dish cannot report its position at rest)" : " (read back)";
+    } else {
+        text += "; position unknown";
+    }
+    if (state_.target) {
+        text += "; target az " + degrees_text(state_.target->az) + " el " + degrees_text(state_.target->el);
+    }
+    text += "; el limits " + degrees_text(el_min_) + ".." + degrees_text(el_max_);
+    text += options_.leapfrog ? "; leapfrog on" : "; leapfrog off";
+    return text;
+}
+
+}  // namespace birdcage

@@ -1,0 +1,114 @@
+// The two move styles of the variant table (internal to the core; see move_driver.hpp).
+#pragma once
+
+#include <deque>
+#include <optional>
+#include <string>
+
+#include "birdcage/dish/move_driver.hpp"
+#include "birdcage/tracking/position_model.hpp"
+
+namespace birdcage {
+
+// Per-axis legs, `a <axis> <deg>` (Trav'lers, G2), one motor at a time, followed by polling the
+// position; azimuth legs on the cable-wrap branch the wrap tracker chose, by waypoints.
+class AxisLegDriver final : public MoveDriver {
+public:
+    explicit AxisLegDriver(const MoveContext& context) : c_(context) {}
+    void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps) override;
+    Status service() override;
+    void cancel() override { pending_.clear(); }
+    void reset() override;
+    bool idle() const override { return !in_flight_ && pending_.empty(); }
+    bool leg_in_flight() const override { return in_flight_.has_value(); }
+    MovingAxes moving_axes() const override;
+    bool sync_lost() const override { return false; }
+
+private:
+    static constexpr int max_waypoint_legs = 4;   // bounds the waypoint legs per target (3 span any window)
+    struct Leg {
+        Axis axis = Axis::azimuth;
+        AzEl target;                   // the commanded value; only the axis' field counts
+        // Azimuth legs: the mechanical azimuth this leg commands (target.az is its display form)
+        // and the one the move ends at; they differ while waypoints lead there (wrap::next_waypoint).
+        double mech_az = 0.0;
+        double final_mech_az = 0.0;
+        int waypoints_left = max_waypoint_legs;
+        // Azimuth legs, for learning the mapping: where the axis started and the range its readings
+        // swept; path_known while the readings came close enough together to follow it.
+        double from_mech = 0.0, lowest = 0.0, highest = 0.0;
+        bool path_known = false;
+        std::optional<double> expected_end;   // where the learnt mapping now says it goes (if not mech_az)
+        Clock::time_point sent_at{};
+        std::chrono::milliseconds budget{0};
+        std::optional<double> last_seen;       // the axis' position at the previous poll
+        Clock::time_point last_change{};
+        LegMotion motion;   // for the position model (send() starts it, polls add readings)
+    };
+
+    Status send(Leg& leg);
+    Status follow();
+    Result<AzEl> poll();
+    void plan_azimuth_leg(Leg& leg);
+    void observe_azimuth_leg(Leg& leg, bool at_rest);
+    void replan_after_surprise();
+    double distance(const Leg& leg) const;
+    void finish(std::string_view how);
+    void record_reading(AzEl position);
+    LegMotion motion_of(const Leg& leg) const;
+    void forget_commands();
+
+    MoveContext c_;
+    std::deque<Leg> pending_;
+    std::optional<Leg> in_flight_;
+    // The leg that last arrived: within arrival_tolerance is not at rest, and the axis may still be
+    // covering the rest while the other axis' leg runs. Kept until a reading shows it still.
+    std::optional<Leg> settling_;
+    AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
+    std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
+    Clock::time_point last_poll_{};
+    unsigned move_count_ = 0;
+};
+
+// The 2003 Carryout's combined `g <az> <el>` in its `target` menu: no position query, only live
+// position lines while the move runs (docs/firmware.md 8.3, 8.4), and input during the move may abort
+// it (8.5), so the driver listens and never polls. The one place that quirk is handled.
+class CombinedMoveDriver final : public MoveDriver {
+public:
+    explicit CombinedMoveDriver(const MoveContext& context) : c_(context) {}
+    void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps) override;
+    Status service() override;
+    void cancel() override;
+    void reset() override;
+    bool idle() const override { return !in_flight_ && !pending_; }
+    bool leg_in_flight() const override { return in_flight_.has_value(); }
+    MovingAxes moving_axes() const override { return {}; }
+    bool sync_lost() const override { return sync_lost_; }
+
+private:
+    struct Move {
+        AzEl target;
+        Clock::time_point sent_at{};
+        std::chrono::milliseconds budget{0};
+        bool live_seen = false;       // a live position line was printed for this move
+        bool needs_motion = false;    // the dish was not already at the target
+    };
+
+    Status send(Move move);
+    Status follow();
+    bool at_target(const AzEl& position) const;
+    void end_without_readback(std::string_view how);
+    void finish(std::string_view how);
+    Status lose_sync(const std::string& why);
+
+    MoveContext c_;
+    std::optional<Move> pending_;
+    std::optional<Move> in_flight_;
+    Clock::time_point last_poll_{};
+    // This console prints live positions while `g` runs (a fact about the firmware: kept across
+    // re-initialisations); only then can their absence mean anything.
+    bool live_output_proven_ = false;
+    bool sync_lost_ = false;
+};
+
+}  // namespace birdcage

@@ -1,0 +1,378 @@
+// The variant table. Each fact cites a section (n.n) of the compiled docs/firmware.md; what each row
+// means for a user is in docs/variants.md, the emulator's independent reading in sim/README.md.
+#include "birdcage/firmware/variants.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace birdcage {
+namespace {
+
+using namespace std::chrono_literals;
+
+// ---- Trav'ler HAL 0.0.00 (docs/firmware.md 3) ----
+constexpr std::array<ConsoleStep, 1> hal000_motor_entry{{{"mot", 0ms}}};
+// travler_init.py: q, CR, os, kill Search, q, CR.
+constexpr std::array<ConsoleStep, 6> hal000_search_kill{{{"q", 0ms}, {"", 0ms}, {"os", 0ms},
+                                                         {"kill Search", 0ms}, {"q", 0ms}, {"", 0ms}}};
+constexpr std::array<std::string_view, 1> hal000_boot_complete{"NoGPS"};
+
+// ---- Trav'ler HAL 2.05.003 (docs/firmware.md 4) ----
+constexpr std::array<ConsoleStep, 1> hal205_motor_entry{{{"motor", 0ms}}};
+// birdcage's HAL205 sequence (4.3), with its 0.2 s pauses after `ngsearch` and `s`.
+constexpr std::array<ConsoleStep, 6> hal205_search_kill{{{"q", 0ms}, {"", 0ms}, {"ngsearch", 200ms},
+                                                         {"s", 200ms}, {"q", 0ms}, {"", 0ms}}};
+constexpr std::array<std::string_view, 2> hal205_boot_complete{"NoGPS", "No LNB Voltage"};
+
+// ---- Trav'ler Pro (docs/firmware.md 5) ----
+// Client v2.0 start-up paces `odu` with 1 s pauses (5.6), then (README) os / kill Search / q.
+// Whether `q` at the ODU root returns to the IDU is unknown (14 Pro.2), so the sequence works
+// either way: two `q` reach the ODU root or the IDU; `odu` then enters the ODU from the IDU and
+// is an unknown (harmless) command at the ODU root. No `q` follows `odu` (the upstream client's
+// `odu`, `q`, `mot` only works if `q` stays on the ODU).
+constexpr std::array<ConsoleStep, 9> pro_search_kill{{{"q", 0ms}, {"q", 0ms}, {"", 1000ms}, {"odu", 1000ms},
+                                                      {"", 0ms}, {"os", 0ms}, {"kill Search", 0ms}, {"q", 0ms},
+                                                      {"", 0ms}}};
+constexpr std::array<ConsoleStep, 1> pro_motor_entry{{{"mot", 0ms}}};
+
+// ---- Carryout 2003, HAL 1.00.065 (docs/firmware.md 8) ----
+constexpr std::array<ConsoleStep, 1> carryout_motor_entry{{{"target", 0ms}}};
+
+// ---- Carryout G2 02.02.48 (docs/firmware.md 6) ----
+constexpr std::array<ConsoleStep, 1> g2_motor_entry{{{"mot", 0ms}}};
+// `Boot Complete` then `Loc Startup: IDU NOT Present`: the boot-complete pair (6.2 item 13); the
+// second may arrive after the first has been answered, so either ends the boot.
+constexpr std::array<std::string_view, 2> g2_boot_complete{"Boot Complete", "Loc Startup:"};
+constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -",
+                                                    "Boot Complete", "Loc Startup:"};
+
+// G2 homing, elevation first as at boot (6.2 item 11): the dish rises before it turns.
+constexpr std::array<std::string_view, 2> g2_home{"h 1", "h 0"};
+
+constexpr std::array<std::string_view, 4> any_boot_complete{"NoGPS", "No LNB Voltage", "Boot Complete",
+                                                            "Loc Startup:"};
+constexpr std::array<std::string_view, 8> any_boot_marker{"NoGPS", "No LNB Voltage", "Boot Complete",
+                                                          "Bootloader v", "Motor init:", "Ant ID -",
+                                                          "Loc Startup:", "Antenna Facing"};
+
+// Weights: a command found on one variant's root only, or a boot line only one firmware prints, is
+// decisive (>= 4, the winning threshold in detect.cpp); shapes other firmware may share (the
+// `TRK>` prompt, `mot`/`os` at a root, `NoGPS` on both Trav'ler HALs) only tip the balance.
+using V = VariantId;
+using S = ClueSource;
+constexpr std::array<DetectionClue, 37> clues{{
+    // Boot lines (3.2, 4.2, 6.2).
+    {S::boot_line, "Bootloader v", V::carryout_g2, 4},
+    {S::boot_line, "Ant ID -", V::carryout_g2, 4},
+    {S::boot_line, "12-IN G2", V::carryout_g2, 4},
+    {S::boot_line, "Motor init:", V::carryout_g2, 3},
+    {S::boot_line, "Antenna Facing", V::carryout_g2, 3},
+    {S::boot_line, "Boot Complete", V::carryout_g2, 3},
+    {S::boot_line, "Loc Startup:", V::carryout_g2, 3},
+    {S::boot_line, "EXTENDED_DVB_DEBUG", V::carryout_g2, 3},
+    {S::boot_line, "BCM4515", V::carryout_g2, 3},
+    {S::boot_line, "No LNB Voltage", V::travler_hal205, 4},
+    {S::boot_line, "NoGPS", V::travler_hal000, 1},
+    {S::boot_line, "NoGPS", V::travler_hal205, 1},
+    // Prompts (6.3): the G2's submenu prompts are documented; its root shape may be shared.
+    {S::prompt, "TRK>", V::carryout_g2, 1},
+    {S::prompt, "A3981>", V::carryout_g2, 4},
+    {S::prompt, "EE>", V::carryout_g2, 4},
+    {S::prompt, "DIPSWITCH>", V::carryout_g2, 4},
+    {S::prompt, "LATLON>", V::carryout_g2, 4},
+    {S::prompt, "GPIO>", V::carryout_g2, 4},
+    {S::prompt, "PEAK>", V::carryout_g2, 3},
+    {S::prompt, "STEP>", V::carryout_g2, 3},
+    {S::prompt, "ADC>", V::carryout_g2, 3},
+    // Root listings (3.3, 4.3, 5.3, 6.3, 8.3).
+    {S::help_command, "a3981", V::carryout_g2, 5},
+    {S::help_command, "dipswitch", V::carryout_g2, 3},
+    {S::help_command, "latlon", V::carryout_g2, 3},
+    {S::help_command, "adc", V::carryout_g2, 2},
+    {S::help_command, "eeprom", V::carryout_g2, 2},
+    {S::help_command, "gpio", V::carryout_g2, 2},
+    {S::help_command, "peak", V::carryout_g2, 2},
+    {S::help_command, "step", V::carryout_g2, 2},
+    {S::help_command, "odu", V::travler_pro, 6},
+    {S::help_command, "target", V::carryout2003, 6},
+    {S::help_command, "ngsearch", V::travler_hal205, 6},
+    {S::help_command, "motor", V::travler_hal205, 3},   // its motor menu (4.3); HAL 2.05 may list mot too
+    {S::help_command, "mot", V::travler_hal000, 2},
+    {S::help_command, "os", V::travler_hal000, 1},
+    {S::help_command, "nvs", V::travler_hal000, 1},
+    {S::help_command, "stow", V::travler_hal000, 1},
+}};
+
+constexpr std::array<FirmwareProfile, 5> profiles{{
+    {
+        .id = VariantId::travler_hal000,
+        .short_name = "hal000",
+        .display_name = "Trav'ler HAL 0.0.00",
+        .model_index = 1,
+        .baud = 57600,
+        .line_ending = "\r",
+        .root_prompt = "",
+        .motor_prompt = "",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = hal000_motor_entry,
+        .search_kill = hal000_search_kill,
+        .boot_complete_markers = hal000_boot_complete,
+        .reboot_markers = hal000_boot_complete,
+        .position_query = "a",
+        .position_format = PositionFormat::travler_az_el_sk,
+        .move_ack = MoveAckFormat::none,
+        .move_style = MoveStyle::per_axis_a,
+        .el_min = 15.0, .el_max = 90.0,
+        .az_min = 0.0, .az_max = 455.0,
+        .arrival_tolerance = 0.2,
+        .motion_model = MotionModel::travler_time_fit,
+        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
+        .quirks = quirk_none,
+        .park_az = 0.0, .park_el = 45.0,
+        .home_commands = {},
+        .tracker_disable_nvs_index = -1,
+        .predictive_by_default = false,
+        .also_shown_inside = VariantId::travler_pro,
+    },
+    {
+        .id = VariantId::travler_hal205,
+        .short_name = "hal205",
+        .display_name = "Trav'ler HAL 2.05",
+        .model_index = 2,
+        .baud = 57600,
+        .line_ending = "\r",
+        .root_prompt = "",
+        .motor_prompt = "",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = hal205_motor_entry,
+        .search_kill = hal205_search_kill,
+        .boot_complete_markers = hal205_boot_complete,
+        .reboot_markers = hal205_boot_complete,
+        .position_query = "a",
+        .position_format = PositionFormat::travler_az_el_sk,
+        .move_ack = MoveAckFormat::none,
+        .move_style = MoveStyle::per_axis_a,
+        .el_min = 15.0, .el_max = 90.0,
+        .az_min = 0.0, .az_max = 455.0,
+        .arrival_tolerance = 0.2,
+        .motion_model = MotionModel::travler_time_fit,
+        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
+        .quirks = quirk_none,
+        .park_az = 0.0, .park_el = 45.0,
+        .home_commands = {},
+        .tracker_disable_nvs_index = -1,
+        .predictive_by_default = false,
+    },
+    {
+        .id = VariantId::travler_pro,
+        .short_name = "pro",
+        .display_name = "Trav'ler Pro",
+        .model_index = 3,
+        .baud = 57600,  // unconfirmed; irrelevant on the USB CDC-ACM link (5.1)
+        .line_ending = "\r",
+        .root_prompt = "",
+        .motor_prompt = "",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = pro_motor_entry,
+        .search_kill = pro_search_kill,
+        .boot_complete_markers = {},
+        .reboot_markers = {},
+        .position_query = "a",
+        .position_format = PositionFormat::travler_az_el_sk,
+        .move_ack = MoveAckFormat::none,
+        .move_style = MoveStyle::per_axis_a,
+        .el_min = 12.0, .el_max = 75.0,  // motors stall above ~75 and may lock up (5.4)
+        .az_min = 0.0, .az_max = 455.0,
+        .arrival_tolerance = 0.2,
+        .motion_model = MotionModel::travler_time_fit,
+        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
+        .quirks = quirk_odu_tunnel,
+        .park_az = 0.0, .park_el = 45.0,
+        .home_commands = {},
+        .tracker_disable_nvs_index = -1,
+        .predictive_by_default = false,
+    },
+    {
+        .id = VariantId::carryout2003,
+        .short_name = "carryout2003",
+        .display_name = "Carryout HAL 1.00.065",
+        .model_index = 4,
+        .baud = 57600,
+        .line_ending = "\r",
+        .root_prompt = "",
+        .motor_prompt = "",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = carryout_motor_entry,
+        .search_kill = {},  // cannot be stopped without losing calibration (8.2)
+        .boot_complete_markers = {},
+        .reboot_markers = {},
+        .position_query = "",
+        .position_format = PositionFormat::carryout_live,
+        .move_ack = MoveAckFormat::none,
+        .move_style = MoveStyle::combined_g,
+        .el_min = 22.0, .el_max = 73.0,  // NVS 102 default (8.5)
+        .az_min = 0.0, .az_max = 360.0,
+        .arrival_tolerance = 0.5,
+        // No speed is documented; scans manage ~3 one-degree moves per second (8.5). Conservative guess.
+        .motion_model = MotionModel::trapezoid,
+        .az_speed_dps = 10.0, .el_speed_dps = 10.0, .accel_dps2 = 20.0,
+        .quirks = quirk_none,
+        .park_az = 0.0, .park_el = 45.0,
+        .home_commands = {},
+        .tracker_disable_nvs_index = -1,
+        .predictive_by_default = false,
+    },
+    {
+        .id = VariantId::carryout_g2,
+        .short_name = "g2",
+        .display_name = "Carryout G2",
+        .model_index = 5,
+        .baud = 115200,
+        .line_ending = "\r",
+        .root_prompt = "TRK>",
+        .motor_prompt = "MOT>",
+        .quiet_gap = 150ms,
+        .motor_menu_entry = g2_motor_entry,
+        .search_kill = {},  // NVS 20 "Disable Tracker Proc?" TRUE keeps the search off (6.2)
+        .boot_complete_markers = g2_boot_complete,
+        .reboot_markers = g2_reboot,
+        .position_query = "a",
+        .position_format = PositionFormat::g2_angle_index,
+        .move_ack = MoveAckFormat::g2_angle,
+        .move_style = MoveStyle::per_axis_a,
+        .el_min = 18.0, .el_max = 65.0,  // NVS 101/102
+        .az_min = -423.33, .az_max = 23.33,  // cable wrap after homing (6.4)
+        .arrival_tolerance = 0.1,
+        .motion_model = MotionModel::trapezoid,
+        .az_speed_dps = 65.0, .el_speed_dps = 45.0, .accel_dps2 = 400.0,  // NVS 80/85/81/86
+        .quirks = quirk_q_at_root_kills_shell | quirk_requires_homing,
+        .park_az = 0.0, .park_el = 65.0,
+        .home_commands = g2_home,
+        .tracker_disable_nvs_index = 20,
+        .predictive_by_default = true,
+        .receiver_menu = "dvb",
+    },
+}};
+
+double seconds_trapezoid(double distance, double speed, double accel) {
+    if (distance < speed * speed / accel) {
+        return 2.0 * std::sqrt(distance / accel);
+    }
+    return distance / speed + speed / accel;
+}
+
+// docs/firmware.md 3.4: time ~ |3.23 ln(0.84 d) - 0.48| s. The fit dips to ~0.3 s around 1.2-1.5 deg,
+// an artefact, so it is floored at 1 s from 1 deg up.
+double seconds_travler_fit(double distance) {
+    if (distance < 0.5) {
+        return 0.3;
+    }
+    if (distance < 1.0) {
+        return 0.5;
+    }
+    return std::max(1.0, std::fabs(3.23 * std::log(0.84 * distance) - 0.48));
+}
+
+double move_seconds(const FirmwareProfile& profile, Axis axis, double distance) {
+    switch (profile.motion_model) {
+    case MotionModel::trapezoid:
+        return seconds_trapezoid(distance, axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps,
+                                 profile.accel_dps2);
+    case MotionModel::travler_time_fit:
+        return seconds_travler_fit(distance);
+    }
+    return 0.0;
+}
+
+constexpr FirmwareProfile probe{
+    .id = VariantId::carryout_g2,  // not used for decisions; the quirks below are the G2's worst case
+    .short_name = "auto",
+    .display_name = "Auto-detect",
+    .model_index = 0,
+    .baud = 57600,
+    .line_ending = "\r",
+    .root_prompt = "TRK>",   // the G2's: the guard refuses `q` there while the variant is unknown
+    .motor_prompt = "",
+    .quiet_gap = 150ms,
+    .motor_menu_entry = {},
+    .search_kill = {},
+    .boot_complete_markers = any_boot_complete,
+    .reboot_markers = any_boot_marker,
+    .position_query = "",
+    .position_format = PositionFormat::travler_az_el_sk,
+    .move_ack = MoveAckFormat::none,
+    .move_style = MoveStyle::per_axis_a,
+    .el_min = 0, .el_max = 0,
+    .az_min = 0, .az_max = 0,
+    .arrival_tolerance = 0,
+    .motion_model = MotionModel::trapezoid,
+    .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
+    .quirks = quirk_q_at_root_kills_shell,
+    .park_az = 0, .park_el = 0,
+    .home_commands = {},
+    .tracker_disable_nvs_index = -1,
+    .predictive_by_default = false,
+};
+
+}  // namespace
+
+const FirmwareProfile& probe_profile() { return probe; }
+
+const FirmwareProfile& profile(VariantId id) {
+    for (const auto& row : profiles) {
+        if (row.id == id) {
+            return row;
+        }
+    }
+    return profiles.front();  // unreachable: every enumerator has a row (checked by a test)
+}
+
+std::optional<VariantId> variant_from_name(std::string_view short_name) {
+    for (const auto& row : profiles) {
+        if (row.short_name == short_name) {
+            return row.id;
+        }
+    }
+    return std::nullopt;
+}
+
+std::span<const FirmwareProfile> all_profiles() { return profiles; }
+
+std::span<const DetectionClue> detection_clues() { return clues; }
+
+std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees) {
+    const double seconds = move_seconds(profile, axis, std::fabs(degrees));
+    return std::chrono::milliseconds(static_cast<long long>(std::ceil(seconds * 1000.0)));
+}
+
+double travelled_after(const FirmwareProfile& profile, Axis axis, double degrees, double seconds) {
+    const double distance = std::fabs(degrees);
+    const double total = move_seconds(profile, axis, distance);
+    if (seconds <= 0.0 || distance <= 0.0) {
+        return 0.0;
+    }
+    if (seconds >= total || total <= 0.0) {
+        return distance;
+    }
+    if (profile.motion_model == MotionModel::trapezoid) {
+        // Accelerate at a, cruise at v if the move is long enough to reach it, brake at a.
+        const double v = axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps;
+        const double a = profile.accel_dps2;
+        const double ramp = std::min(v / a, total / 2.0);
+        if (seconds <= ramp) {
+            return 0.5 * a * seconds * seconds;
+        }
+        const double braking = total - seconds;
+        if (braking <= ramp) {
+            return distance - 0.5 * a * braking * braking;
+        }
+        return 0.5 * a * ramp * ramp + v * (seconds - ramp);
+    }
+    // No published acceleration (docs/firmware.md 3.4): a symmetric smooth start and stop over the
+    // fitted duration.
+    const double u = seconds / total;
+    return distance * u * u * (3.0 - 2.0 * u);
+}
+
+}  // namespace birdcage

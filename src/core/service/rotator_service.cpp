@@ -1,0 +1,171 @@
+#include "birdcage/service/rotator_service.hpp"
+
+#include "birdcage/tracking/position_model.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+namespace birdcage {
+namespace {
+
+// How long a receiver request may wait for the leg in flight: a full G2 azimuth slew (~40 s).
+constexpr std::chrono::milliseconds receiver_wait_for_leg{45000};
+
+}  // namespace
+
+RotatorService::RotatorService(std::unique_ptr<Transport> transport, ControllerOptions options, ServiceTiming timing,
+                               TransportFactory reopen)
+    : timing_(timing), worker_(mailbox_, std::move(transport), std::move(options), timing, std::move(reopen)) {}
+
+RotatorService::~RotatorService() { shutdown(); }
+
+void RotatorService::set_pointing(PointingOptions pointing) { worker_.set_pointing(std::move(pointing)); }
+
+Status RotatorService::start() {
+    if (thread_.joinable()) {
+        return Status::ok();
+    }
+    if (Status st = worker_.start(); !st) {
+        return st;
+    }
+    mailbox_.open();
+    thread_ = std::thread([this] { worker_.run(); });
+    return Status::ok();
+}
+
+void RotatorService::shutdown() {
+    mailbox_.close(Status{Errc::not_initialised, "the rotator was closed"});
+    if (thread_.joinable()) {
+        thread_.join();
+    }
+}
+
+Status RotatorService::set_target(AzEl target) {
+    if (!std::isfinite(target.az) || !std::isfinite(target.el)) {
+        return {Errc::invalid_argument, "target azimuth/elevation must be finite numbers"};
+    }
+    return mailbox_.post_target(target, worker_.clock().now());
+}
+
+Result<AzEl> RotatorService::position() {
+    const ServiceView view = mailbox_.view();
+    const ServiceSnapshot& dish = view.dish;
+    if (dish.recovering) {
+        return {AzEl{}, Status{Errc::timeout, dish.recovery_reason}};
+    }
+    if (std::optional<Status> fault = mailbox_.take_fault_report()) {
+        return {AzEl{}, *fault};
+    }
+    if (dish.unhomed) {
+        return {AzEl{}, Status{Errc::not_homed, "the dish's axes are not homed; reset (R 1) homes them"}};
+    }
+    const auto silent = Clock::now() - dish.last_answer_at;
+    if (dish.position && silent > timing_.max_position_age) {
+        const auto silent_s = std::chrono::duration_cast<std::chrono::seconds>(silent).count();
+        return {AzEl{}, Status{Errc::timeout, "the dish has not answered for " + std::to_string(silent_s) + " s (" +
+                                                  dish.last_error.message + ")"}};
+    }
+    if (!dish.position) {
+        const Status why = dish.last_error ? Status{Errc::not_initialised, "no position read from the dish yet"}
+                                           : dish.last_error;
+        return {AzEl{}, why};
+    }
+    return {modelled_position(worker_.profile(), *dish.position, dish.moving_axes, worker_.clock().now()), Status::ok()};
+}
+
+Status RotatorService::stop() {
+    mailbox_.post_stop();
+    return Status::ok();
+}
+
+Status RotatorService::park() {
+    if (!mailbox_.is_open()) {
+        return {Errc::not_initialised, "rotator is not open"};
+    }
+    const FirmwareProfile& dish = worker_.profile();
+    return set_target(AzEl{dish.park_az, dish.park_el});
+}
+
+Status RotatorService::reset() {
+    if (!mailbox_.is_open()) {
+        return {Errc::not_initialised, "rotator is not open"};
+    }
+    if (worker_.profile().home_commands.empty()) {
+        return {Errc::unsupported,
+                std::string(worker_.profile().display_name) + " has no homing command (it calibrates at power-up only)"};
+    }
+    return mailbox_.post_home();
+}
+
+Status RotatorService::unsupported_without_tuner() const {
+    // Answered here: no need to wait for the dish to learn it has no tuner.
+    return {Errc::unsupported, std::string(worker_.profile().display_name) + " has no satellite tuner"};
+}
+
+Result<RssiReading> RotatorService::read_signal(int samples) {
+    if (mailbox_.is_open() && worker_.profile().receiver_menu.empty()) {
+        return {{}, unsupported_without_tuner()};
+    }
+    Result<RssiReading> reading{{}, Status{Errc::protocol, "no reading"}};
+    const Status done = mailbox_.run_job(
+        [&reading, samples](Controller& controller) {
+            reading = birdcage::read_signal(controller, samples);
+            return reading.status;
+        },
+        receiver_wait_for_leg + rssi_timeout(samples));
+    if (!done) {
+        return {{}, done};
+    }
+    return reading;
+}
+
+Status RotatorService::set_lnb_supply(LnbSupply supply) {
+    if (mailbox_.is_open() && worker_.profile().receiver_menu.empty()) {
+        return unsupported_without_tuner();
+    }
+    const Status done = mailbox_.run_job(
+        [supply](Controller& controller) { return apply_lnb_supply(controller, supply); },
+        receiver_wait_for_leg + rssi_timeout(1));
+    if (done) {
+        mailbox_.set_lnb_supply(supply);
+    }
+    return done;
+}
+
+LnbSupply RotatorService::lnb_supply() const { return mailbox_.view().lnb_supply; }
+
+bool RotatorService::idle() const { return mailbox_.view().idle; }
+
+bool RotatorService::homing() const { return mailbox_.view().homing; }
+
+bool RotatorService::recovering() const { return mailbox_.view().dish.recovering; }
+
+unsigned RotatorService::recoveries() const { return mailbox_.view().dish.recoveries; }
+
+Status RotatorService::last_error() const {
+    const ServiceView view = mailbox_.view();
+    if (!view.fault && view.dish.last_error) {
+        return view.fault;
+    }
+    return view.dish.last_error;
+}
+
+std::string RotatorService::describe() const {
+    const ServiceView view = mailbox_.view();
+    std::string text = view.dish.description;
+    if (view.dish.recovering) {
+        text += "; RECOVERING: " + view.dish.recovery_reason;
+    }
+    if (!view.fault) {
+        text += "; last fault: " + view.fault.message;
+    }
+    if (view.dish.recoveries > 0) {
+        text += "; recovered " + std::to_string(view.dish.recoveries) + " time(s)";
+    }
+    return text;
+}
+
+const FirmwareProfile& RotatorService::profile() const { return worker_.profile(); }
+
+}  // namespace birdcage

@@ -1,0 +1,318 @@
+#include "birdcage/service/service_worker.hpp"
+
+#include "birdcage/console/detect.hpp"
+#include "birdcage/service/recovery.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace birdcage {
+
+ServiceWorker::ServiceWorker(ServiceMailbox& mailbox, std::unique_ptr<Transport> transport, ControllerOptions options,
+                             ServiceTiming timing, TransportFactory reopen)
+    : mailbox_(mailbox), transport_(std::move(transport)), options_(std::move(options)),
+      controller_(options_.detect ? nullptr : std::make_unique<Controller>(*transport_, options_)),
+      profile_(controller_ ? &controller_->profile() : &probe_profile()), timing_(timing),
+      reopen_(std::move(reopen)) {}
+
+void ServiceWorker::set_pointing(PointingOptions pointing) {
+    pointing_ = pointing;
+    predictor_ = TargetPredictor(pointing.predictor);
+}
+
+Status ServiceWorker::detect() {
+    const auto found = detect_variant(*transport_, options_.log, options_.boot_timeout);
+    if (!found) {
+        return found.status;
+    }
+    options_.variant = found.value.variant;
+    options_.detection_note = found.value.evidence;
+    if (found.value.maybe_pro_odu) {
+        const double pro_cap = birdcage::profile(VariantId::travler_pro).el_max;
+        options_.el_max = std::min(options_.el_max.value_or(pro_cap), pro_cap);
+    }
+    controller_ = std::make_unique<Controller>(*transport_, options_);
+    return Status::ok();
+}
+
+Status ServiceWorker::start() {
+    if (!controller_) {
+        if (Status st = detect(); !st) {
+            return st;
+        }
+    }
+    profile_ = &controller_->profile();
+    if (!pointing_.mode) {
+        pointing_.mode = profile_->predictive_by_default ? PointingMode::predictive : PointingMode::none;
+    }
+    if (Status st = controller_->initialize(); !st) {
+        return st;
+    }
+    // A dish that answers its menus but not a position query is still usable for moves; the error
+    // is published and reported by position() until a poll succeeds.
+    const Result<AzEl> first = controller_->query_position();
+    last_poll_ = options_.clock.now();
+    published_.last_answer_at = Clock::now();
+    publish(first.status, true);
+    return Status::ok();
+}
+
+void ServiceWorker::run() {
+    Clock::duration period{0};
+    while (mailbox_.wait(options_.clock.to_real(period), published_.recovering)) {
+        period = step();
+    }
+}
+
+Clock::duration ServiceWorker::step() {
+    const ServiceMail mail = mailbox_.take();
+    const bool was_recovering = published_.recovering;
+    const Outcome outcome = was_recovering ? recover(mail) : work_on(mail);
+    const std::string fault = controller_->take_fault();
+
+    bool entered_recovery = false;
+    if (!was_recovering) {
+        const RecoveryVerdict verdict =
+            classify_step(StepOutcome{outcome.status, outcome.talked, controller_->needs_reinit(), !fault.empty()},
+                          consecutive_failures_, timing_.failures_before_recovery);
+        consecutive_failures_ = verdict.consecutive_failures;
+        if (verdict.action == RecoveryAction::reopen) {
+            link_down_ = true;
+        }
+        if (verdict.action != RecoveryAction::none) {
+            emit(options_.log, LogLevel::warning, "recovering: " + verdict.reason);
+            attempts_ = 0;
+            backoff_ = std::chrono::milliseconds{0};
+            published_.recovering = true;
+            published_.recovery_reason = verdict.reason;
+            entered_recovery = true;
+        }
+    }
+    if (!fault.empty()) {
+        mailbox_.report_fault(Status{Errc::protocol, fault});   // "dish reported: AZ MOTOR STALLED"
+    }
+    publish(outcome.status, outcome.talked);
+    return next_period(entered_recovery);
+}
+
+// The mail in the order the client meant it: a stop posted before a target clears the old pass
+// first, so `S` then `P` (however quickly) ends up doing what `P` says; likewise `R` then `P`
+// homes first and then goes to the target.
+ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
+    Outcome out;
+    if (mail.stop) {
+        controller_->cancel_pending();
+        forget_the_pass();
+    }
+    if (mail.home) {
+        // The home runs inside controller_->service() a short slice per step, so the mailbox keeps
+        // being read while it runs: `p` answers, `P` and `S` are taken.
+        forget_the_pass();
+        out.status = controller_->start_home();
+        mailbox_.home_started();
+    }
+    if (mail.target) {
+        // A target beside a home was posted after it (post_home() drops the ones before): it is
+        // taken once the home has started, so its legs wait for the home's end.
+        const Status accepted = accept_target(*mail.target, mail.target_posted_at);
+        out.status = out.status ? accepted : out.status;
+    }
+    // A receiver job waits for the leg in flight; legs still queued wait for the job.
+    bool ran_job = false;
+    if (out.status && mail.job && !mail.home && !controller_->leg_in_flight() && mailbox_.job_started(mail.job)) {
+        ran_job = true;
+        out.status = mail.job->work(*controller_);
+        mailbox_.job_finished(*mail.job, out.status);
+    }
+    if (out.status && !mail.target && !mail.home) {
+        out.status = steer();
+    }
+    out.talked = mail.target || mail.home || mail.stop || ran_job || !controller_->idle();
+    if (out.status) {
+        out.status = controller_->service();
+    }
+    note_step_finished();
+    const auto now = options_.clock.now();
+    if (!controller_->idle()) {
+        // Read the position again shortly after the last leg ends (ServiceTiming).
+        last_poll_ = now - timing_.idle_poll_period + timing_.settle_polls_after_move * timing_.busy_period;
+    } else if (out.status && now - last_poll_ >= timing_.idle_poll_period) {
+        out.talked = true;
+        out.status = controller_->query_position().status;
+        last_poll_ = now;
+    }
+    return out;
+}
+
+ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
+    const Status attempt = recover_once();
+    if (!attempt) {
+        const RetryVerdict retry = classify_failed_attempt(attempt, backoff_, timing_.recovery_backoff_min,
+                                                           timing_.recovery_backoff_max);
+        link_down_ = link_down_ || retry.reopen;
+        backoff_ = retry.backoff;
+        published_.recovery_reason = attempt.message;
+        return {attempt, true};
+    }
+    consecutive_failures_ = 0;
+    published_.recovering = false;
+    ++published_.recoveries;
+    mailbox_.dish_rebooted();
+    emit(options_.log, LogLevel::warning,
+         "recovered after " + std::to_string(attempts_) + " attempt(s)" +
+             (mail.latest_target ? "; resuming the last target" : ""));
+    // Targets posted meanwhile were kept by the mailbox (its latest target); a stop cleared it.
+    return {mail.latest_target ? resume(*mail.latest_target) : Status::ok(), true};
+}
+
+// One bounded recovery attempt: reopen the device if it hung up, then re-initialise the dish
+// (boot wait bounded by the slice, search stop, motor menu).
+Status ServiceWorker::recover_once() {
+    ++attempts_;
+    if (link_down_) {
+        if (!reopen_) {
+            return {Errc::disconnected, "the serial port hung up and cannot be reopened"};
+        }
+        auto reopened = reopen_();
+        if (!reopened) {
+            return {Errc::disconnected, "the serial port hung up; reopening it (attempt " + std::to_string(attempts_) +
+                                            "): " + reopened.status.message};
+        }
+        // A new controller over the new transport: the old one holds a reference to the old one.
+        controller_ = std::make_unique<Controller>(*reopened.value, options_);
+        transport_ = std::move(reopened.value);
+        link_down_ = false;
+        emit(options_.log, LogLevel::warning, "serial port reopened; re-initialising the dish");
+    }
+    const Status st = controller_->reinitialize(timing_.recovery_boot_slice);
+    if (!st) {
+        return {st.code, "re-initialising the dish (attempt " + std::to_string(attempts_) + "): " + st.message};
+    }
+    if (!controller_->last_position()) {
+        (void)controller_->query_position();
+    }
+    return Status::ok();
+}
+
+Status ServiceWorker::resume(AzEl target) {
+    aim_.reset();   // the moves in flight were lost: steer again from the estimate
+    // A target posted while the worker was stuck in the failing step or recovering never reached
+    // the estimator: take it as new, or the dish would return to the one before it.
+    const bool unseen = !client_target_ || client_target_->az != target.az || client_target_->el != target.el;
+    if (unseen) {
+        return accept_target(target, options_.clock.now());
+    }
+    if (pointing_.mode == PointingMode::predictive && predictor_.predict(options_.clock.now())) {
+        return steer();
+    }
+    return controller_->set_target(target);
+}
+
+Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at) {
+    const auto now = options_.clock.now();
+    // Every mode feeds the estimator: its azimuth rate tells the controller which way a pass
+    // turns, so it can choose a cable-wrap branch with room for the whole pass.
+    predictor_.observe(std::min(sent_at, now), target, controller_->last_position());
+    previous_client_target_ = std::exchange(client_target_, target);
+    if (pointing_.mode != PointingMode::predictive) {
+        return controller_->set_target(target, azimuth_direction_hint(predictor_.predict(now),
+                                                                      controller_->last_position(),
+                                                                      previous_client_target_, target,
+                                                                      controller_->el_min()));
+    }
+    emit(options_.log, LogLevel::verbose, "predictive: " + predictor_.describe());
+    aim_.reset();
+    return steer();
+}
+
+// Predictive mode (steering.hpp): hands the controller the next aim, if any.
+Status ServiceWorker::steer() {
+    if (pointing_.mode != PointingMode::predictive) {
+        return Status::ok();
+    }
+    const auto now = options_.clock.now();
+    const SteeringInput input{now,
+                              predictor_,
+                              *profile_,
+                              controller_->el_min(),
+                              controller_->el_max(),
+                              pointing_,
+                              measured_overhead_s_.value_or(0.0),
+                              aim_,
+                              client_target_,
+                              controller_->last_position()};
+    const std::optional<SteeringDecision> decision = next_aim(input);
+    if (!decision) {
+        return Status::ok();
+    }
+    if (!decision->holding && controller_->idle() && aim_) {
+        // Time this step: what a leg costs beyond its motion (exchange, polling) is measured, not assumed.
+        timed_step_ = TimedStep{now, decision->legs, decision->motion_s};
+    }
+    aim_ = decision->aim;
+    const double az_rate = decision->az_rate != 0.0
+                               ? decision->az_rate
+                               : client_target_ ? azimuth_direction_hint(predictor_.predict(now),
+                                                                         controller_->last_position(),
+                                                                         previous_client_target_, *client_target_,
+                                                                         controller_->el_min())
+                                                : 0.0;
+    return controller_->set_target(decision->aim, az_rate);
+}
+
+void ServiceWorker::forget_the_pass() {
+    predictor_.reset();
+    aim_.reset();
+    client_target_.reset();
+    previous_client_target_.reset();
+    timed_step_.reset();
+}
+
+void ServiceWorker::note_step_finished() {
+    if (!timed_step_ || !controller_->idle()) {
+        return;
+    }
+    const TimedStep step = *std::exchange(timed_step_, std::nullopt);
+    const double busy_s = std::chrono::duration<double>(options_.clock.now() - step.started).count();
+    if (step.legs > 0) {
+        measured_overhead_s_ = updated_leg_overhead(measured_overhead_s_, busy_s, step.motion_s, step.legs);
+    }
+}
+
+Clock::duration ServiceWorker::next_period(bool entered_recovery) const {
+    if (published_.recovering) {
+        return entered_recovery ? Clock::duration::zero() : Clock::duration(backoff_);
+    }
+    const auto now = options_.clock.now();
+    const bool steering =
+        pointing_.mode == PointingMode::predictive && predictor_.predict(now).value_or(Prediction{}).moving;
+    if (controller_->idle() && !steering) {
+        const Clock::duration until_poll = last_poll_ + timing_.idle_poll_period - now;
+        return std::clamp<Clock::duration>(until_poll, timing_.busy_period, timing_.idle_poll_period);
+    }
+    return timing_.busy_period;
+}
+
+void ServiceWorker::publish(const Status& step, bool talked) {
+    if (auto position = controller_->last_position()) {
+        published_.position = position;
+    }
+    published_.moving_axes = controller_->moving_axes();
+    published_.dish_idle = controller_->idle();
+    published_.homing = controller_->homing();
+    published_.unhomed = controller_->unhomed();
+    if (talked) {
+        published_.last_error = step;
+        if (step) {
+            published_.last_answer_at = Clock::now();
+        }
+    }
+    published_.description = controller_->describe() + "; " + controller_->describe_wrap() + "; pointing " +
+                             std::string(pointing_mode_name(pointing_.mode.value_or(PointingMode::none)));
+    if (pointing_.mode == PointingMode::predictive) {
+        published_.description += " (" + predictor_.describe() + ")";
+    }
+    mailbox_.publish(published_);
+}
+
+}  // namespace birdcage

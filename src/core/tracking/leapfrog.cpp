@@ -1,0 +1,29 @@
+#include "birdcage/tracking/leapfrog.hpp"
+
+#include <cmath>
+
+namespace birdcage {
+namespace {
+
+// Seed thresholds (seeds 003/004): more than 2 deg behind -> lead 1.0, more than 1 deg -> 0.5.
+double lead_for(double delta) {
+    const double magnitude = std::fabs(delta);
+    double lead = 0.0;
+    if (magnitude > 2.0) {
+        lead = 1.0;
+    } else if (magnitude > 1.0) {
+        lead = 0.5;
+    }
+    return delta < 0 ? -lead : lead;
+}
+
+}  // namespace
+
+AzEl apply_leapfrog(AzEl target, AzEl current) {
+    AzEl led = target;
+    led.az = normalize_azimuth(target.az + lead_for(azimuth_difference(current.az, target.az)));
+    led.el = target.el + lead_for(target.el - current.el);
+    return led;
+}
+
+}  // namespace birdcage

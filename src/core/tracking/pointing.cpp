@@ -1,0 +1,342 @@
+#include "birdcage/tracking/pointing.hpp"
+#include "birdcage/base/least_squares.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace birdcage {
+namespace {
+
+constexpr double max_lead_s = 30.0;            // a learned lead longer than this is not a lead
+constexpr double max_lead_threshold_deg = 10.0;
+constexpr std::size_t lead_observations_kept = 8;
+// An observation smaller than this fraction of the learned threshold is a "lead" event (the dish
+// ran ahead), which says nothing about the client's threshold.
+constexpr double lag_event_fraction = 0.5;
+// Quadratic fits need this many samples over this span; below, a straight line.
+constexpr std::size_t quadratic_min_samples = 3;
+constexpr double quadratic_min_span_s = 3.0;
+// Bounds on the fitted acceleration (the keyhole's azimuth needs ~1.6 deg/s² at 85°, docs/tracking.md §2.1).
+constexpr double max_az_accel = 0.3;
+constexpr double max_el_accel = 0.05;
+// A target this soon after the previous one is Gpredict re-sending before it read the dish's new
+// position (its I/O loop is ~0.8 s): its gap to the dish says nothing about the lead.
+constexpr double resend_interval_s = 2.0;
+// How far ahead a fitted curvature is trusted (a pass's azimuth acceleration changes sign at the
+// culmination).
+constexpr double accel_horizon_s = 5.0;
+// Weight of a new target's anchor against the running estimate (an alpha filter on position).
+constexpr double anchor_gain = 0.5;
+
+struct Fit {
+    double rate = 0.0;    // slope at the newest sample
+    double accel = 0.0;   // curvature (0 for a straight line)
+    bool ok = false;
+};
+
+// Least squares of value(t), evaluated as a slope at t_end: quadratic when the samples allow it
+// (a straight line's slope belongs to the window's centroid, seconds behind the newest target,
+// while the azimuth rate of a pass keeps changing), straight line otherwise.
+template <typename Samples, typename Get>
+Fit slope_at_end(const Samples& samples, Get value, double accel_bound) {
+    const std::size_t n = samples.size();
+    if (n < 2) {
+        return {};
+    }
+    const double t_end = samples.back().t;
+    double span = t_end - samples.front().t;
+    if (span <= 0.0) {
+        return {};
+    }
+    // Centre on the newest sample so the slope at t_end is the linear coefficient.
+    QuadraticSums sums;
+    for (const auto& s : samples) {
+        sums.add(s.t - t_end, value(s));
+    }
+    const auto& st = sums.u;
+    const auto& sy = sums.yu;
+    const double linear_det = st[0] * st[2] - st[1] * st[1];
+    if (std::fabs(linear_det) < 1e-12) {
+        return {};
+    }
+    double rate = (st[0] * sy[1] - st[1] * sy[0]) / linear_det;
+    double accel = 0.0;
+    if (n >= quadratic_min_samples && span >= quadratic_min_span_s) {
+        const auto quadratic = solve_quadratic(sums, 1e-9);
+        if (quadratic && std::fabs(2.0 * quadratic->c) <= accel_bound) {
+            rate = quadratic->b;
+            accel = 2.0 * quadratic->c;
+        }
+    }
+    return {rate, accel, true};
+}
+
+}  // namespace
+
+std::optional<PointingMode> pointing_mode_from_name(std::string_view name) {
+    if (name == "none") {
+        return PointingMode::none;
+    }
+    if (name == "leapfrog") {
+        return PointingMode::leapfrog;
+    }
+    if (name == "predictive") {
+        return PointingMode::predictive;
+    }
+    return std::nullopt;
+}
+
+std::string_view pointing_mode_name(PointingMode mode) {
+    switch (mode) {
+    case PointingMode::none:
+        return "none";
+    case PointingMode::leapfrog:
+        return "leapfrog";
+    case PointingMode::predictive:
+        return "predictive";
+    }
+    return "none";
+}
+
+TargetPredictor::TargetPredictor(PredictorSettings settings)
+    : settings_(settings), pass_model_(settings.pass_model) {}
+
+double TargetPredictor::seconds(Clock::time_point t) const {
+    return std::chrono::duration<double>(t - origin_).count();
+}
+
+void TargetPredictor::reset() {
+    // Everything, the learned lead too: after a stop or a homing the next client may be another
+    // program with another threshold (or none).
+    lead_threshold_.reset();
+    lead_observations_.clear();
+    held_ = false;
+    samples_.clear();
+    have_rate_ = false;
+    az_rate_ = el_rate_ = 0.0;
+    last_interval_s_ = 0.0;
+    pass_model_.clear();
+}
+
+void TargetPredictor::restart(double t, AzEl target) {
+    samples_.clear();
+    samples_.push_back({t, normalize_azimuth(target.az), target.el});
+    have_rate_ = false;
+    az_rate_ = el_rate_ = 0.0;
+    anchor_t_ = t;
+    anchor_az_ = samples_.back().az;
+    anchor_el_ = target.el;
+    last_interval_s_ = 0.0;
+    // A new pointing: a pass model of the old one would pull the prediction back to it.
+    pass_model_.clear();
+    pass_model_.add(t, target);
+}
+
+void TargetPredictor::fit() {
+    // Keep at least fit_window of history: two targets sent a cycle apart (Gpredict re-sends
+    // before the dish has moved) carry mostly the lead's quantisation, not the rate.
+    while (samples_.size() > 2 && samples_.back().t - samples_[1].t >= settings_.fit_window_s) {
+        samples_.pop_front();
+    }
+    const Fit az = slope_at_end(samples_, [](const Sample& s) { return s.az; }, max_az_accel);
+    const Fit el = slope_at_end(samples_, [](const Sample& s) { return s.el; }, max_el_accel);
+    have_rate_ = az.ok && el.ok && std::hypot(az.rate, el.rate) >= settings_.stationary_dps;
+    az_rate_ = have_rate_ ? az.rate : 0.0;
+    el_rate_ = have_rate_ ? el.rate : 0.0;
+    az_accel_ = have_rate_ ? az.accel : 0.0;
+    el_accel_ = have_rate_ ? el.accel : 0.0;
+}
+
+void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional<AzEl> dish) {
+    if (!std::isfinite(target.az) || !std::isfinite(target.el)) {
+        return;
+    }
+    if (!has_origin_) {
+        origin_ = when;
+        has_origin_ = true;
+    }
+    const double t = seconds(when);
+    if (samples_.empty()) {
+        restart(t, target);
+        return;
+    }
+    const Sample last = samples_.back();
+    const double az = last.az + azimuth_difference(last.az, target.az);
+    const bool repeated = std::fabs(az - last.az) < same_angle_degrees && std::fabs(target.el - last.el) < same_angle_degrees;
+    // A target after a held one cannot give a rate: the client only now started moving.
+    if (repeated || t - last.t > settings_.max_gap_s || t <= last.t || held_) {
+        held_ = repeated;
+        restart(t, target);
+        return;
+    }
+    // Faster than any satellite on the sky, or a jump as large as the restart gate: the client
+    // re-pointed the dish (a manual P, park, another satellite), it is not tracking one.
+    const double sky_step = std::hypot(azimuth_difference(last.az, target.az) * std::cos(target.el * M_PI / 180.0),
+                                       target.el - last.el);
+    if (!have_rate_ && (sky_step > settings_.restart_gate_deg || sky_step / (t - last.t) > settings_.max_sky_rate_dps)) {
+        restart(t, target);
+        return;
+    }
+    if (have_rate_) {
+        // Where the client's next target was expected (the satellite plus the learned lead).
+        const auto expected = predict(when);
+        const double lead_s = lead_threshold_ ? std::min(*lead_threshold_ / std::max(std::fabs(az_rate_), std::fabs(el_rate_)), max_lead_s) : 0.0;
+        const double expected_az = expected->position.az + az_rate_ * lead_s;
+        const double expected_el = expected->position.el + el_rate_ * lead_s;
+        const double innovation = std::max(std::fabs(azimuth_difference(expected_az, target.az)), std::fabs(target.el - expected_el));
+        if (innovation > settings_.restart_gate_deg) {
+            restart(t, target);
+            return;
+        }
+    }
+    held_ = false;
+    const std::optional<Prediction> before = have_rate_ ? predict(when) : std::nullopt;
+    samples_.push_back({t, az, target.el});
+    pass_model_.add(t, target);
+    if (t - last.t > resend_interval_s) {
+        last_interval_s_ = t - last.t;
+    }
+    fit();
+    if (!have_rate_) {
+        anchor_t_ = t;
+        anchor_az_ = az;
+        anchor_el_ = target.el;
+        return;
+    }
+    const double dominant_rate = std::max(std::fabs(az_rate_), std::fabs(el_rate_));
+    if (dish && t - last.t > resend_interval_s) {
+        // Along-track gap between this target and the dish the client compared it with.
+        const double gap_az = azimuth_difference(dish->az, target.az);
+        const double gap_el = target.el - dish->el;
+        const double rate_sq = az_rate_ * az_rate_ + el_rate_ * el_rate_;
+        const double lead_obs_s = (gap_az * az_rate_ + gap_el * el_rate_) / (2.0 * rate_sq);
+        const double threshold_obs = lead_obs_s * dominant_rate;
+        // A gap wider than two of the largest plausible leads is the dish still slewing (a
+        // pre-pass unwind, an acquisition), not a threshold crossing.
+        const bool plausible = std::max(std::fabs(gap_az), std::fabs(gap_el)) <= 2.0 * max_lead_threshold_deg &&
+                               threshold_obs <= max_lead_threshold_deg;
+        if (plausible && lead_obs_s > 0.0 && (!lead_threshold_ || threshold_obs >= lag_event_fraction * *lead_threshold_)) {
+            // Low recent observations: a dish that trails for any other reason makes the gap
+            // larger than twice the lead, never smaller, and a lead learned too large would keep
+            // the dish trailing (the client then re-sends every cycle).
+            lead_observations_.push_back(threshold_obs);
+            if (lead_observations_.size() > lead_observations_kept) {
+                lead_observations_.pop_front();
+            }
+            // A low quantile rather than the minimum: the minimum of noisy observations is
+            // biased low, which would aim the dish ahead of the satellite.
+            std::vector<double> sorted(lead_observations_.begin(), lead_observations_.end());
+            std::sort(sorted.begin(), sorted.end());
+            lead_threshold_ = sorted[(sorted.size() - 1) / 2];
+        }
+    }
+    // Back along the fitted parabola by the lead: the target is where the satellite will be once
+    // it has moved `threshold` on its faster axis, so tau solves |v tau - a tau^2 / 2|inf = threshold
+    // (v, a at the target's time).
+    double lead_s = 0.0;
+    if (lead_threshold_) {
+        lead_s = std::min(*lead_threshold_ / dominant_rate, max_lead_s);
+        for (int refine = 0; refine < 3; ++refine) {
+            const double moved = std::max(std::fabs(az_rate_ - 0.5 * az_accel_ * lead_s), std::fabs(el_rate_ - 0.5 * el_accel_ * lead_s));
+            lead_s = moved > settings_.stationary_dps ? std::min(*lead_threshold_ / moved, max_lead_s) : lead_s;
+        }
+    }
+    double new_az = az - az_rate_ * lead_s + 0.5 * az_accel_ * lead_s * lead_s;
+    double new_el = target.el - el_rate_ * lead_s + 0.5 * el_accel_ * lead_s * lead_s;
+    if (before && lead_threshold_) {
+        // Gpredict's lead is quantised (a quarter cycle), so each anchor is noisy by ~0.25 s of
+        // motion: blend it with where the previous estimate put the satellite now, unless the
+        // two disagree by more than the lead itself (then the new target wins).
+        const double prior_az = before->position.az;
+        const double prior_el = before->position.el;
+        const double d_az = azimuth_difference(prior_az, normalize_azimuth(new_az));
+        const double d_el = new_el - prior_el;
+        if (std::max(std::fabs(d_az), std::fabs(d_el)) < *lead_threshold_) {
+            new_az = az + azimuth_difference(normalize_azimuth(az), normalize_azimuth(prior_az + anchor_gain * d_az));
+            new_el = prior_el + anchor_gain * d_el;
+        }
+    }
+    anchor_t_ = t;
+    anchor_az_ = new_az;
+    anchor_el_ = new_el;
+    // The rates at the anchor's time, not the target's.
+    az_rate_ -= az_accel_ * lead_s;
+    el_rate_ -= el_accel_ * lead_s;
+    if (settings_.use_pass_model) {
+        pass_model_.fit(lead_threshold_);
+    }
+}
+
+std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const {
+    if (samples_.empty()) {
+        return std::nullopt;
+    }
+    Prediction out;
+    out.position = {normalize_azimuth(anchor_az_), anchor_el_};
+    if (!have_rate_) {
+        return out;
+    }
+    const double dt = std::max(0.0, seconds(when) - anchor_t_);
+    const double horizon = std::clamp(settings_.extrapolate_intervals * last_interval_s_, settings_.min_extrapolation_s,
+                                      settings_.max_extrapolation_s);
+    if (pass_model_in_use()) {
+        // The same horizon (a client that stops sending is followed no further than with the
+        // local estimate), and no zenith guard: the circle passes the zenith like any other point.
+        const double t = std::min(seconds(when), anchor_t_ + horizon);
+        const auto point = pass_model_.predict(std::max(t, anchor_t_));
+        // Which side of the zenith a near-overhead pass takes is what the circle knows least: a
+        // tenth of a degree across the track turns the azimuth the other way round, and the
+        // controller would choose its cable-wrap branch for that way (a mid-pass unwind). A pass's
+        // azimuth keeps its direction, so the targets' own direction decides.
+        const bool same_direction = point && (std::fabs(az_rate_) < settings_.stationary_dps ||
+                                              point->az_rate * az_rate_ > 0.0);
+        if (point && same_direction) {
+            out.position = point->position;
+            out.moving = dt < horizon;
+            out.az_rate = out.moving ? point->az_rate : 0.0;
+            out.el_rate = out.moving ? point->el_rate : 0.0;
+            return out;
+        }
+    }
+    // Curvature is trusted for accel_horizon_s only, then the motion continues straight.
+    auto travel = [&](double rate, double accel, double dt_axis) {
+        const double curved = std::min(dt_axis, accel_horizon_s);
+        return rate * dt_axis + accel * curved * (0.5 * curved + (dt_axis - curved));
+    };
+    auto rate_at = [&](double rate, double accel, double dt_axis) { return rate + accel * std::min(dt_axis, accel_horizon_s); };
+    const double dt_el = std::min(dt, horizon);
+    const double el = anchor_el_ + travel(el_rate_, el_accel_, dt_el);
+    const double az_horizon = std::max(anchor_el_, el) > settings_.zenith_guard_el
+                                  ? std::min(horizon, settings_.zenith_extrapolation_s)
+                                  : horizon;
+    const double dt_az = std::min(dt, az_horizon);
+    out.position = {normalize_azimuth(anchor_az_ + travel(az_rate_, az_accel_, dt_az)), el};
+    out.az_rate = dt < az_horizon ? rate_at(az_rate_, az_accel_, dt_az) : 0.0;
+    out.el_rate = dt < horizon ? rate_at(el_rate_, el_accel_, dt_el) : 0.0;
+    out.moving = dt < horizon;
+    return out;
+}
+
+std::string TargetPredictor::describe() const {
+    if (samples_.empty()) {
+        return "no target yet";
+    }
+    if (!have_rate_) {
+        return "holding the last target";
+    }
+    char text[160];
+    char lead[32] = "unknown";
+    if (lead_threshold_) {
+        std::snprintf(lead, sizeof lead, "%.2f deg", *lead_threshold_);
+    }
+    std::snprintf(text, sizeof text, "az rate %.3f deg/s, el rate %.3f deg/s, client lead %s", az_rate_, el_rate_, lead);
+    if (settings_.use_pass_model && pass_model_.targets() >= settings_.pass_model.min_targets) {
+        return std::string(text) + "; " + pass_model_.describe();
+    }
+    return text;
+}
+
+}  // namespace birdcage

@@ -1,0 +1,162 @@
+#include "birdcage/tracking/steering.hpp"
+#include "birdcage/tracking/wrap.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace birdcage {
+namespace {
+
+// The azimuth deadband is the on-sky one over cos(el) (an azimuth error shrinks on the sky by
+// cos(el)); near the zenith cos(el) is floored here so the deadband stays finite.
+constexpr double min_cos_el = 0.1;
+// Deadband widening for a mount too slow for the satellite's rate: both deadbands grow by this
+// factor per round until the steps need at most `max_motor_share` of the motor's time (one axis
+// moves at a time; above that share the dish falls behind and its commands queue).
+constexpr double widen_factor = 1.2;
+constexpr int max_widen_rounds = 30;   // 1.2^30 ≈ 240x: far beyond any max_deadband_deg
+constexpr double max_motor_share = 0.5;
+// An axis rate below this (deg/s) is no motion: the axis is only re-aimed when off by a deadband.
+constexpr double still_rate_dps = 1e-6;
+// The estimate jumped when the satellite is this many deadbands *behind* the aim (a new pass,
+// a corrected fit): re-aim at once rather than wait for it to come past.
+constexpr double behind_deadbands = 3.0;
+// A client's step along the track while the dish waits low for the pass (degrees): Gpredict's
+// default 5 deg threshold, its lead of up to one more threshold, and the satellite's motion since.
+// A larger step is a new pointing, not a direction.
+constexpr double tracking_step_max_deg = 20.0;
+// The rate azimuth_direction_hint() returns for a known direction: a sign, not a speed.
+constexpr double direction_only_rate = 1e-3;
+// The dish counts as waiting at its lowest elevation (where Gpredict parks it before AOS) within
+// this many degrees of it.
+constexpr double waiting_low_deg = 1.0;
+// Weight of the newest measurement in the leg-overhead average (an EMA over about five steps).
+constexpr double overhead_smoothing = 0.2;
+
+Clock::duration seconds(double s) {
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+
+}  // namespace
+
+std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
+    const auto current = in.predictor.predict(in.now);
+    if (!current) {
+        return std::nullopt;
+    }
+    auto clamp_el = [&](double el) { return std::clamp(el, in.el_min, in.el_max); };
+    if (!current->moving) {
+        const AzEl hold{current->position.az, clamp_el(current->position.el)};
+        if (in.aim && std::fabs(azimuth_difference(in.aim->az, hold.az)) < same_angle_degrees &&
+            std::fabs(in.aim->el - hold.el) < same_angle_degrees) {
+            return std::nullopt;
+        }
+        return SteeringDecision{hold, 0.0, true, 0, 0.0};
+    }
+    const double overhead_s = std::max(in.pointing.command_overhead_s, in.measured_overhead_s);
+    auto move_time = [&](Axis axis, double degrees) {
+        return std::chrono::duration<double>(estimated_move_time(in.dish, axis, degrees)).count();
+    };
+    auto step_time = [&](Axis axis, double degrees) { return move_time(axis, degrees) + overhead_s; };
+    const double cos_el = std::max(std::cos(clamp_el(current->position.el) * M_PI / 180.0), min_cos_el);
+    double base_deadband = in.pointing.deadband_deg;
+    if (const auto client_threshold = in.predictor.lead_threshold_deg()) {
+        base_deadband = std::max(base_deadband, std::min(in.pointing.client_threshold_share * *client_threshold,
+                                                         in.pointing.max_client_deadband_deg));
+    }
+    double deadband_el = base_deadband;
+    double deadband_az = base_deadband / cos_el;
+    const double az_rate = std::fabs(current->az_rate);
+    // Above the elevation cap (the client's target at or over it) the dish holds the cap and
+    // follows only the azimuth (docs/tracking.md §2.2), until a target comes back below the cap:
+    // the fitted elevation would otherwise start descending before the satellite does.
+    const bool above_cap = in.client_target && in.client_target->el >= in.el_max - same_angle_degrees;
+    const double el_rate = above_cap || current->position.el >= in.el_max || current->position.el <= in.el_min
+                               ? 0.0
+                               : std::fabs(current->el_rate);
+    for (int round = 0; round < max_widen_rounds; ++round) {
+        const double busy = step_time(Axis::azimuth, 2 * deadband_az) * az_rate / (2 * deadband_az) +
+                            step_time(Axis::elevation, 2 * deadband_el) * el_rate / (2 * deadband_el);
+        // Beyond max_deadband_deg the aim would run so far ahead that the client sees the dish
+        // off by more than its threshold and re-sends: a slow mount then just trails.
+        if (busy <= max_motor_share ||
+            deadband_el * widen_factor > std::max(base_deadband, in.pointing.max_deadband_deg)) {
+            break;
+        }
+        deadband_az *= widen_factor;
+        deadband_el *= widen_factor;
+    }
+    const auto az_at = in.predictor.predict(in.now + seconds(step_time(Axis::azimuth, 2 * deadband_az)));
+    const auto el_at = in.predictor.predict(in.now + seconds(step_time(Axis::elevation, 2 * deadband_el)));
+    if (!az_at || !el_at) {
+        return std::nullopt;
+    }
+    AzEl next = in.aim.value_or(in.dish_position.value_or(current->position));
+    bool changed = !in.aim;
+    // Signed along-motion distance of the satellite past the aim: re-aim at +deadband, or when
+    // the estimate jumped so that the aim is far off either way.
+    auto re_aim = [](double past, double rate, double deadband) {
+        if (rate < still_rate_dps) {
+            return std::fabs(past) > deadband;
+        }
+        return past >= deadband || past < -behind_deadbands * deadband;
+    };
+    const double az_sign = current->az_rate >= 0 ? 1.0 : -1.0;
+    const double az_past = azimuth_difference(next.az, az_at->position.az) * az_sign;
+    if (changed || re_aim(az_past, az_rate, deadband_az)) {
+        next.az = normalize_azimuth(az_at->position.az + (az_rate < still_rate_dps ? 0.0 : az_sign * deadband_az));
+        changed = true;
+    }
+    const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
+    const double el_wanted = above_cap ? in.el_max : clamp_el(el_at->position.el);
+    const double el_past = (el_wanted - next.el) * el_sign;
+    if (changed || re_aim(el_past, el_rate, deadband_el)) {
+        next.el = clamp_el(el_wanted + (el_rate < still_rate_dps ? 0.0 : el_sign * deadband_el));
+        changed = true;
+    }
+    if (!changed) {
+        return std::nullopt;
+    }
+    SteeringDecision decision{next, current->az_rate, false, 0, 0.0};
+    if (in.aim) {
+        const double az_move = std::fabs(azimuth_difference(in.aim->az, next.az));
+        const double el_move = std::fabs(next.el - in.aim->el);
+        decision.legs = (az_move > same_angle_degrees ? 1 : 0) + (el_move > same_angle_degrees ? 1 : 0);
+        decision.motion_s = move_time(Axis::azimuth, az_move) + move_time(Axis::elevation, el_move);
+    }
+    return decision;
+}
+
+// Before the estimate has a rate one case is already clear: a client following a satellite that
+// is still below or near the dish's lowest elevation moves the dish, waiting there, a small step
+// along the satellite's azimuth track, as Gpredict does from the AOS point. The direction of that
+// step is the pass's, and knowing it now lets the one unwind a pass may need happen while the
+// satellite is still out of reach rather than as it rises into the beam. The step is the client's,
+// from its previous target: measured from the dish it would include the dish's own lead (predictive
+// aims run a deadband ahead), and a dish led past a target reads as a pass going the other way.
+// The client's first target has no previous one; the dish, not yet steered by this session, is
+// where the client left it (at a coarse threshold the next target may come only once the satellite
+// is well inside the beam, too late for an unwind before it).
+double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
+                              const std::optional<AzEl>& previous_target, AzEl target, double el_min) {
+    if (estimate && estimate->az_rate != 0.0) {
+        return estimate->az_rate;
+    }
+    if (!dish || dish->el > el_min + waiting_low_deg || target.el > el_min + wrap::pass_start_band_deg) {
+        return 0.0;
+    }
+    const double step = azimuth_difference(previous_target.value_or(*dish).az, target.az);
+    const bool along_track = std::fabs(step) > same_angle_degrees && std::fabs(step) <= tracking_step_max_deg;
+    return along_track ? std::copysign(direction_only_rate, step) : 0.0;
+}
+
+double updated_leg_overhead(std::optional<double> previous, double busy_s, double motion_s, int legs) {
+    if (legs <= 0) {
+        return previous.value_or(0.0);
+    }
+    const double overhead = std::max(0.0, (busy_s - motion_s) / legs);
+    return previous ? (1.0 - overhead_smoothing) * *previous + overhead_smoothing * overhead : overhead;
+}
+
+}  // namespace birdcage

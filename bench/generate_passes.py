@@ -1,4 +1,6 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 """Generates the benchmark's satellite passes (bench/passes/*.csv) with SGP4.
 
 The passes come from synthetic elements, not real TLEs, so that the set is reproducible and covers

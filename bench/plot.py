@@ -1,4 +1,6 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 """Turns tracking_bench's CSV output into the PNG plots and markdown tables of docs/benchmarks.md.
 
     /usr/bin/python3 bench/plot.py <bench-out-dir> <image-dir>

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Tracking benchmark (issue 5): realistic LEO passes, a Gpredict-like client driving the stock
 // rotctld with the backend preloaded, the dish emulator's true position as ground truth.
 // Prints a table and writes CSV (summary, pooled latency, one trace per run) for bench/plot.py.

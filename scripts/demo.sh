@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # The main job on the emulator, no hardware needed: for each dish variant, start the dish emulator
 # on a pseudo-terminal, start the distribution's stock rotctld with the Winegard backend preloaded,
 # and drive it with the stock rotctl client, printing what the dish does.

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # What CI does with the package (issue 14), as root on a Debian machine: installs
 # ./birdcage_*.deb (scripts/package.sh builds it) with apt, runs the demo service from the
 # installed paths only (birdcage-sim@demo + birdcage-rotctld@demo), moves the emulated dish with

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # Installs what birdcage needs from Debian's packages (bookworm). Idempotent: installs only what is
 # missing. As root it runs apt-get; otherwise it prints the exact command to run and fails.
 set -euo pipefail

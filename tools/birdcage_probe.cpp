@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage-probe: maps an unknown dish console (baud, prompt, error text, help, submenus) into a
 // JSON report, and `record`s interactive sessions as transcripts (docs/transcripts.md). The seed's
 // console-probe, rewritten on the core's transports, prompt rule and hazard guard.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Predictive pointing: infer the satellite's motion from the stream of client targets and aim the
 // dish where the satellite will be, instead of where the client last said it was.
 //

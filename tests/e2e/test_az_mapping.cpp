@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // End to end: a north-crossing pass through the stock rotctld, fed like Gpredict (a target every
 // simulated second, small steps), under every azimuth mapping the emulator offers, with the
 // backend's default az_mapping=auto. Where the travel holds the pass on one branch and the mapping

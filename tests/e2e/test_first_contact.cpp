@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The first-contact matrix (issue 11): every variant × how rotctld meets the dish (already up;
 // started 0, 5 or 15 simulated seconds into its boot; the dish reboots mid-pass) × a reading of the
 // firmware's open questions (the emulator's defaults and two alternative profiles) × the model

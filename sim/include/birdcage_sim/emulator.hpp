@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage dish emulator: a pty that behaves like the serial console of a Winegard motorized
 // dish. Written from docs/firmware.md (section numbers cited as §n), independently
 // of the backend in src/, so that it can act as the test oracle.

@@ -40,7 +40,7 @@ namespace birdcage {
 
 enum class PointingMode {
     none,        // go to each target as sent
-    leapfrog,    // the seed's overshoot of a lagging axis (Controller applies it)
+    leapfrog,    // the upstream clients' overshoot of a lagging axis (docs/firmware.md §12.1) (Controller applies it)
     predictive,  // TargetPredictor below
 };
 

@@ -326,7 +326,7 @@ const ConfParam kConfParams[] = {
      [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.az_max); },
      [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(360.0)); }},
     {9, "pointing", "Pointing mode",
-     "predictive (aim where the satellite will be, inferred from the targets), leapfrog (seed "
+     "predictive (aim where the satellite will be, inferred from the targets), leapfrog (upstream "
      "overshoot of a lagging axis) or none (each target as sent); default: predictive on the G2, none on "
      "the slower Trav'ler/Carryout mounts",
      RIG_CONF_STRING, 0, 0, 0,

@@ -132,7 +132,7 @@ Flight fly(const PassCase& c) {
 TEST_CASE("az mapping e2e: north-crossing passes under every emulator mapping, az_mapping=auto",
           "[e2e][az_mapping]") {
     const PassCase cases[] = {
-        // Trav'ler, the measured failure of issue 13: 248 -> 43 growing, held by 248 -> 403.
+        // Trav'ler, the failure the tracking benchmark measured: 248 -> 43 growing, held by 248 -> 403.
         {"hal205 nearest", Variant::travler_hal205, 90102, 248, 155, 15, 60, AzMapping::nearest, 0, 0, 403},
         {"hal205 literal", Variant::travler_hal205, 90102, 248, 155, 15, 60, AzMapping::literal, 0, 0, 403},
         {"hal205 wrap manager, wrap point 95 (wrap position 455)", Variant::travler_hal205, 90102, 248, 155, 15, 60,

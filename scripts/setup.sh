@@ -10,6 +10,7 @@ packages=(
     libhamlib-dev libhamlib-utils   # headers + the stock rotctl/rotctld the tests and demo drive
     libserialport-dev
     catch2
+    python3                         # the doc check (tests/docs)
 )
 if [[ "${BIRDCAGE_SETUP_EXTRA:-}" != "" ]]; then
     read -r -a extra <<<"${BIRDCAGE_SETUP_EXTRA}"

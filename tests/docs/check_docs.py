@@ -20,6 +20,8 @@ Checked docs: README.md, docs/*.md, sim/README.md. A doc fails when it names
            file contains;
   conf key `-C key=`, "conf `key`", a `key=value` in backticks or a row of a conf table (a
            table whose first header cell is `key`) naming a key the backend does not declare;
+  section  also in any file of the tree: `docs/X.md §n` or `docs/X.md n.n` (code comments,
+           transcripts' Source: headers) for a section X.md does not have;
   reference (in any file of the tree) "issue N", "seed NNN" or "the birdcage journal": nothing a
            clone can follow;
   figure   a figure marked <!--fig:NAME-->VALUE that docs/benchmarks.md (where every marked
@@ -29,6 +31,7 @@ Checked docs: README.md, docs/*.md, sim/README.md. A doc fails when it names
   check_docs.py ROOT [--rotctl ROTCTL --backend SO | --conf-keys k1,k2,...]
   check_docs.py --self-test      breaks a copy of a small tree once per kind; each must be caught
 """
+import fnmatch
 import glob
 import os
 import re
@@ -47,6 +50,8 @@ CALL = re.compile(r"^([a-z_][a-z0-9_]*)\([^()]*\)$")
 FIGURE = re.compile(r"<!--\s*fig:([\w.-]+)\s*-->")
 FIGURE_VALUE = re.compile(r"\s*([~≈]?[−-]?\d[\d.,]*(?:\s?[–-]\s?[−-]?\d[\d.,]*)?"
                           r"(?:\s?(?:°|ms|minutes|min|s|%|×))?)(?![\w])")
+# In any file of the tree (code comments, transcripts' headers): docs/X.md §n, or docs/X.md n.n.
+CODE_SECTION_REF = re.compile(r"docs/([\w-]+\.md)`?,?\s+§?\s?(\d+(?:\.\d+)*)\b")
 SECTION_REF = re.compile(r"(?:docs/)?([\w-]+\.md)`?,?\s+§\s?(\d+(?:\.\d+)*)")
 HEADING_REF = re.compile(r"\(`?((?:[\w.-]+/)*(?:README|[\w.-]+\.md))`?,\s*\"([^\"]+)\"")
 TOKEN_SPLIT = re.compile(r"[\s()\[\]{}`\"'=,;|]+")
@@ -66,10 +71,12 @@ class Tree:
         for dirpath, dirnames, filenames in os.walk(root):
             rel = os.path.relpath(dirpath, root)
             if rel == ".":
-                dirnames[:] = [d for d in dirnames if not d.startswith((".git", "build", "Testing"))]
+                # Build trees, caches and VCS data are not the repository's content.
+                dirnames[:] = [d for d in dirnames
+                               if not d.startswith(("build", "Testing")) and (d == ".ci" or not d.startswith("."))]
             for name in filenames:
                 self.files.append(os.path.normpath(os.path.join(rel, name)))
-        self.top = {p.split(os.sep)[0] for p in self.files} | {".ci"} & set(os.listdir(root))
+        self.top = {p.split(os.sep)[0] for p in self.files}
         self.basenames = {os.path.basename(p) for p in self.files}
         self.types = set()
         self.code = []
@@ -110,7 +117,8 @@ def section_numbers(text):
 
 
 def strip_comments(text):
-    return re.sub(r"<!--(?!\s*fig:).*?-->", "", text, flags=re.S)
+    """Without HTML comments (figure markers stay); line numbers stay as in the file."""
+    return re.sub(r"<!--(?!\s*fig:).*?-->", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
 
 
 def split_blocks(text):
@@ -137,13 +145,34 @@ def line_of(text, needle):
     return 0
 
 
+def check_path_token(tree, token, fail):
+    """A token of a doc's text that may be a path of the repository, relative to its root."""
+    token = token.strip(".:!?*").removeprefix("./")
+    if not token or token.startswith(("/", "~", "$", "-", "..")) or "://" in token or "…" in token:
+        return
+    first = token.split("/")[0]
+    if "/" in token and first in tree.top:
+        if not tree.exists(token.split("#")[0]):
+            fail(token, "no such file or directory in the repository")
+    elif "/" in token and re.fullmatch(r"build(-[\w]+)?", first):
+        parts = token.split("/")
+        if len(parts) > 2 and parts[1] and not tree.exists(parts[1]):
+            fail(token, f"a build path whose source folder {parts[1]}/ does not exist")
+    elif "/" not in token and token.endswith(SOURCE_EXTS) and re.fullmatch(r"[\w.<>*-]+", token):
+        pattern = re.sub(r"<[^>]*>", "*", token)
+        if not any(fnmatch.fnmatch(b, pattern) for b in tree.basenames):
+            fail(token, "no file of that name in the repository")
+
+
 def check_doc(tree, doc, conf_keys, figures, problems):
     text = strip_comments(read(os.path.join(tree.root, doc)))
     prose, fenced = split_blocks(text)
     docdir = os.path.dirname(doc)
 
-    def fail(kind, what, why):
-        problems.append(f"{doc}:{line_of(text, what)}: {kind}: {what}: {why}")
+    def fail(kind, what, why, line=None):
+        problem = f"{doc}:{line or line_of(text, what)}: {kind}: {what}: {why}"
+        if problem not in problems:
+            problems.append(problem)
 
     # Links, relative to the doc; anchors against the target's headings.
     for target in re.findall(r"\]\(([^)\s]+)\)", prose):
@@ -158,22 +187,9 @@ def check_doc(tree, doc, conf_keys, figures, problems):
                 fail("path", target, f"{resolved} has no heading with the anchor #{anchor}")
 
     # Paths anywhere in the text, relative to the repository root.
-    for token in TOKEN_SPLIT.split(text):
-        token = token.strip(".:!?*").removeprefix("./")
-        if not token or token.startswith(("/", "~", "$", "-", "..")) or "://" in token or "…" in token:
-            continue
-        first = token.split("/")[0]
-        if "/" in token and first in tree.top:
-            if not tree.exists(token.split("#")[0]):
-                fail("path", token, "no such file or directory in the repository")
-        elif "/" in token and re.fullmatch(r"build(-[\w]+)?", first):
-            parts = token.split("/")
-            if len(parts) > 2 and parts[1] and not tree.exists(parts[1]):
-                fail("path", token, f"a build path whose source folder {parts[1]}/ does not exist")
-        elif "/" not in token and token.endswith(SOURCE_EXTS) and re.fullmatch(r"[\w.<>*-]+", token):
-            pattern = re.sub(r"<[^>]*>", "*", token)
-            if not any(glob.fnmatch.fnmatch(b, pattern) for b in tree.basenames):
-                fail("path", token, "no file of that name in the repository")
+    for number, line in enumerate(text.splitlines(), 1):
+        for token in TOKEN_SPLIT.split(line):
+            check_path_token(tree, token, lambda what, why: fail("path", what, why, number))
 
     # Sections and headings another doc is cited by.
     for name, number in SECTION_REF.findall(text):
@@ -269,6 +285,12 @@ def check(root, conf_keys):
                 for m in UNFOLLOWABLE.finditer(line):
                     problems.append(f"{path}:{n}: reference: '{m.group(0)}' cannot be followed from a clone; "
                                     "cite a section of the docs instead")
+                if path.endswith(".md") and not path.startswith("tests/"):
+                    continue  # the docs' own citations are checked above, with their § rules
+                for name, number in CODE_SECTION_REF.findall(line):
+                    cited = os.path.join(root, "docs", name)
+                    if os.path.exists(cited) and number not in section_numbers(read(cited)):
+                        problems.append(f"{path}:{n}: section: docs/{name} {number}: no such section there")
     for name, values in figures.items():
         if isinstance(name, str) and len(values) > 1:
             problems.append(f"docs/benchmarks.md: figure: {name}: marked with different values {sorted(values)}")
@@ -329,6 +351,7 @@ SELF_TEST_BREAKS = [
     ("README.md", "About <!--fig:unknown-->3 s.\n", "figure: unknown: docs/benchmarks.md marks no such"),
     ("docs/benchmarks.md", "Again <!--fig:time-->40 minutes.\n", "figure: time: marked with different values"),
     ("src/core/real.cpp", "// as decided in issue 12\n", "reference: 'issue 12'"),
+    ("src/core/real.cpp", "// the rule of docs/firmware.md §7\n", "section: docs/firmware.md 7"),
     ("docs/a.md", "Quoted by seed 000 and the birdcage journal.\n", "reference: 'seed 000'"),
 ]
 

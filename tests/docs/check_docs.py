@@ -9,15 +9,16 @@ Checked docs: README.md, docs/*.md, sim/README.md. A doc fails when it names
            #anchor checked against the target's headings), or a token anywhere in the text whose
            first component is a top-level entry of the repository (src/..., docs/..., ...; `<x>`
            and `*` are wildcards that must match something); `build/<dir>/...` needs <dir> in the
-           source tree; a bare file name with a source extension (.cpp .hpp .h .py .sh .cmake .md)
-           must exist somewhere in the tree;
+           source tree; a bare file name with one of this project's extensions (.cpp .hpp .h .sh
+           .cmake .md) must exist somewhere in the tree; another project's path is written with
+           that project's name first (gpredict/src/rotor-conf.c) and not checked;
   section  `docs/X.md §n` (or `X.md §n`, or a bare §n in README.md, which cites
            docs/firmware.md) for a section number X.md has no heading for; `(X.md, "Heading")`
            or `(README, "Heading")` for a heading that does not exist;
-  type     a C++ type (CamelCase with two or more capitalised parts, or `Name::member`) in
-           backticks or in a fenced block that no source file defines (class, struct, enum,
-           union, using, typedef), or a `Type::member` / `function()` whose name no source
-           file contains;
+  type     a C++ type (CamelCase with two or more capitalised parts, or Name::member) as a whole
+           backticked span or in a fenced block with no language (the drawings of the code)
+           that no source file defines (class, struct, enum, union, using, typedef), or a
+           Type::member / `function()` whose name no source file contains;
   conf key `-C key=`, "conf `key`", a `key=value` in backticks or a row of a conf table (a
            table whose first header cell is `key`) naming a key the backend does not declare;
   section  also in any file of the tree: `docs/X.md §n` or `docs/X.md n.n` (code comments,

@@ -149,6 +149,10 @@ def line_of(text, needle):
 def check_path_token(tree, token, fail):
     """A token of a doc's text that may be a path of the repository, relative to its root."""
     token = token.strip(".:!?*").removeprefix("./")
+    # The backend is installed in a folder of its own under the libdir, where only the launchers
+    # look (CMakeLists.txt, BIRDCAGE_BACKEND_INSTALL_DIR): an installed path elsewhere is wrong.
+    if token.startswith("/") and token.endswith("libhamlib-winegard.so") and "/birdcage/" not in token:
+        fail(token, "the backend installs under <libdir>/birdcage/, not here")
     if not token or token.startswith(("/", "~", "$", "-", "..")) or "://" in token or "…" in token:
         return
     first = token.split("/")[0]
@@ -338,6 +342,7 @@ SELF_TEST_BREAKS = [
     ("docs/a.md", "See [it](../src/gone.hpp).\n", "path: ../src/gone.hpp"),
     ("docs/a.md", "See [it](../README.md#no-such-part).\n", "path: ../README.md#no-such-part"),
     ("README.md", "See `gone_file.cpp`.\n", "path: gone_file.cpp"),
+    ("docs/a.md", "LD_PRELOAD=/usr/local/lib/libhamlib-winegard.so rotctld\n", "path: /usr/local/lib/libhamlib-winegard.so"),
     ("README.md", "See docs/a.md §7.\n", "section: a.md §7"),
     ("README.md", "As (§9).\n", "section: §9"),
     ("docs/a.md", "(README, \"Nowhere\")\n", 'section: README, "Nowhere"'),

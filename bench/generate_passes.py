@@ -1,4 +1,6 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 """Generates the benchmark's satellite passes (bench/passes/*.csv) with SGP4.
 
 The passes come from synthetic elements, not real TLEs, so that the set is reproducible and covers
@@ -33,7 +35,7 @@ ORBITS = {
     "iss": (420.0, 51.64, 0.0005, 90.0),
     "sso": (820.0, 98.70, 0.0010, 90.0),
 }
-# What the set must contain besides a spread of peak elevations (issue 13): north crossings with the
+# What the set must contain besides a spread of peak elevations (docs/tracking.md §2.3): north crossings with the
 # azimuth growing (iss-45, iss-85) and shrinking (sso-70), passes no branch of a dish's azimuth
 # travel holds (Trav'ler 0..455: iss-85, sso-70; G2 -423.33..+23.33: iss-60, an ascending ISS pass
 # north of the zenith, rising west of 296.67 and setting east of +23.33).

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // A client that drives rotctld the way Gpredict 2.3–2.6 does (docs/tracking.md §5,
 // docs/tracking.md §1.3 and §3.2), written from that description, on a scaled clock:
 //   * a "GUI" timer every `cycle` computes the target: the satellite's position clamped to the

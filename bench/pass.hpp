@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // A satellite pass as the benchmark uses it: azimuth/elevation samples over time, read from the
 // CSV files bench/generate_passes.py writes (SGP4, synthetic elements; see docs/benchmarks.md).
 #pragma once

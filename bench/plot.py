@@ -1,4 +1,6 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 """Turns tracking_bench's CSV output into the PNG plots and markdown tables of docs/benchmarks.md.
 
     /usr/bin/python3 bench/plot.py <bench-out-dir> <image-dir>
@@ -34,7 +36,7 @@ MODE_COLOUR = {"none": "tab:blue", "leapfrog": "tab:orange", "predictive": "tab:
 # The oracle (the client posts the true position every cycle) runs at threshold 0: the floor of
 # every threshold's panel.
 ORACLE_THRESHOLD = "0"
-# Goals of issues 5 and 13 (docs/tracking.md): RMS per client threshold, and above the elevation cap.
+# The tracking goals (docs/tracking.md §1.2, §2.2, §2.3): RMS per client threshold, and above the elevation cap.
 RMS_GOAL = {"0.5": 0.25, "5": 1.5}
 MAX_GOAL_FINE = 1.0            # max error at 0.5 deg on passes one branch holds
 FORCED_VS_ORACLE_GOAL = 1.5    # RMS on a forced-unwind pass, as a multiple of the oracle's
@@ -372,7 +374,7 @@ def verdict(ok):
 
 
 def goal_rows(matrix, mappings, latency, variant, mode):
-    """One (goal, figure, met) per goal of issue 13, for this variant run in this mode."""
+    """One (goal, figure, met) per tracking goal, for this variant run in this mode."""
     rows = []
     fine = runs_of(matrix, variant, mode, "0.5")
     held = [r for r in fine if r["one_branch"] == "1"]
@@ -445,7 +447,7 @@ def goal_rows(matrix, mappings, latency, variant, mode):
 
 
 def goals_table(matrix, mappings, latency):
-    out = ["### Against the goals of issue 13", "",
+    out = ["### Against the tracking goals", "",
            f"Judged on each dish's default pointing mode ({', '.join(f'{v}: `{m}`' for v, m in DEFAULT_MODE.items())}), "
            "with the other modes beside it; from the matrix (k = 5, AZ mapping nearest) and, for unwinds and "
            "pre-pass travel, the mapping runs too.", "",

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Position model benchmark (docs/tracking.md §1.5): how far `p` is from the truth between two polls
 // when the dish's motor does not move the way the variant table says. The backend's own
 // position model (modelled_axis, observed_pace, AxisPaces) is fed what the worker would see: a

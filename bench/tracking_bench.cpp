@@ -1,4 +1,7 @@
-// Tracking benchmark (issue 5): realistic LEO passes, a Gpredict-like client driving the stock
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// Tracking benchmark (docs/benchmarks.md): realistic LEO passes, a Gpredict-like client driving the stock
 // rotctld with the backend preloaded, the dish emulator's true position as ground truth.
 // Prints a table and writes CSV (summary, pooled latency, one trace per run) for bench/plot.py.
 // Measures and reports; asserts nothing. See docs/benchmarks.md.
@@ -82,7 +85,7 @@ struct ModeRow {
 };
 const std::vector<ModeRow> mode_rows = {
     {"none", "no compensation", {"-C", "pointing=none"}},
-    {"leapfrog", "leapfrog (seed thresholds, EL bug fixed)", {"-C", "pointing=leapfrog"}},
+    {"leapfrog", "leapfrog (upstream thresholds, EL bug fixed)", {"-C", "pointing=leapfrog"}},
     {"predictive", "predictive (target motion from the P stream)", {"-C", "pointing=predictive"}},
     {"oracle", "oracle: predictive fed the true position every second", {"-C", "pointing=predictive"}, true},
 };

@@ -1,3 +1,6 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
+
 # One place for the warning policy: -Wall -Wextra everywhere, -Werror when BIRDCAGE_WERROR is on (CI).
 option(BIRDCAGE_WERROR "Treat warnings as errors" OFF)
 

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The tracking benchmark in one command (issues 5 and 13): builds tracking_bench, runs the pass
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
+# The tracking benchmark in one command (docs/benchmarks.md): builds tracking_bench, runs the pass
 # matrix, the azimuth-mapping runs, the real-time subset and the time-scale sweep through the stock
 # rotctld + backend + emulator, then draws the plots into docs/img/ and the tables into
 # build-bench/bench/out/tables.md (pasted into docs/benchmarks.md).

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # Configures and builds into build/ (or $BIRDCAGE_BUILD_DIR). Extra arguments go to cmake.
 #   scripts/build.sh [--no-tests] [cmake args]
 # --no-tests builds only what is installed (backend, programs, man pages): about 40 s instead of

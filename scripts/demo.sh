@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # The main job on the emulator, no hardware needed: for each dish variant, start the dish emulator
 # on a pseudo-terminal, start the distribution's stock rotctld with the Winegard backend preloaded,
 # and drive it with the stock rotctl client, printing what the dish does.
@@ -7,7 +9,17 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${BIRDCAGE_BUILD_DIR:-$root/build}
-"$root/scripts/build.sh" >/dev/null
+# Only what the demo runs (the backend and the emulator), not the test suite; the first time this
+# compiles the core from scratch, a few minutes on 2 cores, so the compiler's progress is shown.
+"$root/scripts/setup.sh"
+[[ -f "$build/CMakeCache.txt" ]] || cmake -S "$root" -B "$build" -DBIRDCAGE_WERROR=ON >/dev/null
+echo "== Building the backend and the emulator (the first time takes a few minutes)"
+if ! cmake --build "$build" -j "$(nproc)" --target hamlib-winegard birdcage-sim 2>&1 | tee "$build/demo-build.log" |
+    { grep --line-buffered -E '^\[ *[0-9]+%\] (Building|Linking)' || true; }; then
+    echo "demo: the build failed; the end of its log ($build/demo-build.log):" >&2
+    tail -n 30 "$build/demo-build.log" >&2
+    exit 1
+fi
 
 lib="$build/src/hamlib/libhamlib-winegard.so"
 sim="$build/sim/birdcage-sim"
@@ -36,11 +48,12 @@ for v in "${variants[@]}"; do
     dev="$work/$v.tty"
     port=$(free_port 45330 45400)
     echo
-    echo "== $v: emulated dish on $dev (time x$time_scale), rotctld -m $m on 127.0.0.1:$port"
+    echo "== $v: emulated dish on $dev (time x$time_scale), rotctld -m $m -C time_scale=$time_scale on 127.0.0.1:$port"
     "$sim" --variant "$v" --link "$dev" --time-scale "$time_scale" --az 100 --el 30 >"$work/$v.sim.log" 2>&1 &
     pids+=($!)
     wait_for 10 test -e "$dev"
-    LD_PRELOAD="$lib" rotctld -m "$m" -r "$dev" -T 127.0.0.1 -t "$port" >"$work/$v.rotctld.log" 2>&1 &
+    # The backend's clock and polling must run at the emulated dish's pace (conf time_scale).
+    LD_PRELOAD="$lib" rotctld -m "$m" -r "$dev" -C "time_scale=$time_scale" -T 127.0.0.1 -t "$port" >"$work/$v.rotctld.log" 2>&1 &
     pids+=($!)
     if ! wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$port"; then
         echo "rotctld did not start; its log:"; cat "$work/$v.rotctld.log"; exit 1

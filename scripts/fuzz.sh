@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # Bounded libFuzzer run of every fuzz target (clang from Debian): the parsers (framer, replies,
 # transcripts) and the console synchroniser with auto-detection. Prints libFuzzer's final stats
 # (stat::number_of_executed_units per target); a crash or sanitizer finding in any target fails

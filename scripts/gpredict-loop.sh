@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # Real Gpredict in the loop: Debian's Gpredict, under Xvfb, tracks a satellite pass with the
 # emulated Carryout G2 through the distribution's rotctld and this backend, once per threshold
 # (in parallel), and reports what it sent, what the dish did, and the pointing error.
@@ -21,7 +23,7 @@ out=""
 thresholds="5 0.5"
 preload=""
 check=0
-usage() { sed -n '6p' "${BASH_SOURCE[0]}" | sed 's/^# *//'; }
+usage() { sed -n '8p' "${BASH_SOURCE[0]}" | sed 's/^# *//'; }
 while (($#)); do
     case "$1" in
     --build) build=$2; shift 2 ;;

@@ -1,4 +1,6 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 """Helpers of scripts/gpredict-loop.sh (real Gpredict against the emulated dish).
 
     gpredict_loop.py tle                                        the TLE of bench/passes/iss-45.csv

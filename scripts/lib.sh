@@ -1,3 +1,6 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
+
 # Shell helpers shared by the project's scripts (sourced, not run).
 
 # wait_for SECONDS COMMAND...: runs COMMAND until it succeeds; fails after SECONDS.

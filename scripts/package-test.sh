@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# What CI does with the package (issue 14), as root on a Debian machine: installs
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
+# What CI does with the package, as root on a Debian machine: installs
 # ./birdcage_*.deb (scripts/package.sh builds it) with apt, runs the demo service from the
 # installed paths only (birdcage-sim@demo + birdcage-rotctld@demo), moves the emulated dish with
 # the stock rotctl and reads the position back, then purges the package and checks that nothing

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # Builds the Debian package (debian/, dpkg-buildpackage) into the repository root as
 # birdcage_<version>_<arch>.deb, then runs lintian on it and fails on any error or warning.
 # The tests are not built (DEB_BUILD_OPTIONS=nocheck, BIRDCAGE_BUILD_TESTS=OFF in debian/rules):
@@ -13,7 +15,7 @@ lintian=1
 case "${1:-}" in
 "") ;;
 --no-lintian) lintian=0 ;;
--h | --help) sed -n '2,8s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; exit 0 ;;
+-h | --help) sed -n '4,10s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; exit 0 ;;
 *) echo "package.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
 esac
 

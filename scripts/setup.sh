@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # Installs what birdcage needs from Debian's packages (bookworm). Idempotent: installs only what is
 # missing. As root it runs apt-get; otherwise it prints the exact command to run and fails.
 set -euo pipefail
@@ -8,6 +10,7 @@ packages=(
     libhamlib-dev libhamlib-utils   # headers + the stock rotctl/rotctld the tests and demo drive
     libserialport-dev
     catch2
+    python3                         # the doc check (tests/docs)
 )
 if [[ "${BIRDCAGE_SETUP_EXTRA:-}" != "" ]]; then
     read -r -a extra <<<"${BIRDCAGE_SETUP_EXTRA}"

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # Installs dependencies, builds with warnings as errors, and runs the whole test suite (ctest).
 #
 #   scripts/test.sh [--repeat N] [-L label | -R regex]... [-- cmake args]
@@ -11,7 +13,7 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${BIRDCAGE_BUILD_DIR:-$root/build}
 
-usage() { sed -n '4,9s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; }
+usage() { sed -n '6,11s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; }
 ctest_args=()
 cmake_args=()
 while (($#)); do

@@ -1,2 +1,5 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 #define CATCH_CONFIG_MAIN
 #include <catch2/catch.hpp>

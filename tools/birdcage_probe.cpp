@@ -1,5 +1,8 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage-probe: maps an unknown dish console (baud, prompt, error text, help, submenus) into a
-// JSON report, and `record`s interactive sessions as transcripts (docs/transcripts.md). The seed's
+// JSON report, and `record`s interactive sessions as transcripts (docs/transcripts.md). The predecessor's
 // console-probe, rewritten on the core's transports, prompt rule and hazard guard.
 // Over 500 lines: one standalone tool (its argument parsing, the probe walk, the JSON report and the
 // interactive recorder); each piece is small and only this tool uses it.
@@ -146,7 +149,7 @@ struct HelpEntry {
     std::string description;
 };
 
-// Help formats seen on these consoles (docs/firmware.md 6.3, seed 004): `Enter <cmd> - Description`;
+// Help formats seen on these consoles (docs/firmware.md §6.3): `Enter <cmd> - Description`;
 // `cmd - Description`; `cmd  Description` (two or more spaces). Usage lines such as
 // `help [<command>]` and placeholder words are not commands.
 std::optional<HelpEntry> parse_help_line(std::string_view line)

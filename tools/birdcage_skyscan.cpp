@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage-skyscan: scans an AZ/EL grid with the dish and streams `az,el,value,time` CSV rows.
 // Talks to a running rotctld (our backend loaded) over TCP; see usage() for why.
 #include "skyscan.hpp"

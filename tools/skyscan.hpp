@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage-skyscan's pure parts (grid, serpentine order, resume), kept apart from its I/O so the
 // unit tests reach them.
 #pragma once

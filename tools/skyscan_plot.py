@@ -1,4 +1,6 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 """Heatmap of a sky scan with the geostationary arc and a satellite catalogue, and a peak finder.
 
     /usr/bin/python3 tools/skyscan_plot.py SCAN --out PNG [--catalogue CSV] [--lat DEG --lon DEG]

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage-probe against the emulated G2: the report lists every submenu docs/firmware.md 6.3 lists,
 // with its prompt, and the dish sees no hazard. `record` tees a piped session into a transcript.
 #include <catch2/catch.hpp>

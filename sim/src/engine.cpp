@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The emulated console's engine (engine.hpp): line intake, the shell's common verbs (help, quit,
 // unknown command), and the timed behaviours every variant shares (boot, the TV-satellite search,
 // busy moves, stalls, idle lines). Just over 500 lines because each of those is a short state

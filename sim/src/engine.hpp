@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Internal state of the console engine and the data that describes a firmware variant.
 // Variants differ only through their VariantProfile row (variants.cpp) and menu tables.
 #pragma once

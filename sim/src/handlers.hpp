@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Command handlers shared by the variant menu tables. Each prints its reply lines; the engine
 // prints the prompt afterwards (or when the activity a handler started has finished).
 #pragma once

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage-sim: run one emulated dish on a pty until SIGINT/SIGTERM. Every Options switch has a
 // long option here (`--flag value` or `--flag=value`); sim/README.md says what each one means.
 #include <algorithm>

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Non-volatile settings as the `nvs` submenu shows them (docs/firmware.md §6.3, Appendix A).
 #pragma once
 

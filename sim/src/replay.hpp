@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Transcript replay: answers each expected host chunk with the recorded dish chunks, at the
 // recorded timing in simulated time. Pure (no I/O, no clock) so that it can be driven by tests
 // and by the emulator's console thread alike.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The sky a G2 sees, from Davidson's real scan (docs/firmware.md §11.2):
 //
 // - 13 V (`lnbdc odu`), the setting the scan was taken with: inside the scanned grid (AZ 110..240,

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // One VariantProfile row and one set of menu tables per firmware variant (docs/firmware.md §1).
 // Prompt names marked INVENTED are only used with PromptStyle::named; the G2's are known (§6.3).
 #include <limits>

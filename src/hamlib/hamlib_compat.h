@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 /* Hides the Hamlib API differences between 4.5.4 (Debian bookworm) and 4.6 / 4.7 / master (C++ only).
  * Never touch rot->state directly: Hamlib master moved the rotator state behind accessor macros
  * (HAMLIB_ROTSTATE/HAMLIB_ROTPORT, 4.7+), so a backend that dereferences rot->state builds only

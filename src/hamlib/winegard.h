@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 /* C ABI of the Winegard rotator backend: what Hamlib's rot_reg.c would call if the backend were
  * compiled into Hamlib (DECLARE_INITROT_BACKEND(winegard) expands to this name for ABI 4). */
 #ifndef BIRDCAGE_WINEGARD_H

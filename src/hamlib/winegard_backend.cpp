@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Hamlib glue for the Winegard backend: rot_caps per firmware variant, conf parameters, and the
 // callbacks that forward to birdcage::RotatorService. This is the only file that knows Hamlib
 // (besides hamlib_compat.h); everything it calls is the plain C++ core.
@@ -323,7 +326,7 @@ const ConfParam kConfParams[] = {
      [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.az_max); },
      [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(360.0)); }},
     {9, "pointing", "Pointing mode",
-     "predictive (aim where the satellite will be, inferred from the targets), leapfrog (seed "
+     "predictive (aim where the satellite will be, inferred from the targets), leapfrog (upstream "
      "overshoot of a lagging axis) or none (each target as sent); default: predictive on the G2, none on "
      "the slower Trav'ler/Carryout mounts",
      RIG_CONF_STRING, 0, 0, 0,
@@ -659,7 +662,7 @@ void fill_caps(RegisteredModel& m, const birdcage::FirmwareProfile& p) {
     c.model_name = m.model_name.c_str();
     c.mfg_name = "Winegard";
     c.version = kBackendVersion;
-    c.copyright = "LGPL";
+    c.copyright = "LGPL";   // LGPL-2.1-or-later (COPYING), in the words of Hamlib's own backends
     c.status = RIG_STATUS_ALPHA;
     c.rot_type = ROT_TYPE_AZEL;
     c.port_type = RIG_PORT_SERIAL;

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# One command-line convention of one program (issue 14), as a ctest:
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
+# One command-line convention of one program, as a ctest:
 #   cli_conventions.sh help    PROGRAM                    --help: stdout, exit 0, nothing on stderr
 #   cli_conventions.sh version PROGRAM VERSION            --version: "PROGRAM VERSION" on stdout, exit 0
 #   cli_conventions.sh usage   PROGRAM EXPECTED ARGS...   ARGS is a usage error: exit 2, nothing on

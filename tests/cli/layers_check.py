@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 """The core's layers, held against its includes: each file of src/core/<layer>/ and
 include/birdcage/<layer>/ may include only headers of its own layer or of the layers it rests
 on (docs/architecture.md). Prints every include that runs back up and exits 1; exits 0 when none

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
 # birdcage(7) and README.md name every model and every conf key the built backend declares, so
-# neither drifts from the code (issue 14). The backend's own tables are read through the stock
+# neither drifts from the code. The backend's own tables are read through the stock
 # rotctl: `-l` for the models, `-L` for the conf keys (minus the ones Hamlib's serial frontend
 # adds to every model, taken from a stock serial rotator).
 #   man_matches_backend.sh ROTCTL BACKEND_SO MANPAGE README

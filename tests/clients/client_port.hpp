@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The serial side of the upstream clients of docs/firmware.md Appendix C, as pyserial gives it to
 // them: read(n) returns at n bytes or when its timeout expires, readline() at LF or on timeout,
 // reset_input_buffer() discards what is waiting. Client timeouts are real seconds, as in the

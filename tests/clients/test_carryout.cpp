@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // carryout_rotor.py v1.0 and carryout_scan.py (docs/firmware.md §8.4, §8.7, §12.3, Appendix C)
 // against the 2003 Carryout over the real pty.
 #include <catch2/catch.hpp>

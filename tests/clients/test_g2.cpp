@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The G2-shell clients (docs/firmware.md §6.6, §7, Appendix C) against the Carryout G2 over the
 // real pty: Davidson's winegard-sky-scan scripts, mjlangan's G2+ rotor and Fox's rotor. All of
 // them send `q` at the root prompt first, so they need the "harmless" reading of §14 G2.2; the

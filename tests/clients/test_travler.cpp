@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Gabe's Trav'ler clients (docs/firmware.md §3.6, §4.5, §5.6, Appendix C) replayed over the real pty:
 // the bytes they write, with their pauses or lack of them, and their parse of what comes back.
 #include <catch2/catch.hpp>

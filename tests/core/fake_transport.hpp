@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // A scripted stand-in for a dish console: records what the core writes and plays back replies.
 // Time never passes inside it: a read with nothing queued returns Errc::timeout at once, which the
 // Transport contract allows ("timeout at the deadline"), so tests are fast and deterministic.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The azimuth-mapping unit: what each reading predicts, what absolute numbers reach, and what the
 // learner concludes from moves (docs/firmware.md §14 G2.4, §2, §3.5).
 #include <catch2/catch.hpp>

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // ControllerOptions::console_events: what the controller learns from each reply is reported as a
 // value, in the order the console's output was read (console_events.hpp).
 #include <catch2/catch.hpp>

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The Controller over scripted consoles of every variant: initialisation, moves per move style,
 // stop, leapfrog, homing, faults. Over 500 lines because it is the one place each variant's row is
 // exercised through the composed controller; the parts have their own files (wrap tracker,

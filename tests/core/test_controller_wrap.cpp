@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The controller's cable-wrap handling against a scripted dish that maps 0..360 commands onto its
 // wrap window the way the emulator does (nearest branch to the axis' target), with either
 // azimuth report (displayed 0..360 or mechanical).

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Auto-detection over scripted consoles: help listings in any layout, boot lines, prompts, the
 // ranking, and the rule that `q` goes only to a positively recognised submenu.
 #include <catch2/catch.hpp>

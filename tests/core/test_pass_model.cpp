@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // PassModel and TargetPredictor's use of it on the SGP4 passes of bench/passes: a Gpredict-like
 // threshold client (docs/tracking.md §3.2, bench/gpredict_client.cpp) sends lead targets to a dish
 // that jumps to each (what `pointing=none` does), and the prediction 5, 15 and 30 s past each

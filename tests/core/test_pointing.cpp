@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // TargetPredictor (predictive pointing) on synthetic target streams with explicit times: steady and
 // curved motion, Gpredict-like lead targets, stops, restarts, the azimuth wrap and bad input.
 // Pure and deterministic: no threads, no sleeping, every time is a Clock::time_point built here.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The position model between polls (position_model.hpp): a leg runs its axis along the variant's
 // motion model; the latest reading places it on that curve and two readings time it.
 #include <catch2/catch.hpp>

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // receiver.hpp's pure parts: the LNB supply commands and values, the reading's time budget.
 #include "birdcage/dish/receiver.hpp"
 #include "birdcage/firmware/variants.hpp"

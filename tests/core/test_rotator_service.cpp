@@ -1,4 +1,7 @@
-// RotatorService recovery (issue 6) over scripted consoles: hang-up + reopen, reboot mid-move,
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// RotatorService recovery (docs/reliability.md) over scripted consoles: hang-up + reopen, reboot mid-move,
 // motor faults. Real threads and short real periods; every wait has a deadline.
 #include <catch2/catch.hpp>
 

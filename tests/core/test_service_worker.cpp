@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The rotator service's mailbox and worker driven by hand: no thread, a manual dish clock, and the
 // worker's step() called at chosen points between the callers' posts. Every interleaving of `P`,
 // `S` and worker steps ends the way the client's last command says.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Predictive steering (steering.hpp) without threads or I/O: a TargetPredictor fed with explicit
 // times, the G2's profile, and next_aim() called as the worker would.
 #include <catch2/catch.hpp>

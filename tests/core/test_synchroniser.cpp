@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The console synchroniser over scripted consoles: every state a console can be in when the
 // backend opens it (booting with late lines, idle, echo or none, CR/LF/CRLF, prompt + space,
 // garbage, NULs, a wrong baud rate), and the failure messages.

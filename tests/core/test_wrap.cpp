@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The pure cable-wrap logic (wrap.hpp): branches, the branch rule, waypoints.
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The controller's cable-wrap handling against the emulator (the test oracle, written from the
 // docs/firmware.md and not from src/): north-crossing passes on the emulated G2 and Trav'ler, with
 // the azimuth reported displayed and mechanical; the dish's true mechanical azimuth must never

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The wrap tracker on its own: no console, no clock (times are passed in).
 #include <catch2/catch.hpp>
 

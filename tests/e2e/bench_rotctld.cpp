@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Benchmark (prints figures, asserts nothing): round trip of `p` and `P` through the stock rotctld
 // with the backend preloaded, against the emulated dish, over one TCP connection like Gpredict's.
 //   build/tests/e2e/bench_rotctld [iterations]

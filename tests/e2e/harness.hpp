@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // End-to-end harness: the dish emulator (in this process), the distribution's unmodified
 // /usr/bin/rotctld with our backend preloaded, and clients (stock rotctl -m 2, or raw TCP).
 #pragma once

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // End to end: model 90100 identifies every emulated firmware variant from what its console prints,
 // reports it in get_info, then drives the dish. No hazard may reach the dish while probing.
 #include "harness.hpp"

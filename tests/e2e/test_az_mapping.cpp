@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // End to end: a north-crossing pass through the stock rotctld, fed like Gpredict (a target every
 // simulated second, small steps), under every azimuth mapping the emulator offers, with the
 // backend's default az_mapping=auto. Where the travel holds the pass on one branch and the mapping
@@ -129,7 +132,7 @@ Flight fly(const PassCase& c) {
 TEST_CASE("az mapping e2e: north-crossing passes under every emulator mapping, az_mapping=auto",
           "[e2e][az_mapping]") {
     const PassCase cases[] = {
-        // Trav'ler, the measured failure of issue 13: 248 -> 43 growing, held by 248 -> 403.
+        // Trav'ler, the failure the tracking benchmark measured: 248 -> 43 growing, held by 248 -> 403.
         {"hal205 nearest", Variant::travler_hal205, 90102, 248, 155, 15, 60, AzMapping::nearest, 0, 0, 403},
         {"hal205 literal", Variant::travler_hal205, 90102, 248, 155, 15, 60, AzMapping::literal, 0, 0, 403},
         {"hal205 wrap manager, wrap point 95 (wrap position 455)", Variant::travler_hal205, 90102, 248, 155, 15, 60,

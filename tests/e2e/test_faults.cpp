@@ -1,4 +1,7 @@
-// End to end under line and dish faults (issue 6): emulator with fault injection <- pty <- stock
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// End to end under line and dish faults (docs/reliability.md): emulator with fault injection <- pty <- stock
 // /usr/bin/rotctld + preloaded backend <- one TCP client connection (like Gpredict's), plus bad
 // client input. Recovery times are printed (WARN) and collected in docs/reliability.md.
 #include "harness.hpp"

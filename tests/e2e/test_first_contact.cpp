@@ -1,4 +1,7 @@
-// The first-contact matrix (issue 11): every variant × how rotctld meets the dish (already up;
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// The first-contact matrix: every variant × how rotctld meets the dish (already up;
 // started 0, 5 or 15 simulated seconds into its boot; the dish reboots mid-pass) × a reading of the
 // firmware's open questions (the emulator's defaults and two alternative profiles) × the model
 // (the variant's own, or auto-detect 90100). Through the stock /usr/bin/rotctld with the backend
@@ -321,7 +324,7 @@ private:
 // Cells that fail today: bugs the matrix found and that are not fixed yet, each with its reason.
 // Hidden from ctest — a known failure is not a flaky one — but they run by hand:
 // `test_first_contact "[open]"`. None today; a new one is added here only together with a note
-// in the issue that tracks it.
+// in docs/development.md's first-contact matrix paragraph.
 struct OpenCell {
     Variant variant;
     std::string_view meeting, profile, why;

@@ -1,4 +1,7 @@
-// The dish as a receiver (issue 15) end to end: emulator (sky model from the real G2 scan) <- pty
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// The dish as a receiver (docs/receiver.md) end to end: emulator (sky model from the real G2 scan) <- pty
 // <- stock /usr/bin/rotctld + preloaded backend <- raw TCP clients speaking `v`/`V`.
 //
 // Stock Hamlib 4.5.4's NET rotator (`rotctl -m 2`) cannot name a backend's extension levels (it

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // End to end: emulated dish <- pty <- stock /usr/bin/rotctld + preloaded backend <- stock rotctl -m 2.
 #include "harness.hpp"
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // End to end, per firmware variant: every unknown-behaviour switch of the emulator, and the
 // start-up situations of real life (already booted, still booting, left inside a submenu, search
 // running or already stopped, skip_init). Each case: rotctld opens the dish (init), then P, p, S.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // End to end: the Hamlib verbs beyond P/p (park K, reset R, stop S, get_status s, get_info _, conf
 // parameters) and the G2 completions (homing, the INT_MAX sentinel, the NVS 20 warning).
 #include "harness.hpp"

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // libFuzzer target: the console framer, fed arbitrary bytes in arbitrary chunks, for every variant.
 // Properties: no crash; no event text contains a line terminator; every prompt looks like one;
 // every byte of input is accounted for by an event or the partial line (nothing grows unbounded).

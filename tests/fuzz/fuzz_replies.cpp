@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // libFuzzer target: every reply parser on arbitrary lines, and the hazard guard on arbitrary
 // commands. Properties: no crash; a parsed position is finite; a refused command is refused with
 // a hazard/not_homed code and a message; format_degrees output parses back to within 0.005.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // libFuzzer target: the console synchroniser and auto-detection against a console scripted by the
 // input: random interleavings of boot lines, prompts, echoes, line endings and garbage, each chunk
 // either waiting in the buffer, answering the next line ending, or arriving later.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // libFuzzer target: the emulator's transcript reader (sim/src/transcript.cpp). Properties: no crash
 // (malformed input throws TranscriptError only); every parsed entry formats back to a line that
 // parses to the same direction, bytes and marker; escape/unescape round-trips arbitrary bytes.

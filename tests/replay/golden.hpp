@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The golden-file vocabulary of birdcage-regress (docs/transcripts.md, "Golden files"): every line
 // is an event with stable keys, built from values (Errc names, the controller's accessors, wire
 // bytes), never from the words of a Status message or Controller::describe(), so rewording a log

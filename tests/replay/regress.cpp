@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage-regress: runs the core's operation sequence for a transcript against the emulator
 // replaying that transcript in strict mode, and compares what the core did with the golden file
 // beside it (gpsd's regress-driver, docs/transcripts.md).

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The golden files pin what the core did, not how its messages are worded (docs/transcripts.md).
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The transcript format and the emulator's replay modes. Uses only the emulator's side plus the
 // core's FdTransport as a client, the way the regression tests drive it.
 #include <catch2/catch.hpp>

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // A tiny client for the emulator's pty, as the backend would open it: raw mode, non-blocking,
 // reads bounded by poll deadlines. Test-local (no backend code).
 #pragma once

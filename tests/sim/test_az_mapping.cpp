@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The emulator's azimuth-target mapping switch (Options::az_mapping, §14 G2.4): where one `a 0 <deg>`
 // puts the mechanical azimuth under each reading, on the Trav'ler (0..455) and the G2
 // (-423.33..+23.33), and which way the dish turns to get there.

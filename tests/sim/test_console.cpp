@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The console engine driven directly: exact bytes per variant, in simulated time.
 // Over 500 lines: the exact console bytes of five variants, one case per documented behaviour.
 #include <catch2/catch.hpp>

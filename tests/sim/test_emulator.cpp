@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The emulator through its real pty, the way the backend and rotctld see it. No sleeping for
 // motion: a large time scale and waits for conditions with deadlines.
 #include <catch2/catch.hpp>

@@ -1,4 +1,7 @@
-// Fault injection (issue 6): each fault observed through the real pty with a tiny client, the
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// Fault injection (docs/reliability.md): each fault observed through the real pty with a tiny client, the
 // way the backend will meet it. Deterministic: seeded RNG, time scale and deadlines, no sleeping
 // for motion.
 #include <catch2/catch.hpp>

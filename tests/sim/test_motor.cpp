@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Motor physics on advance(dt) alone: no pty, no thread, no clock.
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The emulator's sky model against the real G2 scan it is built from (sim/data/g2-ku-skyscan).
 #include <birdcage_sim/sky.hpp>
 

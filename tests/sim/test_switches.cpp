@@ -1,4 +1,7 @@
-// The switches for docs/firmware.md' open questions (issue 11 item 4), each driven on the
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// The switches for docs/firmware.md's open questions (§14; sim/README.md, Switches), each driven on the
 // I/O-free Console in simulated time: the default and every alternative.
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The core's one time source.
 //
 // Everything the core reckons about motion and the console (leg budgets, poll periods, boot

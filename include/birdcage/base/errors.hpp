@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Error values used everywhere inside the core. The Hamlib glue maps Errc to -RIG_E* in one switch.
 #pragma once
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Least-squares quadratic fits, shared by the target estimator (pointing.cpp: a pass's rate and
 // curvature) and the wrap tracker (wrap_tracker.cpp: where a pass culminates between targets).
 // Pure arithmetic; the caller centres its abscissa so the sums stay well conditioned.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Logging callback. Levels mirror Hamlib's err/warn/verbose/trace; the glue forwards to rot_debug.
 #pragma once
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Plain types that several layers pass to each other: time, the legs an axis may be running, the
 // LNB supply. Values only, no behaviour: a pure module (pointing, steering, the position model)
 // includes this and nothing of the console, the dish or the service.

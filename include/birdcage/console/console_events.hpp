@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // What the core learnt from the dish's console, one event per piece of knowledge, as values: the
 // places that turn a reply into knowledge (the position reader, the session's framer events and
 // prompts, the G2 move acknowledgement) report it here as well as acting on it. Machines read

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Firmware auto-detection at open: identifies the variant from any evidence the console offers
 // (boot and version lines, prompt shapes, `?` listings in any layout), ranks it per candidate, and
 // never sends a documented hazard: no moves, no NVS access, and `q` only where a submenu was

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Console framer: turns the byte stream of a menu shell into lines, prompts and noise reports.
 // Pure: no I/O, no clock. Framing rules are listed at the top of src/core/console/framer.cpp.
 #pragma once

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Console session: every byte to the dish passes through transact(), which runs the hazard guard,
 // handles stale input, writes the command and frames the output until the prompt.
 #pragma once

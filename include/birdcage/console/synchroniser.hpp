@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Console synchroniser: brings an unknown console (booting, idle, inside a submenu, noisy) to a
 // known prompt before anything else is sent. Every open path uses it (each variant's initialise and
 // re-initialise, auto-detect, birdcage-probe). It only ever sends line endings and, where the

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // What the backend knows of the dish between commands (position, homing, the last fault), and the
 // one place a position reply or a live position line becomes that knowledge. Shared by the
 // controller and its move driver.

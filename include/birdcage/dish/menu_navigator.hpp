@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Menu navigation on the dish console: from whatever menu the console is in to the root, into the
 // motor menu (the variant's motor_menu_entry), and through the root into another submenu and back.
 // `q` is sent only from a submenu whose prompt was seen (the session's hazard guard refuses the

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // A move driver turns a target into console commands and follows them until the dish gets there:
 // one per move style of the variant table (MoveStyle), chosen by make_move_driver(). The
 // controller owns the state they share (MoveContext) and composes one driver with the wrap

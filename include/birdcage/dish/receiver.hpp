@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The dish as a receiver: signal strength and LNB supply from the satellite tuner's menu
 // (G2 `DVB>`, docs/firmware.md 6.3). Variants without a tuner (FirmwareProfile::receiver_menu empty)
 // answer Errc::unsupported.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Pure protocol: command builders, reply parsers and the hazard guard's rules. No I/O, no clock.
 #pragma once
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // One table row per firmware variant (src/core/firmware/variants.cpp). Variants differ only as data and
 // named quirks; nothing outside variants.cpp may branch on VariantId.
 #pragma once

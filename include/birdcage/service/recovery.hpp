@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The recovery classifier, pure: what one worker step's outcome means for the link to the dish —
 // carry on, count a failure, or recover (reopen the port, wait for a rebooted dish, re-synchronise
 // a console that stopped answering). RotatorService acts on the verdict; tests feed outcomes.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // A Controller driven by its own worker thread, so that callers never wait for the dish.
 //
 // Why a thread: rotctld runs every client's command under one global mutex, and the dish moves one

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The only state the rotator service's two sides share: what callers post (targets, stop, home,
 // receiver jobs, shutdown) and the snapshot the worker publishes (position, motion, errors,
 // recovery). One mutex, held only to copy mail in or a snapshot out; nobody talks to the dish

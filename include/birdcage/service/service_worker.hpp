@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The rotator service's worker: the one owner of the Controller (and through it the serial line)
 // once the service has started. Each step takes the mail (service_mailbox.hpp), acts on it in the
 // order the client meant (stop, target, home, receiver job), steers (steering.hpp), services the

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // How the firmware maps an absolute azimuth command onto its mechanical travel — an open question
 // (docs/firmware.md §14 G2.4; §2, §3.4, §3.5) that the backend does not bet on: it plans with the most
 // permissive reading the evidence still allows and learns from where the dish goes. Pure: no I/O,

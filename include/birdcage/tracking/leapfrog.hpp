@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Leap-frog: lead the target in the direction of travel to make up for mechanical lag.
 #pragma once
 

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // A model of one satellite pass fitted to the client's targets, for predicting far beyond the
 // last target (docs/tracking.md §6).
 //

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Predictive pointing: infer the satellite's motion from the stream of client targets and aim the
 // dish where the satellite will be, instead of where the client last said it was.
 //
@@ -37,7 +40,7 @@ namespace birdcage {
 
 enum class PointingMode {
     none,        // go to each target as sent
-    leapfrog,    // the seed's overshoot of a lagging axis (Controller applies it)
+    leapfrog,    // the upstream clients' overshoot of a lagging axis (docs/firmware.md §12.1) (Controller applies it)
     predictive,  // TargetPredictor below
 };
 

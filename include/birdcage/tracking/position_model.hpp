@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Where the dish is between polls, pure. A leg in flight runs its axis from where it stood when the
 // leg was sent to the leg's target along the variant's motion model (variants.hpp:
 // travelled_after). The latest reading places the axis on that curve (how far along it is) and,

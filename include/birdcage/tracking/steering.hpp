@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Predictive steering, pure: from the estimate of where the satellite goes (TargetPredictor), the
 // dish's limits and speeds, and the aim last handed to the controller, the next aim — or none
 // when the dish should stay where it is aimed. No I/O, no threads, no clock: the caller passes

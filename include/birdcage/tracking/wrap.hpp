@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Cable-wrap arithmetic (docs/tracking.md §2.3): which mechanical azimuth ("branch") a 0..360 target
 // goes to, and how to steer a firmware that resolves 0..360 azimuths itself onto that branch.
 // Pure: no I/O, no clock, no variant table.

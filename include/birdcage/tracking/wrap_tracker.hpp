@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The wrap tracker: where the azimuth axis is on its travel (mechanical degrees, cable-wrap turns
 // included) while clients and most firmware speak display degrees (0..360), and which mechanical
 // branch a display target goes to. Built on the pure arithmetic of wrap.hpp and on what the

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The console engine without any I/O or thread: bytes in, bytes out, simulated time advanced
 // explicitly. Emulator wraps it with a pty and a thread; tests can drive it directly.
 #pragma once

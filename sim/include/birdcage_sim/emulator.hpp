@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // birdcage dish emulator: a pty that behaves like the serial console of a Winegard motorized
 // dish. Written from docs/firmware.md (section numbers cited as §n), independently
 // of the backend in src/, so that it can act as the test oracle.
@@ -67,7 +70,7 @@ enum class TravlerPositionLayout { one_line, line_per_axis };
 // it through Emulator::replay_failure(); lenient hands the session over to the model console.
 enum class ReplayMode { off, strict, lenient };
 
-// Faults of the serial line between the dish and the client (issue 6, docs/firmware.md §6.1). They
+// Faults of the serial line between the dish and the client (docs/reliability.md, docs/firmware.md §6.1). They
 // are wire properties and run in real time, not scaled by Options::time_scale. Settable at
 // construction and live through the Emulator setters.
 struct LineFaults {
@@ -243,7 +246,7 @@ public:
     void power_cycle();
     bool shell_alive() const;                // false after a G2 root `q` or an ADC `scan` deadlock
 
-    // --- fault injection (issue 6), all thread-safe -------------------------------------
+    // --- fault injection (docs/reliability.md), all thread-safe -------------------------------------
     // Random bytes (seeded by Options::seed) queued on the line now, behind dish output already
     // queued, as an idle unbiased RS-422 bus produces (§6.1 MAX490 without fail-safe biasing).
     void inject_garbage(std::size_t bytes);

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Motor physics of the emulated dish: pure functions of simulated time, no clock, no I/O.
 // Every motion is a time-optimal trapezoid (or triangle) with a velocity cap and a symmetric
 // acceleration limit, integrated analytically so results do not depend on the step size

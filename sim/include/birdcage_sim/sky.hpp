@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Ku-band RSSI the G2's DVB `rssi` command would read at a pointing direction, built from a real
 // G2 scan (sim/data/g2-ku-skyscan, embedded at build time). See sky.cpp for the model.
 #pragma once

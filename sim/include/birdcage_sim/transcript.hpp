@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Console transcripts (docs/transcripts.md): a recorded session between a host and a dish, one
 // chunk per line with its direction, optional timing and C-style escapes. This is the emulator's
 // own reader and writer; like the rest of sim/ it shares no code with the core.

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Auto-detection. What `q` may do: it is the documented way out of a submenu everywhere, and
 // terminates the G2's shell at its root (docs/firmware.md 6.5). So it is sent only where a submenu was
 // positively recognised: a prompt confirmed on two consecutive pokes, the `?` reply ending on that

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // Console framing. The consoles are line-oriented menu shells that print a prompt and wait.
 // Assumptions (each is what makes the state machine below sufficient):
 //  1. A line ends at CR or LF. CR LF, LF CR and runs of terminators yield no empty lines: an empty

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 #include <libserialport.h>
 
 #include "birdcage/console/transport.hpp"

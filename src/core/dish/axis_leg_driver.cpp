@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -84,7 +87,7 @@ void AxisLegDriver::plan(AzEl wanted, AzEl command, const std::optional<AzEl>& p
     Leg el_leg;
     el_leg.axis = Axis::elevation;
     el_leg.target = command;
-    // Alternate which axis goes first so neither starves the other (seeds 003/004).
+    // Alternate which axis goes first so neither starves the other (the upstream v2.0 clients do the same, docs/firmware.md §3.4, §3.6).
     const bool az_first = move_count_ % 2 == 0;
     ++move_count_;
     for (const Leg& leg : az_first ? std::array<Leg, 2>{az_leg, el_leg} : std::array<Leg, 2>{el_leg, az_leg}) {

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The two move styles of the variant table (internal to the core; see move_driver.hpp).
 #pragma once
 

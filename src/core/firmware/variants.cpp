@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 // The variant table. Each fact cites a section (n.n) of the compiled docs/firmware.md; what each row
 // means for a user is in docs/variants.md, the emulator's independent reading in sim/README.md.
 #include "birdcage/firmware/variants.hpp"

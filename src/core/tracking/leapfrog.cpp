@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 #include "birdcage/tracking/leapfrog.hpp"
 
 #include <cmath>
@@ -5,7 +8,7 @@
 namespace birdcage {
 namespace {
 
-// Seed thresholds (seeds 003/004): more than 2 deg behind -> lead 1.0, more than 1 deg -> 0.5.
+// The upstream rotor scripts' thresholds (docs/firmware.md §12.1): more than 2 deg behind -> lead 1.0, more than 1 deg -> 0.5.
 double lead_for(double delta) {
     const double magnitude = std::fabs(delta);
     double lead = 0.0;

@@ -1,3 +1,6 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
 #include "birdcage/tracking/wrap_tracker.hpp"
 
 #include <algorithm>

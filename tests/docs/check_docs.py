@@ -23,7 +23,7 @@ Checked docs: README.md, docs/*.md, sim/README.md. A doc fails when it names
            table whose first header cell is `key`) naming a key the backend does not declare;
   section  also in any file of the tree: `docs/X.md §n` or `docs/X.md n.n` (code comments,
            transcripts' Source: headers) for a section X.md does not have;
-  reference (in any file of the tree) "issue N", "seed NNN" or "the birdcage journal": nothing a
+  reference (in any file of the tree) "issue N", "seed NNN" or the predecessor's journal: nothing a
            clone can follow;
   figure   a figure marked <!--fig:NAME-->VALUE that docs/benchmarks.md (where every marked
            figure comes from) does not mark, or marks with another value. VALUE is the number or
@@ -271,7 +271,8 @@ def check_doc(tree, doc, conf_keys, figures, problems):
 
 
 # References a clone cannot follow: an issue number, a seed document, the predecessor's journal.
-UNFOLLOWABLE = re.compile(r"\b(?:issues? #?\d+|issue-\d+|seeds? \d{3}(?:/\d{3})*|birdcage journal)\b", re.I)
+# (Spelt so that this file does not match itself: a `git grep` for them finds nothing either.)
+UNFOLLOWABLE = re.compile(r"\b(?:issue[s]? #?\d+|issue-\d+|seed[s]? \d{3}(?:/\d{3})*|birdcage[ ]journal)\b", re.I)
 
 
 def check(root, conf_keys):
@@ -283,7 +284,7 @@ def check(root, conf_keys):
     for doc in docs:
         check_doc(tree, doc, conf_keys, figures, problems)
     for path in tree.files:
-        if path.startswith(("tests/docs/check_docs.py",)) or path.endswith((".png", ".csv")):
+        if path.endswith((".png", ".csv")):
             continue
         with open(os.path.join(root, path), encoding="utf-8", errors="replace") as f:
             for n, line in enumerate(f, 1):
@@ -356,9 +357,10 @@ SELF_TEST_BREAKS = [
     ("README.md", "RMS <!--fig:rms-->1.4–2.0°.\n", "figure: rms: 1.4–2.0° here"),
     ("README.md", "About <!--fig:unknown-->3 s.\n", "figure: unknown: docs/benchmarks.md marks no such"),
     ("docs/benchmarks.md", "Again <!--fig:time-->40 minutes.\n", "figure: time: marked with different values"),
-    ("src/core/real.cpp", "// as decided in issue 12\n", "reference: 'issue 12'"),
+    ("src/core/real.cpp", "// as decided in " + "issue" + " 12\n", "reference: '" + "issue" + " 12'"),
     ("src/core/real.cpp", "// the rule of docs/firmware.md §7\n", "section: docs/firmware.md 7"),
-    ("docs/a.md", "Quoted by seed 000 and the birdcage journal.\n", "reference: 'seed 000'"),
+    ("docs/a.md", "Quoted by " + "seed" + " 000.\n", "reference: '" + "seed" + " 000'"),
+    ("docs/a.md", "As the " + "birdcage" + " journal says.\n", "reference: '" + "birdcage" + " journal'"),
 ]
 
 

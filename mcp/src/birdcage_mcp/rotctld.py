@@ -13,6 +13,7 @@ commands (`R` reset, `K` park) by accident.
 from __future__ import annotations
 
 import asyncio
+import os
 import re
 from dataclasses import dataclass
 
@@ -101,7 +102,8 @@ class Rotctld:
                 asyncio.open_connection(self.host, self.port), self.timeout
             )
         except (OSError, asyncio.TimeoutError) as error:
-            reason = getattr(error, "strerror", None) or str(error) or type(error).__name__
+            code = getattr(error, "errno", None)
+            reason = os.strerror(code).lower() if code else (str(error) or "no answer")
             raise RotctldUnreachable(
                 f"cannot reach rotctld at {self.address} ({reason}); is rotctld running and listening there? "
                 f"(e.g. `rotctld -m <model> -r <device> -t {self.port}`, with the birdcage backend preloaded "

@@ -22,7 +22,7 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import Annotated, Any
 
 from mcp.server.mcpserver import Context, MCPServer
-from mcp.server.mcpserver.exceptions import ToolError
+from mcp.server.mcpserver.exceptions import ResourceError, ToolError
 from pydantic import Field
 
 from .rotctld import Rotctld, RotctldError, RotctldRefused
@@ -403,6 +403,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
             raise ToolError(f"elevations {el_min:g}..{el_max:g} leave the dish's range "
                             f"{limits['el_min']:g}..{limits['el_max']:g}")
         try:
+            await bird.rot.ask("v", "LNB")  # a dish without a tuner refuses every receiver level
             await bird.rot.ask("V", "RSSI_SAMPLES", samples)
             if lnb_volts is not None:
                 await bird.rot.ask("V", "LNB", lnb_volts)
@@ -474,7 +475,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         try:
             return json.dumps(await position_dict())
         except RotctldError as error:
-            raise ValueError(str(error)) from None
+            raise ResourceError(str(error)) from None
 
     @server.resource("birdcage://limits", mime_type="application/json",
                      description="The range targets are held to")
@@ -482,7 +483,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         try:
             return json.dumps(await bird.limits())
         except RotctldError as error:
-            raise ValueError(str(error)) from None
+            raise ResourceError(str(error)) from None
 
     @server.resource("birdcage://info", mime_type="application/json",
                      description="Model, backend version, the backend's description and extension levels")
@@ -490,7 +491,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         try:
             return json.dumps(await info_dict())
         except RotctldError as error:
-            raise ValueError(str(error)) from None
+            raise ResourceError(str(error)) from None
 
     # ---- prompts ----
 

@@ -202,8 +202,13 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         off_az = azimuth_difference(az, azimuth)
         off_el = abs(el - elevation)
         if not notes and (off_az > ARRIVAL_TOLERANCE_DEG or off_el > ARRIVAL_TOLERANCE_DEG):
-            notes.append(f"the rotator stopped at az {az:.2f} el {el:.2f}, not at the target: clamped to its "
-                         "limits (e.g. the backend's az_min/az_max) or stopped")
+            if "; pointing predictive" in await bird.info_text():
+                notes.append(f"the rotator rests at az {az:.2f} el {el:.2f}, not at the target: the backend's "
+                             "predictive pointing took the targets for a moving satellite and aimed ahead; for "
+                             "separate moves run rotctld with -C pointing=none")
+            else:
+                notes.append(f"the rotator stopped at az {az:.2f} el {el:.2f}, not at the target: clamped to its "
+                             "limits (e.g. the backend's az_min/az_max) or stopped")
         result["clamped"] = bool(notes)
         result["notes"] = notes
         return result
@@ -221,7 +226,9 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
             start = start or (az, el)
             near = azimuth_difference(az, az_target) <= ARRIVAL_TOLERANCE_DEG and abs(el - el_target) <= ARRIVAL_TOLERANCE_DEG
             agreeing = agreeing + 1 if near else 0
-            if agreeing >= 2:
+            # p can read the target while the backend still reports MOVING (a leg finishing, e.g. the
+            # elevation one after the azimuth one): settled means both agree.
+            if agreeing >= 2 and "MOVING" not in await bird.status():
                 return az, el
             if last is None or azimuth_difference(az, last[0]) > SAME_POSITION_DEG or abs(el - last[1]) > SAME_POSITION_DEG:
                 still_since = time.monotonic()

@@ -109,7 +109,8 @@ async def test_move_to_settles_at_the_target_with_progress(g2):
         now = await call(session, "get_position")
         assert abs(now["azimuth"] - target[0]) <= 0.2 and abs(now["elevation"] - target[1]) <= 0.2
         assert progress, "no progress notification during a 20 degree move"
-        assert all(0 <= done <= total for done, total, _ in progress)
+        assert all(0 < done <= total for done, total, _ in progress)
+        assert [p[0] for p in progress] == sorted({p[0] for p in progress}), "progress must increase"
         status = await call(session, "get_status")
         assert status["moving"] is False and status["flags"] == []
 
@@ -157,6 +158,7 @@ async def test_park_and_home(g2):
         assert (round(parked["azimuth"], 1), round(parked["elevation"], 1)) != (130.0, 45.0)
         homing = await call(session, "home")
         assert homing["homing"] is True
+        assert homing["status"] == ["BUSY", "MOVING"]
         await wait_at_rest(session, timeout=120)
         # A homed dish moves again.
         moved = await call(session, "move_to", {"azimuth": 160.0, "elevation": 35.0})
@@ -207,6 +209,7 @@ async def test_sky_scan_reports_progress_and_finds_the_satellite(g2, tmp_path):
         best = result["peaks"][0]
         assert (best["azimuth"], best["elevation"]) == (174.0, 44.0)
         assert best["value"] == max(float(r["value"]) for r in rows)
+        assert result["strongest"] == best
         text = await call_error(session, "sky_scan", {**grid, "el_min": 10})
         assert "leave the dish's range 18..65" in text
 

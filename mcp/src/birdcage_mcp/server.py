@@ -125,7 +125,8 @@ class Birdcage:
             if error.code in (ENAVAIL, ENIMPL):
                 return []
             raise
-        return reply.value("Status flags").split()
+        # Hamlib 4.5.4's rotctld prints each flag twice ("BUSY MOVING BUSY MOVING").
+        return list(dict.fromkeys(reply.value("Status flags").split()))
 
 
 def tool_errors(function):
@@ -221,6 +222,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         agreeing = 0
         still_since = time.monotonic()
         start: tuple[float, float] | None = None
+        reported = 0.0  # progress notifications must increase
         while time.monotonic() < deadline:
             az, el = await bird.rot.position()
             start = start or (az, el)
@@ -233,9 +235,12 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
             if last is None or azimuth_difference(az, last[0]) > SAME_POSITION_DEG or abs(el - last[1]) > SAME_POSITION_DEG:
                 still_since = time.monotonic()
                 if last is not None:
-                    total = max(azimuth_difference(start[0], az_target), abs(start[1] - el_target), 1e-9)
-                    left = max(azimuth_difference(az, az_target), abs(el - el_target))
-                    await ctx.report_progress(max(0.0, total - left), total, f"az {az:.2f} el {el:.2f}")
+                    # Degrees travelled on both axes together: the G2 moves one axis after the other.
+                    total = azimuth_difference(start[0], az_target) + abs(start[1] - el_target)
+                    done = round(total - azimuth_difference(az, az_target) - abs(el - el_target), 2)
+                    if done > reported:
+                        reported = done
+                        await ctx.report_progress(done, round(total, 2), f"az {az:.2f} el {el:.2f}")
             elif time.monotonic() - still_since >= STILL_FOR_S and "MOVING" not in await bird.status():
                 return az, el
             last = (az, el)
@@ -391,7 +396,8 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
     ) -> dict[str, Any]:
         """Scans a grid of the sky with a Winegard G2: moves through it column by column (serpentine),
         reads the signal at each point, writes `az,el,value,time` rows to a CSV as it goes and reports
-        progress per point. Returns the strongest peaks and the CSV's path. The same scan as the
+        progress per point. Returns the peaks (local maxima above the floor + 6 robust sigma, one per 4
+        degrees), the strongest point and the CSV's path. The same scan as the
         birdcage-skyscan program; rotctld should run with `-C pointing=none`."""
         if az_min > az_max or el_min > el_max:
             raise ToolError("az_min must not exceed az_max, nor el_min el_max")
@@ -445,12 +451,15 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
                 pass
             raise
         floor, peaks = find_peaks(rows)
+        strongest = max(rows, key=lambda row: row[2])
         return {
             "points": len(rows),
             "seconds": round(time.monotonic() - started, 1),
             "csv": csv_path,
             "floor": floor,
             "peaks": [{"value": v, "azimuth": a, "elevation": e} for v, a, e in peaks],
+            # A small grid on a satellite has too little floor for the peak threshold: say where it was strongest.
+            "strongest": {"value": strongest[2], "azimuth": strongest[0], "elevation": strongest[1]},
             "plot": f"tools/skyscan_plot.py {csv_path} --out scan.png (from the birdcage source tree)",
         }
 

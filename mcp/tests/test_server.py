@@ -103,7 +103,8 @@ async def test_move_to_settles_at_the_target_with_progress(g2):
             progress.append((done, total, message))
 
         moved = await call(session, "move_to", {"azimuth": target[0], "elevation": target[1]}, on_progress)
-        assert moved["settled"] is True and moved["clamped"] is False and moved["notes"] == []
+        assert moved["settled"] is True and moved["at_target"] is True
+        assert moved["clamped"] is False and moved["notes"] == []
         assert abs(moved["position"]["azimuth"] - target[0]) <= 0.2
         assert abs(moved["position"]["elevation"] - target[1]) <= 0.2
         now = await call(session, "get_position")
@@ -118,8 +119,8 @@ async def test_move_to_settles_at_the_target_with_progress(g2):
 async def test_move_to_beyond_the_elevation_limit_says_it_clamped(g2):
     async with session_for(g2.port) as session:
         moved = await call(session, "move_to", {"azimuth": 150.0, "elevation": 80.0})
-        assert moved["clamped"] is True
-        assert "clamped to 65" in moved["notes"][0]
+        assert moved["clamped"] is True and moved["at_target"] is True  # at the clamped target
+        assert moved["notes"] == ["elevation 80 is outside 18..65: clamped to 65"]
         assert abs(moved["position"]["elevation"] - 65.0) <= 0.2
         assert abs(moved["position"]["azimuth"] - 150.0) <= 0.2
 

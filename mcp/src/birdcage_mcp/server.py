@@ -179,6 +179,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         settled. Reports where it ended up and whether the target was clamped to the rotator's limits."""
         limits = await bird.limits()
         notes = []
+        predictive = "; pointing predictive" in await bird.info_text()
         expected_el = min(max(elevation, limits["el_min"]), limits["el_max"])
         if expected_el != elevation:
             notes.append(f"elevation {elevation:g} is outside {limits['el_min']:g}..{limits['el_max']:g}: "
@@ -192,25 +193,28 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
                 f"{limits.get('protocol_el_min', limits['el_min']):g}..{limits.get('protocol_el_max', limits['el_max']):g}"
             ) from None
         result: dict[str, Any] = {"requested": {"azimuth": azimuth, "elevation": elevation}}
+        clamped = bool(notes)
         if not wait:
-            result.update(settled=False, position=await position_dict(), clamped=bool(notes), notes=notes)
+            result.update(settled=False, position=await position_dict(), clamped=clamped, notes=notes)
             return result
         started = time.monotonic()
         az, el = await settle(ctx, azimuth % 360.0, expected_el, timeout_s)
         result["seconds"] = round(time.monotonic() - started, 2)
         result["position"] = {"azimuth": az, "elevation": el}
         result["settled"] = True
-        off_az = azimuth_difference(az, azimuth)
-        off_el = abs(el - elevation)
-        if not notes and (off_az > ARRIVAL_TOLERANCE_DEG or off_el > ARRIVAL_TOLERANCE_DEG):
-            if "; pointing predictive" in await bird.info_text():
+        at_target = (azimuth_difference(az, azimuth % 360.0) <= ARRIVAL_TOLERANCE_DEG
+                     and abs(el - expected_el) <= ARRIVAL_TOLERANCE_DEG)
+        if not at_target:
+            if predictive:
                 notes.append(f"the rotator rests at az {az:.2f} el {el:.2f}, not at the target: the backend's "
-                             "predictive pointing took the targets for a moving satellite and aimed ahead; for "
-                             "separate moves run rotctld with -C pointing=none")
+                             "predictive pointing (made for following a pass) took the targets for a moving "
+                             "satellite and aimed ahead; for separate moves run rotctld with -C pointing=none")
             else:
+                clamped = True
                 notes.append(f"the rotator stopped at az {az:.2f} el {el:.2f}, not at the target: clamped to its "
                              "limits (e.g. the backend's az_min/az_max) or stopped")
-        result["clamped"] = bool(notes)
+        result["at_target"] = at_target
+        result["clamped"] = clamped
         result["notes"] = notes
         return result
 

@@ -8,7 +8,7 @@ import time
 
 import pytest
 
-from conftest import TIME_SCALE, session_for
+from conftest import free_port, session_for
 
 pytestmark = pytest.mark.anyio
 
@@ -232,9 +232,7 @@ async def test_rotctld_down_is_a_clear_error_and_a_restart_is_picked_up(g2):
         assert set(await call(session, "get_position")) == {"azimuth", "elevation"}
 
 
-async def test_nothing_listening(workdir):
-    from conftest import free_port
-
+async def test_nothing_listening():
     port = free_port()
     async with session_for(port) as session:
         text = await call_error(session, "get_position")

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import csv
+import functools
 import json
 import math
 import os
@@ -131,7 +132,6 @@ class Birdcage:
 
 def tool_errors(function):
     """Turns a rotctld failure into the tool's error text."""
-    import functools
 
     @functools.wraps(function)
     async def wrapper(*args, **kwargs):

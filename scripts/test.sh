@@ -7,7 +7,7 @@
 #
 # --repeat N runs every selected test up to N times and stops at its first failure (ctest's
 # --repeat until-fail:N): how a flaky test is found. A flaky test is a bug to fix at its cause.
-# -L/-R select tests as ctest does (labels: matrix, clients, regress, sim; names start with
+# -L/-R select tests as ctest does (labels: matrix, clients, regress, sim, mcp; names start with
 # core:, sim:, e2e:, matrix:, replay:, ...). Anything after -- goes to cmake.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -31,8 +31,9 @@ while (($#)); do
     esac
 done
 
-# The gpredict test's Debian packages (tests/gpredict/CMakeLists.txt), for the test suite only.
-export BIRDCAGE_SETUP_EXTRA="${BIRDCAGE_SETUP_EXTRA:-} gpredict xvfb xdotool imagemagick faketime python3-sgp4 python3-numpy"
+# The gpredict test's Debian packages (tests/gpredict/CMakeLists.txt) and the venv module for
+# the mcp test (tests/mcp/CMakeLists.txt), for the test suite only.
+export BIRDCAGE_SETUP_EXTRA="${BIRDCAGE_SETUP_EXTRA:-} gpredict xvfb xdotool imagemagick faketime python3-sgp4 python3-numpy python3-venv"
 "$root/scripts/build.sh" -DBIRDCAGE_BUILD_TESTS=ON "${cmake_args[@]}"
 cd "$build"
 ctest --output-on-failure --timeout 600 -j "$(nproc)" "${ctest_args[@]}"

@@ -1,0 +1,45 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
+
+"""The parts that need no rotctld: what the client refuses to send, the scan grid, the peak finder."""
+
+from __future__ import annotations
+
+import pytest
+
+from birdcage_mcp.rotctld import Rotctld, RotctldError
+from birdcage_mcp.scan import axis, find_peaks, serpentine
+
+pytestmark = pytest.mark.anyio
+
+
+async def test_the_client_sends_no_raw_console_command():
+    rot = Rotctld("127.0.0.1", 9)  # nothing is ever connected: the checks come first
+    with pytest.raises(ValueError, match="not one this client sends"):
+        await rot.ask("w", "a", "0", "0")  # rotctld's send_cmd would pass bytes to the firmware
+    with pytest.raises(ValueError):
+        await rot.ask("\\get_conf", "pointing")  # rotctld 4.5.4 would run it letter by letter
+    with pytest.raises(RotctldError, match="not a plain word"):
+        await rot.ask("P", "100\nK", "30")  # a second command smuggled into an argument
+    with pytest.raises(RotctldError, match="not a plain word"):
+        await rot.ask("V", "LNB 13")
+
+
+def test_axis_and_serpentine():
+    assert axis(158, 166, 4) == [158, 162, 166]
+    assert axis(40, 41, 0.5) == [40, 40.5, 41]
+    assert axis(10, 12.9, 1) == [10, 11, 12]
+    assert serpentine([1, 2, 3], [10, 20]) == [(1, 10), (1, 20), (2, 20), (2, 10), (3, 10), (3, 20)]
+
+
+def test_find_peaks_one_per_neighbourhood_above_the_floor():
+    rows = [(az, el, 400.0 + (az + el) % 3) for az in range(100, 140, 2) for el in range(20, 40, 2)]
+    values = {(a, e): v for a, e, v in rows}
+    values[(120, 30)] = 560.0
+    values[(122, 30)] = 540.0  # the same satellite's shoulder: no second peak
+    values[(130, 24)] = 500.0
+    rows = [(a, e, v) for (a, e), v in values.items()]
+    floor, peaks = find_peaks(rows)
+    assert 400 <= floor <= 402
+    assert peaks == [(560.0, 120, 30), (500.0, 130, 24)]
+    assert find_peaks([]) == (None, [])

@@ -148,12 +148,13 @@ def line_of(text, needle):
 
 def check_path_token(tree, token, fail):
     """A token of a doc's text that may be a path of the repository, relative to its root."""
-    token = token.strip(".:!?*").removeprefix("./")
+    # Trailing punctuation only: a leading ".." is a relative path, not punctuation.
+    token = token.rstrip(".:!?*").lstrip("*").removeprefix("./")
     # The backend is installed in a folder of its own under the libdir, where only the launchers
     # look (CMakeLists.txt, BIRDCAGE_BACKEND_INSTALL_DIR): an installed path elsewhere is wrong.
     if token.startswith("/") and token.endswith("libhamlib-winegard.so") and "/birdcage/" not in token:
         fail(token, "the backend installs under <libdir>/birdcage/, not here")
-    if not token or token.startswith(("/", "~", "$", "-", "..")) or "://" in token or "…" in token:
+    if not token or token.startswith(("/", "~", "$", "-", ".")) or "://" in token or "…" in token:
         return
     first = token.split("/")[0]
     if "/" in token and first in tree.top:

@@ -158,6 +158,10 @@ struct Options {
     // `?` listing (§6.3, §3.3, §8.3). Upper case applies to the command words only.
     HelpLayout help_layout = HelpLayout::described;
     bool help_upper_case = false;
+    // §6.3 names G2 commands that its listing is not known to show: MOT `l` (list motors) and DVB
+    // `dis` (channel parameters). Whether `?` lists them is unknown; on, the shell accepts them
+    // and `?` leaves them out, the case birdcage-probe --deep exists for. Off: unknown commands.
+    bool unlisted_commands = false;
 
     // --- boot timing and unsolicited output (§14 HAL0.5, G2.7) ---------------------------
     // Simulated seconds between boot lines. INVENTED: no source gives boot timing.

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "birdcage/azel.hpp"
+#include "birdcage/option_range.hpp"
 #include "birdcage/pointing.hpp"
 #include "birdcage/transport.hpp"
 #include "birdcage/variants.hpp"
@@ -14,6 +15,9 @@
 namespace birdcage {
 
 struct PointingOptions {
+    static constexpr OptionRange deadband_range_deg{0.01, 5.0, 0.01};
+    static constexpr OptionRange client_threshold_share_range{0.0, 1.0, 0.05};
+
     // Unset: the variant's default (FirmwareProfile::predictive_by_default), resolved at start()
     // once the variant is known. Leapfrog is applied by the Controller (its option).
     std::optional<PointingMode> mode;

@@ -9,13 +9,7 @@ function(birdcage_warnings target)
         -Wall -Wextra -Wshadow -Wnon-virtual-dtor -Wold-style-cast -Wcast-align
         -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion -Wformat=2
         -Wimplicit-fallthrough)
-    get_target_property(_lang_is_c ${target} LINKER_LANGUAGE)
     if(BIRDCAGE_WERROR)
         target_compile_options(${target} PRIVATE -Werror)
     endif()
-endfunction()
-
-# C sources get the subset of warnings that exists for C.
-function(birdcage_c_warnings target)
-    target_compile_options(${target} PRIVATE $<$<COMPILE_LANGUAGE:C>:-Wall -Wextra>)
 endfunction()

@@ -8,10 +8,14 @@
 // interactive recorder); each piece is small and only this tool uses it.
 //
 //   birdcage-probe --port PATH [--baud N] [--variant V] [--fd] [--force]
+//                  [--deep [--wordlist FILE] [--submenu NAME]...]
 //   birdcage-probe record --port PATH --output FILE [--baud N] [--variant V] [--fd] [--force]
 //                  [--source TEXT]
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <set>
+#include <sstream>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -33,6 +37,9 @@
 #include "birdcage/firmware/variants.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "birdcage_version.hpp"
+
+// tools/probe-words.txt, compiled in (probe_words.cpp is generated from it).
+extern const char* const default_probe_words;
 
 namespace {
 
@@ -155,7 +162,9 @@ struct HelpEntry {
 std::optional<HelpEntry> parse_help_line(std::string_view line)
 {
     while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
-    if (line.empty() || line.find('[') != std::string_view::npos) return std::nullopt;
+    // A usage line such as `help [<command>]` fails the one-word test below; a description may
+    // show optional arguments (`Enter <mv> - Max velocity [<motor> <v>]`).
+    if (line.empty()) return std::nullopt;
     HelpEntry entry;
     if (line.rfind("Enter <", 0) == 0) {
         const std::size_t close = line.find('>');
@@ -281,6 +290,269 @@ struct Probe {
     }
 };
 
+// ---- deep discovery -----------------------------------------------------------------------------
+
+// A word list: one word a line, `#` comments. A line with more than one word is kept out: deep
+// discovery never sends arguments.
+struct WordList {
+    std::vector<std::string> words;
+    std::vector<std::pair<std::string, std::string>> rejected;
+};
+
+WordList parse_wordlist(const std::string& text)
+{
+    WordList list;
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+        if (const std::size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+        std::istringstream fields(line);
+        std::string word, extra;
+        if (!(fields >> word)) continue;
+        if (fields >> extra) {
+            list.rejected.emplace_back(line, "more than one word: deep discovery never sends arguments");
+            continue;
+        }
+        if (std::find(list.words.begin(), list.words.end(), word) == list.words.end()) list.words.push_back(word);
+    }
+    return list;
+}
+
+// Beyond the hazard guard: words docs/firmware.md says start motion (g, h, the scans, the wrap
+// and position registers, energise/release), stream with no prompt until interrupted (agc, lnbv,
+// snr, nid, ADC m) or change the dish's state (LNB supply, tuning, killing a task, `s` which saves
+// or stops depending on the menu). Bare, most of them would act with defaults nobody documents,
+// so deep discovery never sends them, in any menu. `q` and `?` are the probe's own navigation.
+std::string never_bare_reason(std::string_view word)
+{
+    static constexpr std::array<std::string_view, 10> motion{"g", "h", "e", "r", "azscan", "azscanwxp", "motorboth",
+                                                             "sw", "w", "sp"};
+    static constexpr std::array<std::string_view, 5> streaming{"agc", "lnbv", "snr", "nid", "m"};
+    static constexpr std::array<std::string_view, 4> state{"lnbdc", "t", "kill", "s"};
+    auto in = [&](const auto& set) { return std::find(set.begin(), set.end(), word) != set.end(); };
+    if (word == "q" || word == "?" || word == "help") return "the probe's own navigation word";
+    if (in(motion)) return "starts or may start motion (docs/firmware.md 2, 6.3)";
+    if (in(streaming)) return "streams without a prompt until interrupted (docs/firmware.md 6.5)";
+    if (in(state)) return "changes the dish's state (docs/firmware.md 2, 6.3)";
+    return {};
+}
+
+// Reply lines with every whole-word occurrence of `word` replaced by <word>, so that an error text
+// which repeats the word (`Unknown command: xyzzyq`) compares equal for every word.
+std::vector<std::string> normalised_reply(const Reply& reply, const std::string& word)
+{
+    auto lines = reply_lines(reply, word);
+    auto is_word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; };
+    for (auto& line : lines) {
+        std::string out;
+        std::size_t i = 0;
+        while (i < line.size()) {
+            const bool starts = line.compare(i, word.size(), word) == 0 && (i == 0 || !is_word_char(line[i - 1])) &&
+                                (i + word.size() == line.size() || !is_word_char(line[i + word.size()]));
+            if (starts) {
+                out += "<word>";
+                i += word.size();
+            } else {
+                out += line[i++];
+            }
+        }
+        line = std::move(out);
+    }
+    return lines;
+}
+
+struct DeepFinding {
+    std::string word;
+    std::vector<std::string> reply;
+    std::string prompt;  // set when the word changed the prompt (a submenu)
+};
+
+struct DeepMenu {
+    std::string name;
+    std::string prompt;
+    std::vector<std::string> unknown_reply;
+    std::size_t tried = 0;
+    std::vector<DeepFinding> accepted;
+    std::string note;  // why the menu was not (fully) probed
+};
+
+struct DeepReport {
+    std::string wordlist;
+    std::vector<DeepMenu> menus;
+    std::vector<std::pair<std::string, std::string>> not_tried;
+    std::string stopped;
+};
+
+constexpr std::array<const char*, 2> unknown_probes{"xyzzyq", "zqvxjw"};  // no firmware documents either
+
+class DeepDiscovery {
+public:
+    DeepDiscovery(Probe& probe, const WordList& words, std::string root_prompt)
+        : probe_(probe), words_(words), root_prompt_(std::move(root_prompt))
+    {
+    }
+
+    // One menu, entered from the root with `enter` (empty for the root itself); returns false
+    // when the console was lost and nothing more may be sent.
+    bool run_menu(DeepMenu& menu, const std::string& enter, const std::vector<HelpEntry>& listed)
+    {
+        if (!enter.empty()) {
+            const std::size_t refusals = probe_.refused.size();
+            const auto reply = probe_.send(enter);
+            if (!reply) {
+                const bool refused = probe_.refused.size() > refusals;
+                menu.note = "not entered: " + (refused ? probe_.refused.back().second : std::string("write failed"));
+                report.menus.push_back(menu);
+                return refused;
+            }
+            if (!reply->prompt) return stop("no prompt after entering " + enter);
+            if (*reply->prompt == root_prompt_) {
+                menu.note = "not a submenu: " + enter + " left the console at " + root_prompt_;
+                report.menus.push_back(menu);
+                return true;
+            }
+        }
+        menu.prompt = probe_.prompt;
+        if (!learn_unknown_reply(menu)) return leave(menu, enter);
+        progress(menu, "probing");
+        for (const auto& word : words_.words) {
+            const bool known = std::any_of(listed.begin(), listed.end(), [&](const HelpEntry& entry) {
+                return entry.name == word || lower(entry.name) == word;
+            });
+            if (known) continue;
+            if (const std::string why = never_bare_reason(word); !why.empty()) {
+                note_not_tried(word, why);
+                continue;
+            }
+            const std::size_t refusals = probe_.refused.size();
+            const auto reply = probe_.send(word);
+            if (!reply) {
+                if (probe_.refused.size() > refusals) continue;  // the hazard guard said no
+                return stop("write failed");
+            }
+            ++menu.tried;
+            if (!reply->prompt) return stop("no prompt within the reply timeout after `" + word + "` at " + menu.prompt);
+            DeepFinding finding{word, reply_lines(*reply, word), {}};
+            if (*reply->prompt != menu.prompt) {
+                finding.prompt = *reply->prompt;
+                menu.accepted.push_back(finding);
+                progress(menu, "`" + word + "` leads to " + finding.prompt);
+                if (!return_to(menu, enter)) return stop("could not return to " + menu.prompt + " after `" + word + "`");
+                continue;
+            }
+            if (normalised_reply(*reply, word) == menu.unknown_reply) continue;
+            menu.accepted.push_back(finding);
+            progress(menu, "accepts `" + word + "`");
+        }
+        progress(menu, std::to_string(menu.tried) + " tried, " + std::to_string(menu.accepted.size()) + " accepted");
+        return leave(menu, enter);
+    }
+
+    DeepReport report;
+
+private:
+    static std::string lower(std::string text)
+    {
+        for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        return text;
+    }
+
+    void progress(const DeepMenu& menu, const std::string& what) const
+    {
+        std::cerr << "birdcage-probe: deep: " << menu.prompt << ' ' << what << '\n';
+    }
+
+    void note_not_tried(const std::string& word, const std::string& why)
+    {
+        const bool seen = std::any_of(report.not_tried.begin(), report.not_tried.end(), [&](const auto& entry) {
+            return entry.first == word;
+        });
+        if (!seen) report.not_tried.emplace_back(word, why);
+    }
+
+    bool stop(const std::string& why)
+    {
+        report.stopped = why;
+        std::cerr << "birdcage-probe: deep: stopped: " << why << '\n';
+        return false;
+    }
+
+    // The menu's answer to a word that cannot exist, asked twice with different words: a menu
+    // that answers them differently (the G2's NVS> reads the next index) cannot be probed.
+    bool learn_unknown_reply(DeepMenu& menu)
+    {
+        std::vector<std::vector<std::string>> replies;
+        for (const char* nonsense : unknown_probes) {
+            const auto reply = probe_.send(nonsense);
+            if (!reply || !reply->prompt || *reply->prompt != menu.prompt) {
+                menu.note = std::string("no stable prompt after the unknown word ") + nonsense;
+                return false;
+            }
+            replies.push_back(normalised_reply(*reply, nonsense));
+        }
+        if (replies[0] != replies[1]) {
+            menu.note = "answers two unknown words differently; no unknown-command reply to compare with";
+            return false;
+        }
+        menu.unknown_reply = replies[0];
+        return true;
+    }
+
+    // Back to the menu's prompt after a word that changed it.
+    bool return_to(const DeepMenu& menu, const std::string& enter)
+    {
+        if (probe_.prompt != root_prompt_) probe_.send("q");
+        if (probe_.prompt == menu.prompt) return true;
+        if (enter.empty() || probe_.prompt != root_prompt_) return false;
+        probe_.send(enter);
+        return probe_.prompt == menu.prompt;
+    }
+
+    bool leave(DeepMenu& menu, const std::string& enter)
+    {
+        report.menus.push_back(menu);
+        if (enter.empty()) return true;
+        probe_.send("q");
+        if (probe_.prompt == root_prompt_) return true;
+        return stop("`q` at " + menu.prompt + " did not return to " + root_prompt_);
+    }
+
+    Probe& probe_;
+    const WordList& words_;
+    std::string root_prompt_;
+};
+
+std::string json_deep(const DeepReport& deep)
+{
+    std::string out = "{\n    \"wordlist\": " + json_string(deep.wordlist) + ",\n    \"menus\": [";
+    for (std::size_t i = 0; i < deep.menus.size(); ++i) {
+        const DeepMenu& menu = deep.menus[i];
+        out += std::string(i ? "," : "") + "\n      {\"menu\": " + json_string(menu.name) + ", \"prompt\": " +
+               json_string(menu.prompt) + ", \"unknown_reply\": " + json_strings(menu.unknown_reply) +
+               ", \"tried\": " + std::to_string(menu.tried) + ", \"note\": " + json_string(menu.note) + ", \"accepted\": [";
+        for (std::size_t j = 0; j < menu.accepted.size(); ++j) {
+            const DeepFinding& found = menu.accepted[j];
+            out += std::string(j ? "," : "") + "\n        {\"word\": " + json_string(found.word) +
+                   ", \"reply\": " + json_strings(found.reply) +
+                   (found.prompt.empty() ? std::string() : ", \"prompt\": " + json_string(found.prompt)) + "}";
+        }
+        out += std::string(menu.accepted.empty() ? "" : "\n      ") + "]}";
+    }
+    out += std::string(deep.menus.empty() ? "" : "\n    ") + "],\n    \"not_tried\": [";
+    for (std::size_t i = 0; i < deep.not_tried.size(); ++i)
+        out += std::string(i ? "," : "") + "\n      {\"word\": " + json_string(deep.not_tried[i].first) +
+               ", \"reason\": " + json_string(deep.not_tried[i].second) + "}";
+    out += std::string(deep.not_tried.empty() ? "" : "\n    ") + "],\n    \"stopped\": " +
+           (deep.stopped.empty() ? std::string("null") : json_string(deep.stopped)) + "\n  }";
+    return out;
+}
+
+struct DeepOptions {
+    bool enabled = false;
+    std::string wordlist_path;         // empty: the compiled-in list
+    std::vector<std::string> submenus;  // empty: the root and every listed submenu
+};
+
 // A baud "answers" when a bare CR yields printable text or a prompt.
 bool answers(birdcage::Transport& port)
 {
@@ -298,8 +570,23 @@ bool answers(birdcage::Transport& port)
 }
 
 int run_probe(const std::string& path, std::optional<int> baud, const birdcage::FirmwareProfile& profile,
-              const birdcage::FirmwareProfile& sync_profile, bool force_fd, bool force)
+              const birdcage::FirmwareProfile& sync_profile, bool force_fd, bool force, const DeepOptions& deep_options)
 {
+    WordList words;
+    if (deep_options.enabled) {
+        std::string text = default_probe_words;
+        if (!deep_options.wordlist_path.empty()) {
+            std::ifstream file(deep_options.wordlist_path);
+            if (!file) {
+                std::cerr << "birdcage-probe: cannot read " << deep_options.wordlist_path << '\n';
+                return 1;
+            }
+            std::ostringstream contents;
+            contents << file.rdbuf();
+            text = contents.str();
+        }
+        words = parse_wordlist(text);
+    }
     std::unique_ptr<birdcage::Transport> port;
     std::vector<int> tried;
     int found_baud = 0;
@@ -363,6 +650,43 @@ int run_probe(const std::string& path, std::optional<int> baud, const birdcage::
         menus.push_back(std::move(menu));
     }
 
+    // Deep discovery needs the hazard guard: --force does not reach it.
+    const Guard deep_guard(profile, false);
+    Probe deep_probe(*port, deep_guard);
+    deep_probe.prompt = probe.prompt;
+    DeepDiscovery deep(deep_probe, words, root_prompt);
+    deep.report.wordlist = deep_options.wordlist_path.empty() ? "(built in)" : deep_options.wordlist_path;
+    for (const auto& [line, why] : words.rejected) deep.report.not_tried.emplace_back(line, why);
+    if (deep_options.enabled && !root_prompt.empty() && deep_probe.prompt == root_prompt) {
+        auto wanted = [&](const std::string& name) {
+            return deep_options.submenus.empty() ||
+                   std::find(deep_options.submenus.begin(), deep_options.submenus.end(), name) != deep_options.submenus.end();
+        };
+        bool going = true;
+        if (wanted("root")) {
+            DeepMenu root{"root", root_prompt, {}, 0, {}, {}};
+            going = deep.run_menu(root, "", root_help);
+        }
+        std::vector<std::string> to_enter;
+        for (const auto& menu : menus)
+            if (wanted(menu.name)) to_enter.push_back(menu.name);
+        // A named submenu that `?` does not list (found by an earlier deep run) is entered too.
+        for (const auto& name : deep_options.submenus)
+            if (name != "root" && std::find(to_enter.begin(), to_enter.end(), name) == to_enter.end()) to_enter.push_back(name);
+        for (const auto& name : to_enter) {
+            if (!going) break;
+            const auto listed = std::find_if(menus.begin(), menus.end(), [&](const Menu& menu) { return menu.name == name; });
+            DeepMenu menu{name, "", {}, 0, {}, {}};
+            going = deep.run_menu(menu, name, listed == menus.end() ? std::vector<HelpEntry>{} : listed->help);
+        }
+        probe.prompt = deep_probe.prompt;
+        for (const auto& refusal : deep_probe.refused)
+            if (std::find(probe.refused.begin(), probe.refused.end(), refusal) == probe.refused.end())
+                probe.refused.push_back(refusal);
+    } else if (deep_options.enabled) {
+        deep.report.stopped = "no root prompt to start from";
+    }
+
     std::cout << "{\n  \"format_version\": 1,\n  \"port\": " << json_string(path) << ",\n  \"baud\": " << found_baud
               << ",\n  \"bauds_tried\": [";
     for (std::size_t i = 0; i < tried.size(); ++i) std::cout << (i ? ", " : "") << tried[i];
@@ -383,8 +707,9 @@ int run_probe(const std::string& path, std::optional<int> baud, const birdcage::
     for (std::size_t i = 0; i < probe.refused.size(); ++i)
         std::cout << (i ? "," : "") << "\n    {\"command\": " << json_string(probe.refused[i].first)
                   << ", \"reason\": " << json_string(probe.refused[i].second) << "}";
-    std::cout << (probe.refused.empty() ? "" : "\n  ") << "],\n  \"final_prompt\": " << json_string(probe.prompt)
-              << "\n}\n";
+    std::cout << (probe.refused.empty() ? "" : "\n  ") << "],\n  \"final_prompt\": " << json_string(probe.prompt);
+    if (deep_options.enabled) std::cout << ",\n  \"deep\": " << json_deep(deep.report);
+    std::cout << "\n}\n";
     return synced && !root_prompt.empty() ? 0 : 1;
 }
 
@@ -510,6 +835,7 @@ int run_record(const std::string& path, int baud, const birdcage::FirmwareProfil
 
 const char* const help_text =
     R"(Usage: birdcage-probe --port PATH [--baud N] [--variant V] [--fd] [--force]
+                      [--deep [--wordlist FILE] [--submenu NAME]...]
        birdcage-probe record --port PATH --output FILE [--baud N] [--variant V] [--fd] [--force] [--source TEXT]
 
 Maps an unknown Winegard dish console (baud rate, prompt, error text, help listing, submenus) and
@@ -523,11 +849,27 @@ docs/firmware.md lists as a hazard (such as `q` at the G2's root prompt) unless 
   --variant hal000|hal205|pro|carryout2003|g2
                       judge hazards by this firmware's rules (default: the G2's, the strictest)
   --fd                open PATH as a plain file descriptor, not through libserialport
-  --force             send even the documented hazards
+  --force             send even the documented hazards (never during --deep)
+  --deep              also try candidate command words in each menu and report those the
+                      firmware accepts although `?` does not list them (see below)
+  --wordlist FILE     --deep: candidate words, one a line, `#` comments (default: the built-in
+                      list, every command word docs/firmware.md names)
+  --submenu NAME      --deep: probe only this menu (repeatable; `root` is the root prompt); a
+                      name `?` does not list is entered anyway
   --output FILE       record: the transcript to write
   --source TEXT       record: the transcript's Source header
   --help              this text
   --version           the program's version
+
+Deep discovery learns each menu's answer to a word that cannot exist, then sends each
+candidate word alone and counts it as accepted when the answer differs (or the prompt changes:
+a submenu, left again with `q`). A word goes out only after the previous one's prompt came
+back. It never sends arguments (a list line with two words is refused), never sends a word the
+hazard guard refuses, whatever --force says, and never sends the words docs/firmware.md says
+start motion, stream until interrupted or change state (g h e r azscan azscanwxp motorboth
+sw w sp agc lnbv snr nid m lnbdc t kill s). An unknown word can still do something nobody
+has documented: run it with the dish free to move. If a word leaves no prompt within 3 s
+the probe stops trying and says so. Progress goes to stderr, findings to the report's "deep".
 
 Exit status: 0 a console was found (probe) or the session was recorded, 1 no console or an I/O
 error, 2 usage error.
@@ -545,6 +887,7 @@ int usage_error(const std::string& message)
 int main(int argc, char** argv)
 {
     bool record = false, force = false, force_fd = false;
+    DeepOptions deep;
     std::string port, output, source = "recorded with birdcage-probe record";
     std::optional<int> baud;
     birdcage::VariantId variant = birdcage::VariantId::carryout_g2;
@@ -573,7 +916,8 @@ int main(int argc, char** argv)
             if (i + 1 < argc) return std::string(argv[++i]);
             return std::nullopt;
         };
-        const bool takes_value = arg == "--port" || arg == "--output" || arg == "--source" || arg == "--baud" || arg == "--variant";
+        const bool takes_value = arg == "--port" || arg == "--output" || arg == "--source" || arg == "--baud" ||
+                                 arg == "--variant" || arg == "--wordlist" || arg == "--submenu";
         if (i == 1 && arg == "record") {
             record = true;
         } else if (takes_value) {
@@ -582,6 +926,8 @@ int main(int argc, char** argv)
             if (arg == "--port") port = *text;
             else if (arg == "--output") output = *text;
             else if (arg == "--source") source = *text;
+            else if (arg == "--wordlist") deep.wordlist_path = *text;
+            else if (arg == "--submenu") deep.submenus.push_back(*text);
             else if (arg == "--baud") {
                 baud = int_arg(text->c_str());
                 if (!baud) return usage_error("--baud: expected a positive whole number, got '" + *text + "'");
@@ -591,16 +937,19 @@ int main(int argc, char** argv)
                 variant = *parsed;
                 variant_given = true;
             }
-        } else if (arg == "--force" || arg == "--fd") {
+        } else if (arg == "--force" || arg == "--fd" || arg == "--deep") {
             if (inline_value) return usage_error(std::string(arg) + " takes no value");
-            (arg == "--force" ? force : force_fd) = true;
+            (arg == "--force" ? force : arg == "--fd" ? force_fd : deep.enabled) = true;
         } else {
             return usage_error("unknown argument '" + std::string(arg) + "'");
         }
     }
     if (port.empty()) return usage_error("--port is required");
     if (record && output.empty()) return usage_error("record needs --output FILE");
+    if (record && deep.enabled) return usage_error("--deep is for the probe, not record");
+    if (!deep.enabled && (!deep.wordlist_path.empty() || !deep.submenus.empty()))
+        return usage_error("--wordlist and --submenu need --deep");
     const auto& profile = birdcage::profile(variant);
     if (record) return run_record(port, baud.value_or(variant_given ? profile.baud : 115200), profile, force_fd, force, output, source);
-    return run_probe(port, baud, profile, variant_given ? profile : birdcage::probe_profile(), force_fd, force);
+    return run_probe(port, baud, profile, variant_given ? profile : birdcage::probe_profile(), force_fd, force, deep);
 }

@@ -258,7 +258,7 @@ void Engine::help()
     };
     std::vector<Entry> entries;
     for (const Command& command : menus.back()->commands) {
-        if (command.available != nullptr && !command.available(options)) continue;
+        if (!command.listed || (command.available != nullptr && !command.available(options))) continue;
         entries.push_back({std::string(command.word), command.help});
     }
     entries.push_back({"q", "Quit this menu"});  // INVENTED description

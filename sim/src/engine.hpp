@@ -31,6 +31,7 @@ struct Command {
     const Menu* submenu;
     std::string_view help;  // INVENTED descriptions (only the `Enter <cmd> - …` shape is known, §6.3)
     bool (*available)(const Options&) = nullptr;  // nullptr = always
+    bool listed = true;     // false: accepted but left out of `?` (Options::unlisted_commands)
 };
 
 struct Menu {

@@ -268,6 +268,13 @@ void el_min_max_home(Engine& e, const Args&)
 
 void silent(Engine&, const Args&) {}
 
+// §6.3: "list motors: 0 AZIMUTH, 1 ELEVATION"; one motor per line is INVENTED.
+void list_motors(Engine& e, const Args&)
+{
+    e.print_line("0 AZIMUTH");
+    e.print_line("1 ELEVATION");
+}
+
 void nvs_dump(Engine& e, const Args& args)
 {
     if (args.size() >= 2) {
@@ -426,6 +433,12 @@ void dvb_config(Engine& e, const Args&)
 void dvb_quick_lock(Engine& e, const Args&)
 {
     e.print_line(format("Lock:0  rssi:%d  cnt:0", e.sky.read(e.displayed_az(), e.motors.axis(axis_el).position(), e.lnb_supply)));
+}
+
+// §6.3: "the channel parameters"; the layout and values are INVENTED.
+void dvb_channel(Engine& e, const Args&)
+{
+    e.print_line(format("Freq:1450000  SymRate:20000  Pol:%s  Lock:0", e.lnb_supply == LnbSupply::odu_13v ? "V" : "H"));
 }
 
 void hazard_only(Engine& e, const Args&) { e.count_hazard(); }

@@ -17,6 +17,7 @@ void step_positions(Engine&, const Args&);
 void max_velocity(Engine&, const Args&);
 void max_accel(Engine&, const Args&);
 void el_min_max_home(Engine&, const Args&);
+void list_motors(Engine&, const Args&);  // G2 `l`
 void silent(Engine&, const Args&);       // accepted, prints nothing (`e`, `r`, `lnbdc`)
 
 // nvs
@@ -40,6 +41,7 @@ void dvb_rssi(Engine&, const Args&);
 void dvb_lnbdc(Engine&, const Args&);
 void dvb_config(Engine&, const Args&);
 void dvb_quick_lock(Engine&, const Args&);
+void dvb_channel(Engine&, const Args&);   // G2 `dis`
 void hazard_only(Engine&, const Args&);  // `def`, EEPROM `inv`: counted, otherwise no effect
 void eeprom_read(Engine&, const Args&);
 void adc_board_id(Engine&, const Args&);

@@ -216,6 +216,8 @@ const std::vector<Flag>& flags()
                                                       {"one-line", HelpLayout::one_line}, {"comma-line", HelpLayout::comma_line},
                                                       {"colon-table", HelpLayout::colon_table}, {"tab-table", HelpLayout::tab_table}});
          }},
+        {"--unlisted", "yes|no", "G2 accepts MOT `l` and DVB `dis` without listing them in `?` (default no)",
+         [](Options& o, auto f, auto v) { o.unlisted_commands = yes_no(f, v); }},
         {"--help-upper", "yes|no", "upper-case command words in `?` (default no)", [](Options& o, auto f, auto v) { o.help_upper_case = yes_no(f, v); }},
         {"--boot-line-gap", "S", "simulated seconds between boot lines (default 0.05)",
          [](Options& o, auto f, auto v) { o.boot_line_gap = number_at_least(f, v, 0.0); }},

@@ -13,6 +13,8 @@ namespace {
 
 namespace h = handlers;
 
+bool unlisted_on(const Options& options) { return options.unlisted_commands; }
+
 // ---- Carryout G2, firmware 02.02.48 (§6) ---------------------------------------------------
 
 constexpr Command g2_mot_commands[] = {
@@ -25,6 +27,7 @@ constexpr Command g2_mot_commands[] = {
     {"mv", h::max_velocity, nullptr, "Max velocity [<motor> <v>]"},
     {"ma", h::max_accel, nullptr, "Max acceleration [<motor> <v>]"},
     {"elminmaxhome", h::el_min_max_home, nullptr, "EL min/max/home"},
+    {"l", h::list_motors, nullptr, "List motors", unlisted_on, false},
 };
 constexpr Command g2_nvs_commands[] = {
     {"d", h::nvs_dump, nullptr, "Display [<idx>]"},
@@ -37,6 +40,7 @@ constexpr Command g2_dvb_commands[] = {
     {"config", h::dvb_config, nullptr, "BCM configuration"},
     {"qls", h::dvb_quick_lock, nullptr, "Quick lock status"},
     {"def", h::hazard_only, nullptr, "Restore defaults"},
+    {"dis", h::dvb_channel, nullptr, "Channel parameters", unlisted_on, false},
 };
 constexpr Command g2_os_commands[] = {
     {"id", h::os_id, nullptr, "Identification"},

@@ -6,19 +6,25 @@
 // (besides hamlib_compat.h); everything it calls is the plain C++ core.
 // Over 500 lines: about half is tables (the conf parameters, ext levels and one rot_caps per
 // model); each callback is a few-line forward to RotatorService with the error mapping.
+#include "hamlib_abi.hpp"
 #include "hamlib_compat.h"
 #include "winegard.h"
 
+#include "birdcage/base/clock.hpp"
+#include "birdcage/dish/controller.hpp"
 #include "birdcage/base/errors.hpp"
 #include "birdcage/base/log.hpp"
+#include "birdcage/base/option_range.hpp"
 #include "birdcage/dish/receiver.hpp"
 #include "birdcage/service/rotator_service.hpp"
+#include "birdcage/tracking/steering.hpp"
 #include "birdcage/console/transport.hpp"
 #include "birdcage/firmware/variants.hpp"
 
 #include <array>
 #include <cctype>
 #include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -63,6 +69,12 @@ struct WinegardPriv {
     std::unique_ptr<birdcage::RotatorService> service;
     std::string info;
 };
+
+// Set at load when the running Hamlib is another release of the build's ABI; logged at open.
+std::string& abi_note() {
+    static std::string note;
+    return note;
+}
 
 WinegardPriv* priv_of(ROT* rot) {
     return static_cast<WinegardPriv*>(WG_ROTSTATE(rot)->priv);
@@ -153,9 +165,14 @@ bool parse_number(const char* text, double* out) {
     return true;
 }
 
-bool parse_optional(const char* text, std::optional<double>& out) {
+// A number inside the core's range for the option.
+bool parse_in(const char* text, const birdcage::OptionRange& range, double* out) {
+    return parse_number(text, out) && range.contains(*out);
+}
+
+bool parse_optional_in(const char* text, const birdcage::OptionRange& range, std::optional<double>& out) {
     double number = 0;
-    if (!parse_number(text, &number)) {
+    if (!parse_in(text, range, &number)) {
         return false;
     }
     out = number;
@@ -191,6 +208,9 @@ extern "C" int winegard_rot_open(ROT* rot) {
     hamlib_port_t* port = WG_ROTPORT(rot);
     rot_debug(RIG_DEBUG_VERBOSE, "winegard: opening %s on %s, fd %d\n", rot->caps->model_name,
               port->pathname, port->fd);
+    if (!abi_note().empty()) {
+        rot_debug(RIG_DEBUG_VERBOSE, "winegard: %s\n", abi_note().c_str());
+    }
     if (port->fd < 0) {
         return -RIG_EIO;
     }
@@ -237,6 +257,8 @@ extern "C" int winegard_rot_close(ROT* rot) {
 }
 
 // ---- conf parameters: one row per parameter (token, name, help, type, default, parse, format) ----
+// Numeric ranges and defaults are the core's (OptionRange next to each option, the option
+// structs' initialisers, the variant's profile); this table only names and formats them.
 
 std::string format_number(double value) {
     char buf[32];
@@ -244,13 +266,20 @@ std::string format_number(double value) {
     return buf;
 }
 
+std::string format_seconds(std::chrono::milliseconds duration) { return std::to_string(duration.count() / 1000); }
+
+std::string format_flag(bool on) { return on ? "1" : "0"; }
+
+using birdcage::ControllerOptions;
+using birdcage::PointingOptions;
+
 struct ConfParam {
     long token;
     const char* name;
     const char* label;
     const char* tooltip;
     enum rig_conf_e type;
-    float min, max, step;                                               // numeric only
+    birdcage::OptionRange range;                                        // numeric only
     std::string (*dflt)(const birdcage::FirmwareProfile&);              // shown by rotctl -L
     bool (*parse)(const char* text, WinegardPriv& priv);               // false: -RIG_EINVAL
     std::string (*format)(const WinegardPriv& priv);
@@ -261,7 +290,7 @@ const birdcage::FirmwareProfile& variant_profile(const WinegardPriv& priv) { ret
 const ConfParam kConfParams[] = {
     {1, "variant", "Firmware variant",
      "auto (identify at open), hal000, hal205, pro, carryout2003 or g2; overrides the model's variant",
-     RIG_CONF_STRING, 0, 0, 0,
+     RIG_CONF_STRING, {},
      [](const birdcage::FirmwareProfile& p) { return std::string(p.short_name); },
      [](const char* text, WinegardPriv& priv) {
          if (std::strcmp(text, "auto") == 0) {
@@ -281,7 +310,8 @@ const ConfParam kConfParams[] = {
      }},
     {2, "leapfrog", "Leapfrog",
      "Same as pointing=leapfrog (1) or pointing=none (0); kept for older configurations",
-     RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("0"); },
+     RIG_CONF_CHECKBUTTON, {},
+     [](const birdcage::FirmwareProfile&) { return format_flag(PointingOptions{}.mode == birdcage::PointingMode::leapfrog); },
      [](const char* text, WinegardPriv& priv) {
          bool on = false;
          if (!parse_bool(text, &on)) {
@@ -294,42 +324,45 @@ const ConfParam kConfParams[] = {
          return std::string(priv.pointing.mode == birdcage::PointingMode::leapfrog ? "1" : "0");
      }},
     {3, "boot_timeout", "Boot timeout", "Seconds to wait at open for a booting dish to finish homing",
-     RIG_CONF_NUMERIC, 0, 3600, 1, [](const birdcage::FirmwareProfile&) { return std::string("900"); },
+     RIG_CONF_NUMERIC, ControllerOptions::boot_timeout_range_s,
+     [](const birdcage::FirmwareProfile&) { return format_seconds(ControllerOptions{}.boot_timeout); },
      [](const char* text, WinegardPriv& priv) {
          double number = 0;
-         if (!parse_number(text, &number) || number < 0 || number > 3600) {
+         if (!parse_in(text, ControllerOptions::boot_timeout_range_s, &number)) {
              return false;
          }
          priv.options.boot_timeout = std::chrono::milliseconds(static_cast<long long>(number * 1000.0));
          return true;
      },
-     [](const WinegardPriv& priv) { return std::to_string(priv.options.boot_timeout.count() / 1000); }},
+     [](const WinegardPriv& priv) { return format_seconds(priv.options.boot_timeout); }},
     {4, "skip_init", "Skip init", "Assume the dish is booted, its TV search stopped and the motor menu open",
-     RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("0"); },
+     RIG_CONF_CHECKBUTTON, {}, [](const birdcage::FirmwareProfile&) { return format_flag(ControllerOptions{}.skip_init); },
      [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.options.skip_init); },
-     [](const WinegardPriv& priv) { return std::string(priv.options.skip_init ? "1" : "0"); }},
+     [](const WinegardPriv& priv) { return format_flag(priv.options.skip_init); }},
     {5, "el_min", "Min elevation", "Lowest elevation the backend will command (never below the variant's limit)",
-     RIG_CONF_NUMERIC, 0, 90, 0.01f, [](const birdcage::FirmwareProfile& p) { return format_number(p.el_min); },
-     [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.el_min); },
+     RIG_CONF_NUMERIC, ControllerOptions::el_range, [](const birdcage::FirmwareProfile& p) { return format_number(p.el_min); },
+     [](const char* text, WinegardPriv& priv) { return parse_optional_in(text, ControllerOptions::el_range, priv.options.el_min); },
      [](const WinegardPriv& priv) { return format_number(priv.options.el_min.value_or(variant_profile(priv).el_min)); }},
     {6, "el_max", "Max elevation", "Highest elevation the backend will command (never above the variant's limit)",
-     RIG_CONF_NUMERIC, 0, 90, 0.01f, [](const birdcage::FirmwareProfile& p) { return format_number(p.el_max); },
-     [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.el_max); },
+     RIG_CONF_NUMERIC, ControllerOptions::el_range, [](const birdcage::FirmwareProfile& p) { return format_number(p.el_max); },
+     [](const char* text, WinegardPriv& priv) { return parse_optional_in(text, ControllerOptions::el_range, priv.options.el_max); },
      [](const WinegardPriv& priv) { return format_number(priv.options.el_max.value_or(variant_profile(priv).el_max)); }},
     {7, "az_min", "Min azimuth",
      "Wrap range: azimuth targets (0..360) below this are clamped to it (with az_max; default: whole circle)",
-     RIG_CONF_NUMERIC, 0, 360, 0.01f, [](const birdcage::FirmwareProfile&) { return std::string("0.00"); },
-     [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.az_min); },
-     [](const WinegardPriv& priv) { return format_number(priv.options.az_min.value_or(0.0)); }},
+     RIG_CONF_NUMERIC, ControllerOptions::az_range,
+     [](const birdcage::FirmwareProfile&) { return format_number(ControllerOptions::az_range.min); },
+     [](const char* text, WinegardPriv& priv) { return parse_optional_in(text, ControllerOptions::az_range, priv.options.az_min); },
+     [](const WinegardPriv& priv) { return format_number(priv.options.az_min.value_or(ControllerOptions::az_range.min)); }},
     {8, "az_max", "Max azimuth", "Wrap range: azimuth targets (0..360) above this are clamped to it (with az_min)",
-     RIG_CONF_NUMERIC, 0, 360, 0.01f, [](const birdcage::FirmwareProfile&) { return std::string("360.00"); },
-     [](const char* text, WinegardPriv& priv) { return parse_optional(text, priv.options.az_max); },
-     [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(360.0)); }},
+     RIG_CONF_NUMERIC, ControllerOptions::az_range,
+     [](const birdcage::FirmwareProfile&) { return format_number(ControllerOptions::az_range.max); },
+     [](const char* text, WinegardPriv& priv) { return parse_optional_in(text, ControllerOptions::az_range, priv.options.az_max); },
+     [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(ControllerOptions::az_range.max)); }},
     {9, "pointing", "Pointing mode",
      "predictive (aim where the satellite will be, inferred from the targets), leapfrog (upstream "
      "overshoot of a lagging axis) or none (each target as sent); default: predictive on the G2, none on "
      "the slower Trav'ler/Carryout mounts",
-     RIG_CONF_STRING, 0, 0, 0,
+     RIG_CONF_STRING, {},
      [](const birdcage::FirmwareProfile& p) { return std::string(p.predictive_by_default ? "predictive" : "none"); },
      [](const char* text, WinegardPriv& priv) {
          const auto mode = birdcage::pointing_mode_from_name(text);
@@ -346,33 +379,23 @@ const ConfParam kConfParams[] = {
      }},
     {10, "deadband", "Deadband",
      "Predictive mode: largest on-sky error (degrees) per axis before the dish moves again",
-     RIG_CONF_NUMERIC, 0.01f, 5, 0.01f, [](const birdcage::FirmwareProfile&) { return std::string("0.10"); },
+     RIG_CONF_NUMERIC, PointingOptions::deadband_range_deg,
+     [](const birdcage::FirmwareProfile&) { return format_number(PointingOptions{}.deadband_deg); },
      [](const char* text, WinegardPriv& priv) {
-         double number = 0;
-         if (!parse_number(text, &number) || number < 0.01 || number > 5) {
-             return false;
-         }
-         priv.pointing.deadband_deg = number;
-         return true;
+         return parse_in(text, PointingOptions::deadband_range_deg, &priv.pointing.deadband_deg);
      },
      [](const WinegardPriv& priv) { return format_number(priv.pointing.deadband_deg); }},
     {11, "time_scale", "Time scale",
      "Emulator runs only: the dish's clock runs this many times faster than real time (birdcage-sim --time-scale)",
-     RIG_CONF_NUMERIC, 1, 1000, 0.1f, [](const birdcage::FirmwareProfile&) { return std::string("1.00"); },
-     [](const char* text, WinegardPriv& priv) {
-         double number = 0;
-         if (!parse_number(text, &number) || number < 1 || number > 1000) {
-             return false;
-         }
-         priv.time_scale = number;
-         return true;
-     },
+     RIG_CONF_NUMERIC, birdcage::DishClock::scale_range,
+     [](const birdcage::FirmwareProfile&) { return format_number(birdcage::DishClock{}.scale()); },
+     [](const char* text, WinegardPriv& priv) { return parse_in(text, birdcage::DishClock::scale_range, &priv.time_scale); },
      [](const WinegardPriv& priv) { return format_number(priv.time_scale); }},
     {12, "az_mapping", "Azimuth mapping",
      "How the firmware maps an azimuth command onto its travel: auto (learn it from where the dish goes), "
      "nearest (the branch nearest the dish), literal (the number is the mechanical angle) or wrap_manager "
      "(never through a wrap point, e.g. north: the long way round instead)",
-     RIG_CONF_STRING, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("auto"); },
+     RIG_CONF_STRING, {}, [](const birdcage::FirmwareProfile&) { return std::string("auto"); },
      [](const char* text, WinegardPriv& priv) {
          if (std::strcmp(text, "auto") == 0) {
              priv.options.az_mapping.reset();
@@ -392,21 +415,17 @@ const ConfParam kConfParams[] = {
     {13, "pass_model", "Pass model",
      "Experimental: predict along a model of the whole pass fitted to the targets (1) instead of the local "
      "estimate only (0)",
-     RIG_CONF_CHECKBUTTON, 0, 0, 0, [](const birdcage::FirmwareProfile&) { return std::string("0"); },
+     RIG_CONF_CHECKBUTTON, {},
+     [](const birdcage::FirmwareProfile&) { return format_flag(PointingOptions{}.predictor.use_pass_model); },
      [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.pointing.predictor.use_pass_model); },
-     [](const WinegardPriv& priv) { return std::string(priv.pointing.predictor.use_pass_model ? "1" : "0"); }},
+     [](const WinegardPriv& priv) { return format_flag(priv.pointing.predictor.use_pass_model); }},
     {14, "deadband_share", "Deadband share of the client threshold",
      "Predictive mode: the deadband grows to this share of the client's own threshold, as learned from its "
      "targets (at most 1 degree; 0: the deadband alone). Fewer motor starts at coarse thresholds",
-     RIG_CONF_NUMERIC, 0, 1, 0.05f,
-     [](const birdcage::FirmwareProfile&) { return format_number(birdcage::PointingOptions{}.client_threshold_share); },
+     RIG_CONF_NUMERIC, PointingOptions::client_threshold_share_range,
+     [](const birdcage::FirmwareProfile&) { return format_number(PointingOptions{}.client_threshold_share); },
      [](const char* text, WinegardPriv& priv) {
-         double number = 0;
-         if (!parse_number(text, &number) || number < 0 || number > 1) {
-             return false;
-         }
-         priv.pointing.client_threshold_share = number;
-         return true;
+         return parse_in(text, PointingOptions::client_threshold_share_range, &priv.pointing.client_threshold_share);
      },
      [](const WinegardPriv& priv) { return format_number(priv.pointing.client_threshold_share); }},
 };
@@ -491,7 +510,14 @@ extern "C" int winegard_park(ROT* rot) {
     return report(__func__, service->park());
 }
 
-extern "C" int winegard_reset(ROT* rot, rot_reset_t /*reset*/) {
+// Hamlib defines one rotator reset type, ROT_RESET_ALL (1, `R 1`): the homing run. Any other
+// number names nothing Hamlib knows, so it is refused rather than taken as a request to home.
+extern "C" int winegard_reset(ROT* rot, rot_reset_t reset) {
+    if (reset != ROT_RESET_ALL) {
+        rot_debug(RIG_DEBUG_ERR, "winegard: reset type %d is not supported; only ROT_RESET_ALL (%d, rotctl R %d) homes\n",
+                  reset, ROT_RESET_ALL, ROT_RESET_ALL);
+        return -RIG_EINVAL;
+    }
     birdcage::RotatorService* service = open_service(rot);
     if (service == nullptr) {
         return -RIG_EIO;
@@ -634,9 +660,9 @@ void fill_conf(VariantConf& conf, const birdcage::FirmwareProfile& p) {
         c.dflt = conf.defaults[i].c_str();
         c.type = row.type;
         if (row.type == RIG_CONF_NUMERIC) {
-            c.u.n.min = row.min;
-            c.u.n.max = row.max;
-            c.u.n.step = row.step;
+            c.u.n.min = static_cast<float>(row.range.min);
+            c.u.n.max = static_cast<float>(row.range.max);
+            c.u.n.step = static_cast<float>(row.range.step);
         }
         conf.params[i] = c;
     }
@@ -729,7 +755,21 @@ extern "C" int initrots4_winegard(void* /*be_handle*/) {
 }
 
 #ifndef BIRDCAGE_IN_HAMLIB
+#include <dlfcn.h>
+
 namespace {
+
+// The soname major of the libhamlib that provides rot_register in this process (the one the
+// models would be registered with), 0 if it cannot be told.
+int running_hamlib_soname() {
+    Dl_info info{};
+    if (::dladdr(reinterpret_cast<void*>(&rot_register), &info) == 0 || info.dli_fname == nullptr) {
+        return 0;
+    }
+    char resolved[PATH_MAX];
+    const char* path = ::realpath(info.dli_fname, resolved) != nullptr ? resolved : info.dli_fname;
+    return birdcage::hamlib::soname_major(path).value_or(0);
+}
 
 // Hamlib's debug level starts at TRACE before the program sets it, so rot_register() would print
 // on every program start that inherits LD_PRELOAD. Register silently, then restore the level.
@@ -744,6 +784,17 @@ rig_debug_level_e current_debug_level() {
 }
 
 __attribute__((constructor)) void winegard_preload_register() {
+    // Registering caps built for another Hamlib ABI would let Hamlib write through a struct s_rot
+    // of another shape: refuse before touching anything, in one line naming both.
+    const birdcage::hamlib::AbiVerdict abi = birdcage::hamlib::check_abi(
+        BIRDCAGE_HAMLIB_BUILT_VERSION, BIRDCAGE_HAMLIB_BUILT_SONAME, hamlib_version2 != nullptr ? hamlib_version2 : "",
+        running_hamlib_soname());
+    if (!abi.compatible) {
+        std::fprintf(stderr, "hamlib-winegard: %s; the Winegard models are not registered (rebuild the backend for this Hamlib)\n",
+                     abi.message.c_str());
+        return;
+    }
+    abi_note() = abi.message;
     const rig_debug_level_e saved = current_debug_level();
     rig_set_debug(RIG_DEBUG_NONE);
     const int rc = initrots4_winegard(nullptr);

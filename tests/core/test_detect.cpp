@@ -237,7 +237,7 @@ TEST_CASE("detect: a HAL 0.0.00 root keeps the Pro's elevation cap unless q reve
         CHECK(found.value.variant == VariantId::travler_pro);
     } else {
         CHECK(found.value.variant == VariantId::travler_hal000);
-        CHECK(found.value.maybe_pro_odu);
+        CHECK(found.value.maybe_inside == birdcage::VariantId::travler_pro);
     }
 }
 
@@ -279,7 +279,7 @@ TEST_CASE("detect: at TRK> a listing showing a Trav'ler root (mot, os, nvs, no G
     INFO(found.status.message);
     REQUIRE(found);
     CHECK(found.value.variant == VariantId::travler_hal000);
-    CHECK(found.value.maybe_pro_odu);
+    CHECK(found.value.maybe_inside == birdcage::VariantId::travler_pro);
     const Commands& sent = wire.commands();
     CHECK(std::count(sent.begin(), sent.end(), "q") == 1);
 }

@@ -62,6 +62,15 @@ TEST_CASE("R: homing on the G2, RPRT -11 (not available) where the firmware has 
         CHECK(any_command_starting(commands, "h 0"));
         CHECK(rig.dish().hazards_received() == 0);
     }
+    SECTION("G2: R 0 is no Hamlib reset type: refused with RPRT -1, nothing homed") {
+        e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 100.0, 30.0), 90105);
+        e2e::RotctldConnection client(rig.port());
+        CHECK(client.ask("R 0", 1) == "RPRT -1\n");
+        CHECK(client.ask("R 2", 1) == "RPRT -1\n");
+        CHECK(client.ask("p", 2).find("RPRT") == std::string::npos);  // the session survives
+        CHECK_FALSE(any_command_starting(rig.dish().received_commands(), "h "));
+        CHECK(rig.dish().hazards_received() == 0);
+    }
 }
 
 TEST_CASE("G2: while R 1 homes, p answers, s says BUSY, and a P sent meanwhile is moved to after the home",

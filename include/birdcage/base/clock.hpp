@@ -15,12 +15,16 @@
 #include <functional>
 #include <memory>
 
+#include "birdcage/base/option_range.hpp"
 #include "birdcage/base/plain_types.hpp"
 
 namespace birdcage {
 
 class DishClock {
 public:
+    // How much faster than real time a scaled clock may run (emulator runs; 1 = real hardware).
+    static constexpr OptionRange scale_range{1.0, 1000.0, 0.1};
+
     // The steady clock: real hardware.
     DishClock() = default;
     // Dish time runs `scale` times faster than real time, from now on.
@@ -34,8 +38,6 @@ public:
     // How long a span of dish time lasts in real time (at least 1 ms when `dish` is positive, so
     // a scaled period never becomes a busy loop).
     Clock::duration to_real(Clock::duration dish) const;
-    // The dish time that passes during a span of real time.
-    Clock::duration to_dish(Clock::duration real) const;
 
 private:
     double scale_ = 1.0;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <chrono>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -22,9 +23,10 @@ namespace birdcage {
 struct Detection {
     VariantId variant{};
     std::string evidence;        // what identified it, for get_info and the debug log
-    // The console looked like a Trav'ler HAL 0.0.00 root, which a Trav'ler Pro left inside its
-    // ODU console also looks like: the caller should keep elevation under the Pro's 75 deg cap.
-    bool maybe_pro_odu = false;
+    // The console looked like the root of `variant`, which this other variant's inner console also
+    // looks like (FirmwareProfile::also_shown_inside: a Trav'ler Pro left inside its ODU console):
+    // the caller should keep within that variant's limits too.
+    std::optional<VariantId> maybe_inside;
 };
 
 // The words of a `?` listing, whatever its layout: one command per line or all on one line, with

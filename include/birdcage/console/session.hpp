@@ -76,8 +76,6 @@ public:
     // The console synchroniser confirmed this prompt: the menu follows from it, and whatever the
     // framer held back from before the synchronisation is void.
     void adopt_prompt(const std::string& prompt);
-    // Forget what we knew about the menu (e.g. after a timeout left the console in an unknown state).
-    void forget_menu();
 
     const FirmwareProfile& profile() const { return profile_; }
 

@@ -20,6 +20,7 @@
 #include "birdcage/base/log.hpp"
 #include "birdcage/dish/menu_navigator.hpp"
 #include "birdcage/dish/move_driver.hpp"
+#include "birdcage/base/option_range.hpp"
 #include "birdcage/console/session.hpp"
 #include "birdcage/console/transport.hpp"
 #include "birdcage/firmware/variants.hpp"
@@ -28,6 +29,12 @@
 namespace birdcage {
 
 struct ControllerOptions {
+    // What a user may set: elevation limits (further narrowed to the variant's), the azimuth range
+    // in display degrees (its ends are the defaults: the whole circle) and the boot wait.
+    static constexpr OptionRange el_range{0.0, 90.0, 0.01};
+    static constexpr OptionRange az_range{0.0, 360.0, 0.01};
+    static constexpr OptionRange boot_timeout_range_s{0.0, 3600.0, 1.0};
+
     VariantId variant;
     bool leapfrog = true;
     std::optional<double> el_min, el_max;          // user overrides, never beyond the variant's mechanical/firmware limits
@@ -89,7 +96,6 @@ public:
     Status start_home();
     bool homing() const { return homing_.has_value(); }
     Status home();                    // start_home(), then service() until it ends (blocking)
-    AzEl park_position() const { return {profile_.park_az, profile_.park_el}; }
     bool unhomed() const { return state_.unhomed; }
     bool idle() const;
     std::optional<AzEl> last_position() const { return state_.last_position; }
@@ -133,7 +139,6 @@ private:
     Status initialize_within(std::chrono::milliseconds boot_budget);
     Status wait_for_boot();
     Status open_motor_menu();
-    void read_initial_position(Status& failure);
     void warn_if_unhomed() const;
     Status check_tracker_disabled();
     void forget_target();

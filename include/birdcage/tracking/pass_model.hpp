@@ -69,7 +69,6 @@ public:
 
     bool good() const { return good_; }
     std::size_t targets() const { return samples_.size(); }
-    double last_target_time() const { return samples_.empty() ? 0.0 : samples_.back().t; }
     // The satellite at time t; nullopt unless good().
     std::optional<PassPoint> predict(double t) const;
     // For logs: why the fit was refused, or its parameters.

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "birdcage/base/azel.hpp"
+#include "birdcage/base/option_range.hpp"
 #include "birdcage/tracking/pointing.hpp"
 #include "birdcage/base/plain_types.hpp"
 #include "birdcage/firmware/variants.hpp"
@@ -17,6 +18,9 @@
 namespace birdcage {
 
 struct PointingOptions {
+    static constexpr OptionRange deadband_range_deg{0.01, 5.0, 0.01};
+    static constexpr OptionRange client_threshold_share_range{0.0, 1.0, 0.05};
+
     // Unset: the variant's default (FirmwareProfile::predictive_by_default), resolved at start()
     // once the variant is known. Leapfrog is applied by the Controller (its option).
     std::optional<PointingMode> mode;

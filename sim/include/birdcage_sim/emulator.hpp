@@ -169,6 +169,10 @@ struct Options {
     // `?` listing (§6.3, §3.3, §8.3). Upper case applies to the command words only.
     HelpLayout help_layout = HelpLayout::described;
     bool help_upper_case = false;
+    // §6.3 names G2 commands that its listing is not known to show: MOT `l` (list motors) and DVB
+    // `dis` (channel parameters). Whether `?` lists them is unknown; on, the shell accepts them
+    // and `?` leaves them out, the case birdcage-probe --deep exists for. Off: unknown commands.
+    bool unlisted_commands = false;
 
     // --- motor dynamics (docs/firmware.md §3.4, §6.4; docs/tracking.md §1.4) ---------------
     // The variant's speeds and acceleration are the defaults. Only the G2's are read from its

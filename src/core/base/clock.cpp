@@ -39,11 +39,4 @@ Clock::duration DishClock::to_real(Clock::duration dish) const {
     return std::max<Clock::duration>(real, std::chrono::milliseconds{1});
 }
 
-Clock::duration DishClock::to_dish(Clock::duration real) const {
-    if (scale_ == 1.0) {
-        return real;
-    }
-    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(real) * scale_);
-}
-
 }  // namespace birdcage

@@ -364,12 +364,12 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
                         d.evidence += "; q from there led to the IDU console (? lists odu): a " +
                                       std::string(profile(*outer).display_name);
                     } else {
-                        d.maybe_pro_odu = true;
+                        d.maybe_inside = *outer;
                     }
                 } else {
-                    d.maybe_pro_odu = true;
+                    d.maybe_inside = *outer;
                 }
-                if (d.maybe_pro_odu) {
+                if (d.maybe_inside) {
                     const FirmwareProfile& inside = profile(*outer);
                     d.evidence += " (a " + std::string(inside.display_name) +
                                   " left inside its ODU console looks the same; elevation kept <= " +

@@ -27,11 +27,6 @@ constexpr std::array<std::string_view, 16> submenu_commands{
 ConsoleSession::ConsoleSession(Transport& transport, const FirmwareProfile& profile, LogSink log)
     : transport_(transport), profile_(profile), log_(std::move(log)), framer_(profile) {}
 
-void ConsoleSession::forget_menu() {
-    menu_.clear();
-    last_prompt_.clear();
-}
-
 Result<ConsoleSnapshot> ConsoleSession::synchronise(const SyncSettings& settings) {
     framer_.reset();
     ConsoleSynchroniser synchroniser(transport_, settings, log_);

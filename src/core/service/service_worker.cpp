@@ -30,9 +30,9 @@ Status ServiceWorker::detect() {
     }
     options_.variant = found.value.variant;
     options_.detection_note = found.value.evidence;
-    if (found.value.maybe_pro_odu) {
-        const double pro_cap = birdcage::profile(VariantId::travler_pro).el_max;
-        options_.el_max = std::min(options_.el_max.value_or(pro_cap), pro_cap);
+    if (found.value.maybe_inside) {
+        const double cap = birdcage::profile(*found.value.maybe_inside).el_max;
+        options_.el_max = std::min(options_.el_max.value_or(cap), cap);
     }
     controller_ = std::make_unique<Controller>(*transport_, options_);
     return Status::ok();

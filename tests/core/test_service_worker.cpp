@@ -219,7 +219,7 @@ TEST_CASE("service worker: a receiver job withdrawn before the worker takes it n
     CHECK_FALSE(ran);
 }
 
-TEST_CASE("service worker: while the dish reboots the last reading stays, P is kept; after, a fresh reading") {
+TEST_CASE("service worker: while the dish reboots the last reading stays and P is kept, then a fresh reading comes") {
     HandDrivenService service;
     service.drain();
     const std::optional<AzEl> before = service.mailbox.view().dish.position;

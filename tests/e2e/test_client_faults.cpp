@@ -173,34 +173,43 @@ void client_survives(const Dish& d, Fault fault) {
     CHECK_FALSE(run.record.disengaged);
     // Gpredict tolerates five erroring cycles in a row; the dish must never bring it to the edge.
     CHECK(run.record.longest_error_streak < 5);
-    CHECK(run.recoveries == 1);
+    CHECK(run.recoveries >= 1);   // line noise may add a re-synchronisation
     if (fault == Fault::unplug) {
         // An unplugged adapter does not move the dish: it falls behind the satellite by what the
         // satellite covers meanwhile (a few degrees), never by a turn onto another cable-wrap branch.
         CHECK(run.max_deg < 20.0);
     }
-    // Tracking again by the end of the window (a client that gave up leaves the dish tens of
-    // degrees behind; the Trav'ler's slow motor lags by about 2 deg even without a fault).
-    CHECK(run.tail_rms_deg < 5.0);
+    // Tracking again by the end of the window: a client that gave up leaves the dish 50-70 deg
+    // behind; one that tracks keeps it within a few (the Trav'ler's slow motor lags by 2-3 deg
+    // even without a fault).
+    CHECK(run.tail_rms_deg < 10.0);
+}
+
+// The same window without the fault first: what the reboot costs.
+void tracks_through_a_reboot(const Dish& d) {
+    const PassRun baseline = track_through(d, Fault::none);
+    report(d, Fault::none, baseline);
+    CHECK_FALSE(baseline.record.disengaged);
+    CHECK(baseline.record.longest_error_streak == 0);
+    client_survives(d, Fault::reboot);
 }
 
 }  // namespace
 
-TEST_CASE("faults: a Gpredict-like client tracks through a reboot of realistic length", "[e2e][faults][client]") {
-    for (const Dish& d : {kG2, kHal205}) {
-        DYNAMIC_SECTION(d.name) {
-            // The same window without the fault: what the reboot costs.
-            const PassRun baseline = track_through(d, Fault::none);
-            report(d, Fault::none, baseline);
-            CHECK_FALSE(baseline.record.disengaged);
-            CHECK(baseline.record.longest_error_streak == 0);
-            client_survives(d, Fault::reboot);
-        }
-    }
+// One ctest per variant and fault (each runs a minute or two of real time).
+TEST_CASE("faults: a Gpredict-like client tracks through a reboot of realistic length, G2", "[e2e][faults][client]") {
+    tracks_through_a_reboot(kG2);
 }
 
-TEST_CASE("faults: a Gpredict-like client tracks through an unplugged adapter", "[e2e][faults][client]") {
-    for (const Dish& d : {kG2, kHal205}) {
-        DYNAMIC_SECTION(d.name) { client_survives(d, Fault::unplug); }
-    }
+TEST_CASE("faults: a Gpredict-like client tracks through a reboot of realistic length, HAL 2.05",
+          "[e2e][faults][client]") {
+    tracks_through_a_reboot(kHal205);
+}
+
+TEST_CASE("faults: a Gpredict-like client tracks through an unplugged adapter, G2", "[e2e][faults][client]") {
+    client_survives(kG2, Fault::unplug);
+}
+
+TEST_CASE("faults: a Gpredict-like client tracks through an unplugged adapter, HAL 2.05", "[e2e][faults][client]") {
+    client_survives(kHal205, Fault::unplug);
 }

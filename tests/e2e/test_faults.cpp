@@ -94,7 +94,7 @@ TEST_CASE("faults: idle garbage and noise during tracking leave the position exa
     CHECK(rig.dish().hazards_received() == 0);
 }
 
-TEST_CASE("faults: inverted polarity: p keeps the last reading, s says BUSY; restoring it recovers", "[e2e][faults]") {
+TEST_CASE("faults: inverted polarity: p keeps the last reading and s says BUSY until the pair is fixed", "[e2e][faults]") {
     e2e::Rig rig(g2_at(100.0, 30.0), kG2, {"-C", "leapfrog=0"});
     e2e::RotctldConnection client(rig.port());
     REQUIRE(client.get_position().ok);
@@ -162,7 +162,7 @@ TEST_CASE("faults: the dish reboots mid-move, the backend re-initialises and res
 }
 
 // A G2 boot of about 25 simulated seconds (2 s between boot lines, then homing to AZ 0, EL 65).
-TEST_CASE("faults: while the dish reboots p gives its last reading, s BUSY, _ why; P kept, S drops it", "[e2e][faults]") {
+TEST_CASE("faults: while the dish reboots p gives its last reading, s BUSY and _ why, P is kept and S drops it", "[e2e][faults]") {
     auto options = g2_at(100.0, 30.0, 10.0);
     options.boot_line_gap = 2.0;
     e2e::Rig rig(options, kG2, {"-C", "leapfrog=0", "-C", "time_scale=10"});

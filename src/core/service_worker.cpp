@@ -216,8 +216,10 @@ Status ServiceWorker::read_position_afresh() {
         const auto at = controller_->last_position_at();
         return at && *at > recovery_started_;
     };
+    // Nothing to read on a dish that cannot report its position at rest, nor once the
+    // re-initialisation has read it.
     if (profile_->position_query.empty() || read_after_start()) {
-        return Status::ok();   // a dish that cannot report its position at rest: nothing to read
+        return Status::ok();
     }
     const Result<AzEl> fresh = controller_->query_position();
     // An unhomed dish answers with its sentinel: it is reachable, and position() reports why it

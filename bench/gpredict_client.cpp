@@ -64,6 +64,26 @@ Direction GpredictClient::lead_target(double now, Direction current) const {
 
 void GpredictClient::timer_tick() {
     const double now = pass_now();
+    {
+        std::lock_guard lock(mutex_);
+        if (!engaged_) {
+            return;   // never engaged again
+        }
+        if (!io_error_) {
+            error_count_ = 0;
+            error_streak_ = 0;
+        } else {
+            ++record_.erroring_cycles;
+            record_.longest_error_streak = std::max(record_.longest_error_streak, ++error_streak_);
+            if (settings_.max_error_count > 0 && error_count_ >= settings_.max_error_count) {
+                engaged_ = false;
+                record_.disengaged = true;
+                record_.disengaged_at = now;
+                return;
+            }
+            ++error_count_;
+        }
+    }
     const Direction sat = pass_.at(now);
     auto clamp_az = [this](double az) { return std::clamp(az, settings_.min_az, settings_.max_az); };
     auto clamp_el = [this](double el) { return std::clamp(el, settings_.min_el, settings_.max_el); };
@@ -107,8 +127,12 @@ void GpredictClient::io_loop(double end) {
     while (!stop_ && pass_now() < end) {
         const auto loop_start = Clock::now();
         std::optional<Direction> target;
+        bool io_error = false;
         {
             std::lock_guard lock(mutex_);
+            if (!engaged_) {
+                break;
+            }
             if (new_target_) {
                 target = pending_;
             }
@@ -125,6 +149,7 @@ void GpredictClient::io_loop(double end) {
                 record_.sent_targets.push_back({pass_now(), *target});
             } else {
                 ++record_.failed_replies;
+                io_error = true;
             }
         }
         sleep_sim(settings_.io_sleep_s);
@@ -146,9 +171,22 @@ void GpredictClient::io_loop(double end) {
             read_back_ = {az, el};
         } else {
             ++record_.failed_replies;
+            io_error = true;
+        }
+        {
+            std::lock_guard lock(mutex_);
+            io_error_ = io_error;
         }
         const double elapsed_sim_s = elapsed_ms(loop_start) / 1000.0 * time_scale_;
         sleep_sim(std::max(elapsed_sim_s, settings_.io_min_period_s));
+    }
+    bool disengaged = false;
+    {
+        std::lock_guard lock(mutex_);
+        disengaged = !engaged_;
+    }
+    if (disengaged) {
+        (void)connection.ask("S", 1);   // Gpredict stops the rotator when it disengages
     }
 }
 

@@ -9,7 +9,11 @@
 //     wrap) does it post a new target, and then it leads the satellite: a bisection finds the
 //     furthest future time at which the satellite is still within `threshold` of where it is now;
 //   * an I/O thread loops: `P az el` (%.2f) if a target is pending, sleep 100 ms, `p`, then sleep
-//     max(elapsed, 0.7 s).
+//     max(elapsed, 0.7 s). A loop in which `P` or `p` answered an error (or nothing) is an I/O error;
+//   * the timer counts its ticks that find the last loop in error, and resets the count on one that
+//     does not. A tick that finds an error with the count already at MAX_ERROR_COUNT (5) disengages
+//     the rotator: Gpredict sends `S`, stops its I/O thread and never engages again by itself (the
+//     user must press Engage), so the rest of the pass is lost (gtk-rot-ctrl.c, docs/gpredict.md).
 // Simulated time is the emulator's clock; every client sleep is divided by the emulator's time
 // scale, so the client keeps Gpredict's rhythm in simulated seconds.
 #pragma once
@@ -35,6 +39,8 @@ struct ClientSettings {
     double io_min_period_s = 0.7;
     // Gpredict's rotator limits, set to the dish's (as the README tells users to).
     double min_az = 0.0, max_az = 360.0, min_el = 0.0, max_el = 90.0;
+    // Gpredict's MAX_ERROR_COUNT: erroring timer ticks tolerated in a row; 0 = never disengage.
+    int max_error_count = 5;
 };
 
 struct TimedDirection {
@@ -54,6 +60,11 @@ struct ClientRecord {
     };
     std::vector<ReadBack> read_backs;           // every parsed `p`, for the run's read-back trace
     unsigned failed_replies = 0;
+    // Gpredict's view of the errors: timer ticks (cycles) that found the I/O thread in error.
+    unsigned erroring_cycles = 0;
+    int longest_error_streak = 0;               // most erroring cycles in a row
+    bool disengaged = false;                    // MAX_ERROR_COUNT was exceeded: tracking stopped
+    double disengaged_at = 0.0;                 // pass clock
 };
 
 class GpredictClient {
@@ -87,6 +98,10 @@ private:
     Direction read_back_{};
     Direction pending_{};
     bool new_target_ = false;
+    bool io_error_ = false;       // the I/O thread's last loop failed (set by it, read by the timer)
+    int error_count_ = 0;         // Gpredict's errcnt
+    int error_streak_ = 0;
+    bool engaged_ = true;
     std::atomic<bool> stop_{false};
     ClientRecord record_;
 };

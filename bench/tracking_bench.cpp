@@ -282,6 +282,11 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     result.set_ms = record.set_round_trip_ms;
     result.p_error_deg = record.p_error_deg;
     result.failed_replies = record.failed_replies;
+    if (record.disengaged) {
+        // As Gpredict would: the rest of the run is a dish left where it stopped.
+        std::fprintf(stderr, "%s: the client disengaged after %d erroring cycles (MAX_ERROR_COUNT) at t=%.1f s\n",
+                     run_name(spec).c_str(), record.longest_error_streak, record.disengaged_at);
+    }
 
     // Ground truth: the emulator's history (every 20 ms simulated tick while moving, every
     // second at rest), held between samples, on the pass clock.

@@ -536,6 +536,12 @@ extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
     if (service->homing()) {
         flags |= ROT_STATUS_BUSY | ROT_STATUS_MOVING;
     }
+    // Nor a "not ready" one (4.5 to master): a dish that cannot be asked (rebooting, unplugged,
+    // being re-synchronised) is BUSY alone, "not accepting commands" for now; a target set
+    // meanwhile waits for it. Whether it moves is unknown, so not MOVING. get_info says why.
+    if (!service->answering()) {
+        flags = ROT_STATUS_BUSY;
+    }
     *status = static_cast<rot_status_t>(flags);
     return RIG_OK;
 }

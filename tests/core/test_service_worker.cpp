@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "birdcage/service/service_mailbox.hpp"
@@ -31,7 +32,7 @@ struct HandDrivenService {
 
     HandDrivenService() {
         g2.step_per_query = 7.0;   // a move takes several polls, so posts can land mid-move
-        auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return g2.respond(c); });
+        auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return respond(c); });
         wire = transport.get();
         ControllerOptions options{};
         options.variant = VariantId::carryout_g2;
@@ -45,6 +46,26 @@ struct HandDrivenService {
         worker->set_pointing(pointing);
         REQUIRE(worker->start());
         mailbox.open();
+    }
+
+    // Set: the next command meets the dish rebooting (power cycled); its boot homes the axes.
+    bool reboot_at_next_command = false;
+    std::vector<std::string> respond(const std::string& command) {
+        if (std::exchange(reboot_at_next_command, false)) {
+            g2.menu = "TRK";
+            g2.az = g2.target_az = 0.0;
+            g2.el = g2.target_el = 65.0;
+            return {command + "\r\n", "Bootloader v1.01\r\n", "Boot Complete\r\nTRK>"};
+        }
+        return g2.respond(command);
+    }
+    // Steps until the worker has met the reboot and entered its recovery.
+    void step_into_recovery() {
+        reboot_at_next_command = true;
+        for (int i = 0; i < 50 && !mailbox.view().dish.recovering; ++i) {
+            step();
+        }
+        REQUIRE(mailbox.view().dish.recovering);
     }
 
     void step() {
@@ -199,4 +220,45 @@ TEST_CASE("service worker: a receiver job withdrawn before the worker takes it n
     CHECK_FALSE(service.mailbox.job_started(job));
     service.step();
     CHECK_FALSE(ran);
+}
+
+TEST_CASE("service worker: while the dish reboots the last reading stays and P is kept, then a fresh reading comes") {
+    HandDrivenService service;
+    service.drain();
+    const std::optional<AzEl> before = service.mailbox.view().dish.position;
+    REQUIRE(before);
+    service.step_into_recovery();
+    // Nothing new was read: the snapshot still holds the reading from before the reboot.
+    CHECK(service.mailbox.view().dish.position->az == Approx(before->az));
+    CHECK(service.mailbox.view().dish.position->el == Approx(before->el));
+    CHECK_FALSE(service.mailbox.view().idle);
+    // A target posted now is accepted and waits for the dish (above the G2's 65 deg: clamped).
+    REQUIRE(service.mailbox.post_target({250, 80}, service.now));
+    const std::size_t moves_before = service.moves_sent();
+    service.step();
+    const ServiceSnapshot recovered = service.mailbox.view().dish;
+    REQUIRE_FALSE(recovered.recovering);
+    CHECK(recovered.recoveries == 1);
+    // The first position published after the recovery is where the reboot left the dish.
+    REQUIRE(recovered.position);
+    CHECK(recovered.position->az == Approx(0.0));
+    CHECK(recovered.position->el == Approx(65.0));
+    CHECK(service.moves_sent() == moves_before);   // the target is resumed by the steps that follow
+    service.drain();
+    CHECK(service.g2.az == Approx(250.0));
+    CHECK(service.g2.el == Approx(65.0));
+}
+
+TEST_CASE("service worker: S while the dish reboots drops the target posted before it") {
+    HandDrivenService service;
+    service.drain();
+    service.step_into_recovery();
+    REQUIRE(service.mailbox.post_target({250, 40}, service.now));
+    service.mailbox.post_stop();
+    const std::size_t moves_before = service.moves_sent();
+    service.drain();
+    CHECK(service.mailbox.view().dish.recoveries == 1);
+    CHECK(service.moves_sent() == moves_before);
+    CHECK(service.g2.az == Approx(0.0));
+    CHECK(service.g2.el == Approx(65.0));
 }

@@ -69,6 +69,12 @@ public:
     ~Controller();
 
     Status initialize();
+    // A controller built over a port reopened after a hang-up takes over what the one before it
+    // knew of the dish (before its initialize()): the last position, and the cable-wrap turns and
+    // azimuth mapping learnt. An unplugged adapter does not move the dish, so the branch it was on
+    // holds; the first reading after the re-initialisation still rechecks it (a dish that
+    // rebooted meanwhile has moved, and its branch is assumed afresh).
+    void carry_over(const Controller& before);
     // initialize() again after a reboot, hang-up or lost sync, waiting at most `boot_budget` for a
     // booting dish (bounded slices: the caller retries). Legs in flight are dropped.
     Status reinitialize(std::chrono::milliseconds boot_budget);
@@ -99,6 +105,8 @@ public:
     bool unhomed() const { return state_.unhomed; }
     bool idle() const;
     std::optional<AzEl> last_position() const { return state_.last_position; }
+    // When last_position() was read or inferred (the options' dish clock); none before the first.
+    std::optional<Clock::time_point> last_position_at() const { return state_.last_position_at; }
     std::optional<AzEl> current_target() const { return state_.target; }
     // The controller's estimate of the mechanical azimuth (cable-wrap turns included, in the
     // variant's az_min..az_max coordinates); nullopt before the first reading.

@@ -49,9 +49,12 @@ public:
     Status set_target(AzEl target);
     // The last position read from the dish, advanced along the move in flight (position_model.hpp)
     // — or, on variants that cannot report it at rest, the controller's best knowledge. Never
-    // talks to the dish. Errors instead of a position:
-    //  - Errc::timeout while the worker recovers (dish rebooting, unplugged, out of sync), or when
-    //    the dish has not answered for ServiceTiming::max_position_age: no stale value is reported;
+    // talks to the dish. While the dish cannot be asked (the worker recovers it: rebooting,
+    // re-initialising, unplugged, out of sync; or it has not answered for
+    // ServiceTiming::max_position_age), the last reading as read, not advanced: answering() is
+    // false and describe() says why. After a recovery, the first position is a fresh reading.
+    // Errors instead of a position:
+    //  - Errc::timeout while recovering before any position was ever read;
     //  - Errc::protocol once after the dish reported a motor fault (`AZ MOTOR STALLED`);
     //  - Errc::not_homed while the dish reports its axes unhomed.
     Result<AzEl> position();
@@ -76,6 +79,8 @@ public:
     bool homing() const;
     // True while the worker re-initialises the dish (after a reboot, hang-up or lost sync).
     bool recovering() const;
+    // False while the dish cannot be asked: recovering, or silent for ServiceTiming::max_position_age.
+    bool answering() const;
     // How many times the worker has recovered the dish (re-initialised it) since start().
     unsigned recoveries() const;
     // The worker's last error (ok if the last service step succeeded); a motor fault stays here
@@ -87,6 +92,7 @@ public:
 
 private:
     Status unsupported_without_tuner() const;
+    bool not_answering(const ServiceSnapshot& dish) const;
 
     ServiceTiming timing_;
     ServiceMailbox mailbox_;

@@ -51,8 +51,11 @@ struct ServiceSnapshot {
     bool unhomed = false;                      // the dish reports its axes unhomed
     Status last_error;                         // the last step that talked to the dish
     std::string description;
+    // The worker cannot ask the dish (rebooting, re-initialising, adapter unplugged, out of sync):
+    // `position` stays the last reading until the recovery has read a fresh one.
     bool recovering = false;
     std::string recovery_reason;
+    Clock::time_point recovering_since{};      // steady (real) time, like last_answer_at
     unsigned recoveries = 0;
     // The last step that talked and succeeded. Steady (real) time: how long the line has been
     // silent is a matter of the serial link, like every I/O deadline (clock.hpp).

@@ -45,8 +45,9 @@ struct ServiceTiming {
     // Longest single wait for a booting dish inside one recovery attempt (the attempts repeat
     // until the dish answers; the slice keeps stop/shutdown responsive).
     std::chrono::milliseconds recovery_boot_slice{5000};
-    // position() refuses (Errc::timeout) a position older than this (real time): the dish has not
-    // answered since, so the client is told instead of being handed a stale value.
+    // After this long without an answer (real time) the dish counts as not answering even before
+    // the worker has started to recover it: position() gives the last reading as read, without
+    // running the move in flight on (position_model.hpp), and the rotator reports itself busy.
     std::chrono::milliseconds max_position_age{5000};
 };
 
@@ -83,6 +84,7 @@ private:
     Outcome work_on(const ServiceMail& mail);
     Outcome recover(const ServiceMail& mail);
     Status recover_once();
+    Status read_position_afresh();
     Status resume(AzEl target);
     Status accept_target(AzEl target, Clock::time_point sent_at);
     Status steer();
@@ -119,6 +121,8 @@ private:
     int consecutive_failures_ = 0;
     std::chrono::milliseconds backoff_{0};
     unsigned attempts_ = 0;
+    Clock::time_point recovery_started_{};   // dish clock: a position read after it is fresh
+    bool reinitialised_ = false;             // this recovery has re-initialised the dish
 
     ServiceSnapshot published_;   // the worker's own copy of what it last published
 };

@@ -199,6 +199,13 @@ Status Controller::finish_homing() {
     return Status::ok();
 }
 
+void Controller::carry_over(const Controller& before) {
+    if (before.state_.last_position && before.state_.last_position_at) {
+        state_.record(*before.state_.last_position, *before.state_.last_position_at, before.state_.position_estimated);
+    }
+    wrap_ = before.wrap_;
+}
+
 Status Controller::reinitialize(std::chrono::milliseconds boot_budget) {
     return initialize_within(std::min(boot_budget, options_.boot_timeout));
 }

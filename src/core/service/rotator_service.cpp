@@ -51,23 +51,36 @@ Status RotatorService::set_target(AzEl target) {
     return mailbox_.post_target(target, worker_.clock().now());
 }
 
+namespace {
+
+long whole_seconds_since(Clock::time_point then) {
+    return static_cast<long>(std::chrono::duration_cast<std::chrono::seconds>(Clock::now() - then).count());
+}
+
+}  // namespace
+
+bool RotatorService::not_answering(const ServiceSnapshot& dish) const {
+    return dish.recovering || Clock::now() - dish.last_answer_at > timing_.max_position_age;
+}
+
 Result<AzEl> RotatorService::position() {
     const ServiceView view = mailbox_.view();
     const ServiceSnapshot& dish = view.dish;
+    // While the dish cannot be asked, the last reading is the truth as far as anyone knows, and an
+    // error would not be: Gpredict gives up for good after a few erroring polls, and the pass is
+    // lost although the dish comes back. get_status() and describe() tell that it is not answering.
+    // The move in flight is not run on: the dish may not be making it (a reboot stops it dead).
+    if (not_answering(dish) && dish.position) {
+        return {*dish.position, Status::ok()};
+    }
     if (dish.recovering) {
-        return {AzEl{}, Status{Errc::timeout, dish.recovery_reason}};
+        return {AzEl{}, Status{Errc::timeout, "no position read from the dish yet; " + dish.recovery_reason}};
     }
     if (std::optional<Status> fault = mailbox_.take_fault_report()) {
         return {AzEl{}, *fault};
     }
     if (dish.unhomed) {
         return {AzEl{}, Status{Errc::not_homed, "the dish's axes are not homed; reset (R 1) homes them"}};
-    }
-    const auto silent = Clock::now() - dish.last_answer_at;
-    if (dish.position && silent > timing_.max_position_age) {
-        const auto silent_s = std::chrono::duration_cast<std::chrono::seconds>(silent).count();
-        return {AzEl{}, Status{Errc::timeout, "the dish has not answered for " + std::to_string(silent_s) + " s (" +
-                                                  dish.last_error.message + ")"}};
     }
     if (!dish.position) {
         const Status why = dish.last_error ? Status{Errc::not_initialised, "no position read from the dish yet"}
@@ -144,6 +157,8 @@ bool RotatorService::homing() const { return mailbox_.view().homing; }
 
 bool RotatorService::recovering() const { return mailbox_.view().dish.recovering; }
 
+bool RotatorService::answering() const { return !not_answering(mailbox_.view().dish); }
+
 unsigned RotatorService::recoveries() const { return mailbox_.view().dish.recoveries; }
 
 Status RotatorService::last_error() const {
@@ -156,9 +171,18 @@ Status RotatorService::last_error() const {
 
 std::string RotatorService::describe() const {
     const ServiceView view = mailbox_.view();
-    std::string text = view.dish.description;
-    if (view.dish.recovering) {
-        text += "; RECOVERING: " + view.dish.recovery_reason;
+    const ServiceSnapshot& dish = view.dish;
+    std::string text = dish.description;
+    if (dish.recovering) {
+        text += "; RECOVERING for " + std::to_string(whole_seconds_since(dish.recovering_since)) +
+                " s: " + dish.recovery_reason;
+    } else if (not_answering(dish)) {
+        text += "; NOT ANSWERING for " + std::to_string(whole_seconds_since(dish.last_answer_at)) + " s (" +
+                dish.last_error.message + ")";
+    }
+    if (not_answering(dish) && dish.position) {
+        text += "; p gives the last position read, " + std::to_string(whole_seconds_since(dish.last_answer_at)) +
+                " s ago; P is kept for when the dish answers";
     }
     if (!view.fault) {
         text += "; last fault: " + view.fault.message;

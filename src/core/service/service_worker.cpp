@@ -86,8 +86,11 @@ Clock::duration ServiceWorker::step() {
             emit(options_.log, LogLevel::warning, "recovering: " + verdict.reason);
             attempts_ = 0;
             backoff_ = std::chrono::milliseconds{0};
+            reinitialised_ = false;
+            recovery_started_ = options_.clock.now();
             published_.recovering = true;
             published_.recovery_reason = verdict.reason;
+            published_.recovering_since = Clock::now();
             entered_recovery = true;
         }
     }
@@ -148,6 +151,12 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
 }
 
 ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
+    if (mail.stop) {
+        // `S` while the dish cannot be asked: nothing is resumed (the mailbox dropped the target)
+        // and the pass is forgotten, as it would have been at once.
+        controller_->cancel_pending();
+        forget_the_pass();
+    }
     const Status attempt = recover_once();
     if (!attempt) {
         const RetryVerdict retry = classify_failed_attempt(attempt, backoff_, timing_.recovery_backoff_min,
@@ -159,6 +168,7 @@ ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
     }
     consecutive_failures_ = 0;
     published_.recovering = false;
+    published_.last_answer_at = Clock::now();   // recover_once() has just read the position
     ++published_.recoveries;
     mailbox_.dish_rebooted();
     emit(options_.log, LogLevel::warning,
@@ -168,8 +178,9 @@ ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
     return {mail.latest_target ? resume(*mail.latest_target) : Status::ok(), true};
 }
 
-// One bounded recovery attempt: reopen the device if it hung up, then re-initialise the dish
-// (boot wait bounded by the slice, search stop, motor menu).
+// One bounded recovery attempt: reopen the device if it hung up, re-initialise the dish (boot wait
+// bounded by the slice, search stop, motor menu), then read its position afresh. An attempt that
+// fails after the re-initialisation only reads again next time, unless the dish needs more.
 Status ServiceWorker::recover_once() {
     ++attempts_;
     if (link_down_) {
@@ -182,19 +193,49 @@ Status ServiceWorker::recover_once() {
                                             "): " + reopened.status.message};
         }
         // A new controller over the new transport: the old one holds a reference to the old one.
-        controller_ = std::make_unique<Controller>(*reopened.value, options_);
+        auto reopened_controller = std::make_unique<Controller>(*reopened.value, options_);
+        reopened_controller->carry_over(*controller_);
+        controller_ = std::move(reopened_controller);
         transport_ = std::move(reopened.value);
         link_down_ = false;
+        reinitialised_ = false;
         emit(options_.log, LogLevel::warning, "serial port reopened; re-initialising the dish");
     }
-    const Status st = controller_->reinitialize(timing_.recovery_boot_slice);
-    if (!st) {
-        return {st.code, "re-initialising the dish (attempt " + std::to_string(attempts_) + "): " + st.message};
+    if (!reinitialised_ || controller_->needs_reinit()) {
+        const Status st = controller_->reinitialize(timing_.recovery_boot_slice);
+        if (!st) {
+            return {st.code, "re-initialising the dish (attempt " + std::to_string(attempts_) + "): " + st.message};
+        }
+        reinitialised_ = true;
     }
-    if (!controller_->last_position()) {
-        (void)controller_->query_position();
+    return read_position_afresh();
+}
+
+// The first position given after a recovery is one read after it began: the dish may have moved
+// meanwhile (a reboot homes or calibrates the axes), so the reading from before says nothing of
+// where it is now. Until then position() keeps giving that earlier reading as the last one read.
+Status ServiceWorker::read_position_afresh() {
+    const auto read_after_start = [this] {
+        const auto at = controller_->last_position_at();
+        return at && *at > recovery_started_;
+    };
+    // Nothing to read on a dish that cannot report its position at rest, nor once the
+    // re-initialisation has read it.
+    if (profile_->position_query.empty() || read_after_start()) {
+        return Status::ok();
     }
-    return Status::ok();
+    const Result<AzEl> fresh = controller_->query_position();
+    // An unhomed dish answers with its sentinel: it is reachable, and position() reports why it
+    // has no position (the client homes it with R 1).
+    if (read_after_start() || fresh.status.code == Errc::not_homed) {
+        return Status::ok();
+    }
+    if (controller_->needs_reinit()) {
+        reinitialised_ = false;
+    }
+    return {fresh.status ? Errc::protocol : fresh.status.code,
+            "reading the position after re-initialising (attempt " + std::to_string(attempts_) +
+                "): " + (fresh.status ? std::string("the reading was refused") : fresh.status.message)};
 }
 
 Status ServiceWorker::resume(AzEl target) {

@@ -66,6 +66,8 @@ struct Prompt {
 };
 
 struct Ui {
+    Ui(tui::Station& station_, std::string skyscan_, std::string log_path_)
+        : station(station_), skyscan(std::move(skyscan_)), log_path(std::move(log_path_)) {}
     tui::Station& station;
     std::string skyscan;
     std::string log_path;
@@ -73,6 +75,9 @@ struct Ui {
     int step_index = 1;
     Prompt prompt;
     std::string message;
+    // The last position this screen sent: quick successive jogs add up even before rotctld has
+    // answered the first (the snapshot's target follows only then).
+    std::optional<std::pair<double, double>> sent;
     tui::ScanLauncher scan;
     std::string scan_file;
     bool colour = false;
@@ -354,7 +359,7 @@ void draw_signal(const Ui& ui, const tui::Snapshot& s, int top, int height) {
             const int filled = ui.scan.done * w / ui.scan.total;
             put(y, 1, "[" + std::string(static_cast<std::size_t>(filled), '=') +
                           std::string(static_cast<std::size_t>(w - filled), ' ') + "]");
-            put(y, w + 3, std::to_string(ui.scan.done) + "/" + std::to_string(ui.scan.total));
+            put(y, w + 4, std::to_string(ui.scan.done) + "/" + std::to_string(ui.scan.total));
             ++y;
         }
         std::string state = ui.scan.running() ? "running, x stops it"
@@ -469,7 +474,7 @@ double wrap_azimuth(double az, const tui::Limits& limits) {
 }
 
 void jog(Ui& ui, const tui::Snapshot& s, double daz, double del) {
-    const auto base = s.target ? s.target : s.position;
+    const auto base = ui.sent ? ui.sent : s.target ? s.target : s.position;
     if (!base) {
         ui.message = "no position yet: nothing to jog from";
         return;
@@ -477,6 +482,7 @@ void jog(Ui& ui, const tui::Snapshot& s, double daz, double del) {
     const double az = wrap_azimuth(base->first + daz, s.limits);
     const double el = std::clamp(base->second + del, s.limits.min_el, s.limits.max_el);
     ui.station.submit({tui::Command::Kind::move, az, el, {}});
+    ui.sent = std::make_pair(az, el);
     ui.message.clear();
 }
 
@@ -493,6 +499,7 @@ void submit_go(Ui& ui, const tui::Snapshot& s, const std::string& text) {
     const double sent_az = std::clamp(az, s.limits.min_az, s.limits.max_az);
     const double sent_el = std::clamp(el, s.limits.min_el, s.limits.max_el);
     ui.station.submit({tui::Command::Kind::move, sent_az, sent_el, {}});
+    ui.sent = std::make_pair(sent_az, sent_el);
     ui.message = (sent_az != az || sent_el != el) ? "outside the limits: clamped to " + degrees(sent_az) + degrees(sent_el) : "";
 }
 
@@ -524,7 +531,7 @@ void submit_scan(Ui& ui, const tui::Snapshot& s, const std::string& text) {
         return;
     }
     (void)s;
-    ui.message = "sky scan started: " + ui.skyscan + " --az " + az + " --el " + el;
+    ui.message = "started: birdcage-skyscan --az " + az + " --el " + el + (lnb.empty() ? "" : " --lnb " + lnb);
 }
 
 void open_scan_prompt(Ui& ui, const tui::Snapshot& s) {
@@ -578,14 +585,20 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
     case '+': case '=': ui.step_index = std::min(ui.step_index + 1, 3); ui.message = "step " + fixed(kSteps[ui.step_index], 1) + " deg"; break;
     case '-': case '_': ui.step_index = std::max(ui.step_index - 1, 0); ui.message = "step " + fixed(kSteps[ui.step_index], 1) + " deg"; break;
     case 'g': case 'G': ui.prompt = {Prompt::Purpose::go, "Go to AZ EL: ", ""}; break;
-    case 's': case 'S': case ' ': ui.station.submit({tui::Command::Kind::stop, 0, 0, {}}); ui.message.clear(); break;
+    case 's': case 'S': case ' ':
+        ui.station.submit({tui::Command::Kind::stop, 0, 0, {}});
+        ui.sent.reset();
+        ui.message.clear();
+        break;
     case 'k': case 'K':
         if (s.caps.can_park) ui.station.submit({tui::Command::Kind::park, 0, 0, {}});
+        if (s.caps.can_park) ui.sent.reset();
         ui.message = s.caps.can_park ? "" : "this rotator cannot park";
         break;
     case 'h': case 'H':
         if (s.caps.can_reset) ui.station.submit({tui::Command::Kind::home, 0, 0, {}});
-        ui.message = s.caps.can_reset ? "homing: the axes find their limits, this takes a while" : "this rotator cannot home (no R)";
+        if (s.caps.can_reset) ui.sent.reset();
+        ui.message = s.caps.can_reset ? "" : "this rotator cannot home (no R)";
         break;
     case 'l': case 'L':
         if (ui.screen != Screen::signal) break;
@@ -687,7 +700,7 @@ int main(int argc, char** argv) {
 
     {
         tui::Station station(host, port);
-        Ui ui{station, tui::skyscan_program(argv[0]), log_path, Screen::dashboard, 1, {}, {}, {}, {}, false, false};
+        Ui ui(station, tui::skyscan_program(argv[0]), log_path);
         start_colour(ui);
         while (!ui.quit && quit_signal == 0) {
             station.watch_signal(ui.screen == Screen::signal);

@@ -14,6 +14,7 @@ using Clock = std::chrono::steady_clock;
 
 constexpr auto kPollPeriod = 200ms;
 constexpr auto kSignalPeriod = 1s;
+constexpr auto kInfoPeriod = 3s;
 constexpr auto kFirstRetry = 250ms;
 // A restarted rotctld is back within seconds; a longer wait would only delay noticing it.
 constexpr auto kLongestRetry = 2s;
@@ -138,6 +139,7 @@ void Station::connect_once() {
         return;
     }
     backoff_ = kFirstRetry;
+    last_info_read_ = Clock::now();
     // What does not change while the link stays up: read once per connection.
     int code = 0;
     std::string info = client_.get_info(code);
@@ -173,6 +175,10 @@ bool Station::link_lost(int code) {
         s.link = LinkState::reconnecting;
         s.link_detail = "rotctld closed the connection; reconnecting";
         s.busy.clear();
+        // Nothing of the old link is current any more: a restarted rotctld has no target either.
+        s.position.reset();
+        s.status.reset();
+        s.target.reset();
     });
     return true;
 }
@@ -197,6 +203,20 @@ void Station::poll() {
         }
         if (status_code == RIG_OK) {
             status = squeeze_flags(flags);
+        }
+    }
+    // `_` describes the state (the Winegard backend's says where the dish is and what it plans):
+    // read again every few seconds rather than once.
+    std::optional<std::string> info;
+    if (Clock::now() - last_info_read_ >= kInfoPeriod) {
+        last_info_read_ = Clock::now();
+        int info_code = 0;
+        std::string text = client_.get_info(info_code);
+        if (link_lost(info_code)) {
+            return;
+        }
+        if (info_code == RIG_OK) {
+            info = text;
         }
     }
     bool read_signal = false;
@@ -228,6 +248,9 @@ void Station::poll() {
             s.position_error = error_text(code);
         }
         s.status = status;
+        if (info) {
+            s.info = *info;
+        }
         if (rssi) {
             s.rssi = rssi;
             s.rssi_trend.push_back(*rssi);

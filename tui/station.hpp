@@ -84,6 +84,7 @@ private:
     bool stopping_ = false;
     std::chrono::milliseconds backoff_{250};
     std::chrono::steady_clock::time_point last_signal_read_{};
+    std::chrono::steady_clock::time_point last_info_read_{};
     std::thread worker_;
 };
 

@@ -108,6 +108,7 @@ TEST_CASE("the station moves the dish, and notices rotctld going away") {
 
     rig.reset();   // rotctld exits
     CHECK(e2e::wait_until([&] { return station.snapshot().link == tui::LinkState::reconnecting; }, 10s));
+    CHECK_FALSE(station.snapshot().position);   // not shown as if current
     // Typed while rotctld is away: not queued for later.
     station.submit({tui::Command::Kind::move, 10.0, 10.0, {}});
     CHECK(e2e::wait_until([&] { return station.snapshot().last_result.find("not sent") != std::string::npos; }, 10s));

@@ -105,6 +105,7 @@ wait "$rotctld_pid" 2>/dev/null || true
 rotctld_pid=''
 wait_screen 15 'link: RECONNECTING' || fail "the screen does not say it lost rotctld"
 wait_screen 15 'retrying in' || fail "the screen does not say it retries"
+[[ -z $(shown_position) ]] || fail "a position is shown while rotctld is away"
 screen | sed -n '1,3p'
 start_rotctld
 wait_screen 60 'link: connected' || fail "not connected again after rotctld came back"

@@ -156,10 +156,17 @@ void draw_compass(const Ui& ui, const tui::Snapshot& s, int top, int left, int h
         y = cy - static_cast<int>(std::lround(std::cos(a) * ry * fraction));
         x = cx + static_cast<int>(std::lround(std::sin(a) * rx * fraction));
     };
-    for (int deg = 0; deg < 360; deg += 5) {
+    // Dots every few degrees: about as many as the rim has cells, whatever the size.
+    const int dot_step = std::max(1, 40 / ry);
+    for (int deg = 0; deg < 360; deg += dot_step) {
         int y, x;
         at(deg, 1.0, y, x);
-        put_char(y, x, deg % 30 == 0 ? '+' : '.');
+        put_char(y, x, '.');
+    }
+    for (int deg = 0; deg < 360; deg += 30) {
+        int y, x;
+        at(deg, 1.0, y, x);
+        put_char(y, x, '+');
     }
     const char* labels[] = {"N", "E", "S", "W"};
     for (int i = 0; i < 4; ++i) {
@@ -222,7 +229,8 @@ void draw_elevation_gauge(const Ui& ui, const tui::Snapshot& s, int top, int lef
 
 // ---- screens ------------------------------------------------------------------------------------
 
-int panel_left() { return std::max(54, COLS - 26); }
+// The numbers' column: the right 26 columns, the rose and gauge take the rest.
+int panel_left() { return std::max(28, COLS - 26); }
 
 void draw_numbers(const Ui& ui, const tui::Snapshot& s, int& y, int x) {
     if (s.position) {
@@ -575,9 +583,9 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
     const double step = kSteps[ui.step_index];
     switch (key) {
     case 'q': case 'Q': ui.quit = true; break;
-    case '1': case '2': case '3': case '4': ui.screen = static_cast<Screen>(key - '1'); break;
-    case '\t': ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 1) % 4); break;
-    case KEY_BTAB: ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 3) % 4); break;
+    case '1': case '2': case '3': case '4': ui.screen = static_cast<Screen>(key - '1'); ui.message.clear(); break;
+    case '\t': ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 1) % 4); ui.message.clear(); break;
+    case KEY_BTAB: ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 3) % 4); ui.message.clear(); break;
     case KEY_LEFT: jog(ui, s, -step, 0); break;
     case KEY_RIGHT: jog(ui, s, step, 0); break;
     case KEY_UP: jog(ui, s, 0, step); break;

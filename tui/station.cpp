@@ -179,6 +179,7 @@ bool Station::link_lost(int code) {
         s.position.reset();
         s.status.reset();
         s.target.reset();
+        s.info.clear();
     });
     return true;
 }

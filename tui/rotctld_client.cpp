@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdarg>
 #include <cstdio>
@@ -360,12 +361,15 @@ int RotctldClient::set_level(const std::string& name, double value) {
 }
 
 std::string squeeze_flags(const std::string& flags) {
-    // Hamlib 4.5.4 names MOVING_AZ and MOVING_EL both "MOVING": one word is enough.
+    // Hamlib 4.5.4 names several flags alike (MOVING_AZ and MOVING_EL are both "MOVING", so a
+    // G2 homing reads "BUSY MOVING BUSY MOVING"): each name once.
     std::istringstream words(flags);
-    std::string text, last;
+    std::vector<std::string> seen;
+    std::string text;
     for (std::string w; words >> w;) {
-        if (w != last) text += (text.empty() ? "" : " ") + w;
-        last = w;
+        if (std::find(seen.begin(), seen.end(), w) != seen.end()) continue;
+        seen.push_back(w);
+        text += (text.empty() ? "" : " ") + w;
     }
     return text.empty() ? "idle" : text;
 }

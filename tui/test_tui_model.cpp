@@ -63,7 +63,7 @@ TEST_CASE("the client reads a G2's position, status, info, caps and levels throu
     CHECK(client.get_status(flags) == 0);
     CHECK(flags.empty());   // at rest
     CHECK(tui::squeeze_flags(flags) == "idle");
-    CHECK(tui::squeeze_flags("MOVING MOVING") == "MOVING");
+    CHECK(tui::squeeze_flags("BUSY MOVING BUSY MOVING ") == "BUSY MOVING");
     const tui::Limits limits = client.limits();
     CHECK(limits.max_el > limits.min_el);
     CHECK_FALSE(client.peer_closed());

@@ -511,7 +511,7 @@ void submit_go(Ui& ui, const tui::Snapshot& s, const std::string& text) {
     ui.message = (sent_az != az || sent_el != el) ? "outside the limits: clamped to " + degrees(sent_az) + degrees(sent_el) : "";
 }
 
-void submit_scan(Ui& ui, const tui::Snapshot& s, const std::string& text) {
+void submit_scan(Ui& ui, const std::string& text) {
     std::istringstream in(text);
     std::string az, el, lnb;
     if (!(in >> az >> el)) {
@@ -538,7 +538,6 @@ void submit_scan(Ui& ui, const tui::Snapshot& s, const std::string& text) {
         ui.message = why;
         return;
     }
-    (void)s;
     ui.message = "started: birdcage-skyscan --az " + az + " --el " + el + (lnb.empty() ? "" : " --lnb " + lnb);
 }
 
@@ -565,7 +564,7 @@ void prompt_key(Ui& ui, const tui::Snapshot& s, int key) {
         const Prompt done = ui.prompt;
         ui.prompt = {};
         if (done.purpose == Prompt::Purpose::go) submit_go(ui, s, done.text);
-        if (done.purpose == Prompt::Purpose::scan) submit_scan(ui, s, done.text);
+        if (done.purpose == Prompt::Purpose::scan) submit_scan(ui, done.text);
     } else if (key == KEY_BACKSPACE || key == 127 || key == 8) {
         if (!ui.prompt.text.empty()) ui.prompt.text.pop_back();
     } else if (key == 21) {   // ^U, as in a shell

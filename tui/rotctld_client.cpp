@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <sstream>
 
 namespace birdcage::tui {
@@ -27,12 +28,11 @@ using Clock = std::chrono::steady_clock;
 int discard_debug(enum rig_debug_level_e, rig_ptr_t, const char*, va_list) { return 0; }
 
 void quiet_hamlib() {
-    static const bool done = [] {
+    static std::once_flag once;
+    std::call_once(once, [] {
         rig_set_debug(RIG_DEBUG_NONE);
         rig_set_debug_callback(discard_debug, nullptr);
-        return true;
-    }();
-    (void)done;
+    });
 }
 
 // The socket's peer has closed it: readable with nothing to read. Between commands rotctld

@@ -1,6 +1,7 @@
 // The TUI's model (RotctldClient, Station) against the stock rotctld with the backend preloaded and
 // the emulated dish: what the screens show comes from these answers.
 #include "rotctld_client.hpp"
+#include "scan_launcher.hpp"
 #include "station.hpp"
 
 #include "harness.hpp"
@@ -8,7 +9,11 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <memory>
+#include <unistd.h>
 
 using namespace std::chrono_literals;
 namespace tui = birdcage::tui;
@@ -113,4 +118,54 @@ TEST_CASE("the station moves the dish, and notices rotctld going away") {
     station.submit({tui::Command::Kind::move, 10.0, 10.0, {}});
     CHECK(e2e::wait_until([&] { return station.snapshot().last_result.find("not sent") != std::string::npos; }, 10s));
     CHECK(station.snapshot().link_detail.find("retrying in") != std::string::npos);
+}
+
+TEST_CASE("the scan launcher runs birdcage-skyscan through rotctld and follows its progress") {
+    e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 180.0, 40.0, 20.0), 90105,
+                 {"-C", "time_scale=20", "-C", "pointing=none"});
+    char dir_template[] = "/tmp/birdcage-tui-scan.XXXXXX";
+    REQUIRE(mkdtemp(dir_template) != nullptr);
+    const std::string csv = std::string(dir_template) + "/scan.csv";
+    tui::ScanLauncher scan;
+    std::string why;
+    REQUIRE(scan.start(BIRDCAGE_SKYSCAN_PATH,
+                       {"--host", "127.0.0.1", "--port", std::to_string(rig.port()), "--az", "178:182:2", "--el",
+                        "40:42:2", "--samples", "2", "--out", csv},
+                       &why));
+    CHECK(scan.running());
+    const bool ended = e2e::wait_until(
+        [&] {
+            scan.pump();
+            return !scan.running();
+        },
+        120s);
+    REQUIRE(ended);
+    CHECK(scan.exit_status == 0);
+    CHECK(scan.total == 6);
+    CHECK(scan.done == 6);
+    CHECK(scan.progress.find("done, 6 points") != std::string::npos);
+    std::ifstream in(csv);
+    int rows = 0;
+    for (std::string line; std::getline(in, line);) {
+        rows += line.find(',') != std::string::npos && line.find("az") != 0 ? 1 : 0;
+    }
+    CHECK(rows == 6);
+    std::remove(csv.c_str());
+    rmdir(dir_template);
+}
+
+TEST_CASE("the scan launcher reports a program that cannot run and one that fails") {
+    tui::ScanLauncher scan;
+    std::string why;
+    CHECK_FALSE(scan.start("/nonexistent/birdcage-skyscan", {}, &why));
+    CHECK(why.find("cannot run") != std::string::npos);
+    REQUIRE(scan.start("/bin/sh", {"-c", "printf 'birdcage-skyscan: cannot connect to rotctld\\n' >&2; exit 1"}, &why));
+    REQUIRE(e2e::wait_until(
+        [&] {
+            scan.pump();
+            return !scan.running();
+        },
+        10s));
+    CHECK(scan.exit_status == 1);
+    CHECK(scan.progress == "birdcage-skyscan: cannot connect to rotctld");
 }

@@ -21,6 +21,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 namespace tui = birdcage::tui;
@@ -692,6 +693,10 @@ int main(int argc, char** argv) {
     sigaction(SIGTERM, &quit_action, nullptr);
     sigaction(SIGHUP, &quit_action, nullptr);
 
+    if (!isatty(STDIN_FILENO) || !isatty(STDOUT_FILENO)) {
+        std::cerr << "birdcage-tui: needs a terminal (for scripts: rotctl -m 2 -r " << host << ":" << port << ")\n";
+        return 1;
+    }
     SCREEN* terminal = newterm(nullptr, stdout, stdin);
     if (terminal == nullptr) {
         std::cerr << "birdcage-tui: cannot drive this terminal (TERM=" << (std::getenv("TERM") ? std::getenv("TERM") : "")

@@ -313,7 +313,7 @@ void draw_signal(const Ui& ui, const tui::Snapshot& s, int top, int height) {
                             for (const auto& l : s.levels) all += (all.empty() ? "" : " ") + l;
                             return all;
                         }()) + ").");
-        put(y++, 1, "The signal screen needs a receiver, e.g. the Carryout G2 (docs/receiver.md).");
+        put(y++, 1, "The signal screen needs a receiver behind the rotator, such as the Carryout G2's tuner.");
         return;
     }
     const int bar_width = std::max(10, COLS - 30);

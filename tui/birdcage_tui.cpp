@@ -316,6 +316,11 @@ void draw_signal(const Ui& ui, const tui::Snapshot& s, int top, int height) {
         put(y++, 1, "The signal screen needs a receiver behind the rotator, such as the Carryout G2's tuner.");
         return;
     }
+    if (!s.rssi && !s.signal_error.empty()) {
+        put(y++, 1, "`v ?` lists RSSI, but `v RSSI` answers: " + s.signal_error, A_BOLD);
+        put(y++, 1, "Of the Winegard dishes, only the Carryout G2 has a tuner the backend can read.");
+        return;
+    }
     const int bar_width = std::max(10, COLS - 30);
     double lo = 0, hi = 1;
     if (!s.rssi_trend.empty()) {
@@ -619,7 +624,7 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
         break;
     case 'n': case 'N':
         if (ui.screen != Screen::signal) break;
-        if (!has_level(s, "RSSI")) ui.message = "this rotator has no RSSI level to scan with";
+        if (!has_level(s, "RSSI") || (!s.rssi && !s.signal_error.empty())) ui.message = "this rotator has no RSSI to scan with";
         else open_scan_prompt(ui, s);
         break;
     case 'x': case 'X':

@@ -163,6 +163,7 @@ void Station::connect_once() {
         s.levels = levels.value_or(std::vector<std::string>{});
         s.rssi.reset();
         s.lnb.reset();
+        s.signal_error.clear();
     });
 }
 
@@ -227,6 +228,7 @@ void Station::poll() {
         read_signal = signal_wanted_ && has_rssi && Clock::now() - last_signal_read_ >= kSignalPeriod;
     }
     std::optional<double> rssi, lnb;
+    std::optional<std::string> signal_error;
     if (read_signal) {
         last_signal_read_ = Clock::now();
         double value = 0;
@@ -234,6 +236,9 @@ void Station::poll() {
         if (link_lost(rssi_code)) {
             return;
         }
+        // A level can be listed and still not answer: the Trav'lers list the G2's levels and
+        // have no tuner (-RIG_ENAVAIL).
+        signal_error = rssi_code == RIG_OK ? std::string() : error_text(rssi_code);
         if (rssi_code == RIG_OK) {
             rssi = value;
         }
@@ -261,6 +266,9 @@ void Station::poll() {
         }
         if (lnb) {
             s.lnb = lnb;
+        }
+        if (signal_error) {
+            s.signal_error = *signal_error;
         }
     });
 }

@@ -37,6 +37,7 @@ struct Snapshot {
     std::optional<double> rssi;
     std::deque<double> rssi_trend;      // oldest first, at most kTrendLength
     std::optional<double> lnb;
+    std::string signal_error;           // what `v RSSI` answered instead of a value
 
     std::string busy;                   // the command in flight
     std::string last_result;            // "P 200.00 35.00: ok"

@@ -74,7 +74,7 @@ TEST_CASE("the client reads a G2's position, status, info, caps and levels throu
     CHECK_FALSE(client.peer_closed());
 }
 
-TEST_CASE("a Trav'ler answers without levels, and the client says so") {
+TEST_CASE("a Trav'ler lists the levels but has no RSSI, and the station says so") {
     e2e::Rig rig(e2e::dish_options(Variant::travler_hal205, 100.0, 30.0, 20.0), 90102, {"-C", "time_scale=20"});
     tui::RotctldClient client("127.0.0.1", rig.port());
     std::string why;
@@ -84,6 +84,16 @@ TEST_CASE("a Trav'ler answers without levels, and the client says so") {
     int code = -1;
     CHECK(client.get_info(code).find("[hal205,") != std::string::npos);
     CHECK(client.caps().model.find("Trav") != std::string::npos);
+    client.disconnect();
+
+    // The signal screen: the levels are listed (the models share them), the reading says why not.
+    tui::Station station("127.0.0.1", rig.port());
+    station.watch_signal(true);
+    REQUIRE(e2e::wait_until([&] { return !station.snapshot().signal_error.empty(); }, 20s));
+    const tui::Snapshot s = station.snapshot();
+    CHECK(contains(s.levels, "RSSI"));
+    CHECK_FALSE(s.rssi);
+    CHECK(s.signal_error == "Feature not available");
 }
 
 TEST_CASE("the station moves the dish, and notices rotctld going away") {

@@ -4,6 +4,7 @@
 
 #include <hamlib/rotator.h>
 
+#include <fcntl.h>
 #include <netdb.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -23,6 +24,7 @@ namespace birdcage::tui {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr int kConnectTimeoutMs = 3000;
 
 // Hamlib writes its debug lines to stderr, which is the screen under curses: they go nowhere.
 int discard_debug(enum rig_debug_level_e, rig_ptr_t, const char*, va_list) { return 0; }
@@ -102,6 +104,15 @@ bool RotctldClient::connect(std::string* why) {
     if (!text_connect(why)) {
         return false;
     }
+    // Something else may listen there: a rotctld answers `p` at once (a value or an RPRT line).
+    probing_ = true;
+    const Reply hello = ask("p");
+    probing_ = false;
+    if (text_fd_ < 0 || hello.code == -RIG_EIO) {
+        *why = "no rotctld answers at " + address_;
+        disconnect();
+        return false;
+    }
     ROT* rot = rot_init(ROT_MODEL_NETROTCTL);
     if (rot == nullptr) {
         *why = "Hamlib has no NET rotator (model 2)";
@@ -111,7 +122,8 @@ bool RotctldClient::connect(std::string* why) {
     rot_set_conf(rot, rot_token_lookup(rot, "rot_pathname"), address_.c_str());
     // A reply can take long (a homing `R`, another client's long RSSI reading): only a dead link
     // should end the wait, and that shows as a closed socket, not as a timeout.
-    WG_ROTPORT(rot)->timeout = static_cast<int>(timeout_.count());
+    // Opening is quick with a rotctld: something else listening there must not hold us for long.
+    WG_ROTPORT(rot)->timeout = kConnectTimeoutMs;
     WG_ROTPORT(rot)->retry = 0;
     if (const int code = rot_open(rot); code != RIG_OK) {
         *why = "cannot open Hamlib's NET rotator on " + address_ + ": " + error_text(code);
@@ -119,7 +131,9 @@ bool RotctldClient::connect(std::string* why) {
         disconnect();
         return false;
     }
+    WG_ROTPORT(rot)->timeout = static_cast<int>(timeout_.count());
     rot_ = rot;
+    open_fds_[0] = WG_ROTPORT(rot)->fd;
     return true;
 }
 
@@ -139,11 +153,28 @@ bool RotctldClient::text_connect(std::string* why) {
             error = errno;
             continue;
         }
-        if (::connect(fd, a->ai_addr, a->ai_addrlen) == 0) {
+        // Non-blocking, with a deadline: a host that is down would otherwise hold the worker (and
+        // so quitting) for the kernel's two minutes of SYN retries.
+        ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
+        int rc = ::connect(fd, a->ai_addr, a->ai_addrlen);
+        if (rc != 0 && errno == EINPROGRESS) {
+            pollfd p{fd, POLLOUT, 0};
+            if (::poll(&p, 1, kConnectTimeoutMs) == 1) {
+                socklen_t length = sizeof error;
+                ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &length);
+                rc = error == 0 ? 0 : -1;
+            } else {
+                error = ETIMEDOUT;
+            }
+        } else if (rc != 0) {
+            error = errno;
+        }
+        if (rc == 0) {
+            ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
             text_fd_ = fd;
+            open_fds_[1] = fd;
             break;
         }
-        error = errno;
         ::close(fd);
     }
     freeaddrinfo(found);
@@ -155,7 +186,17 @@ bool RotctldClient::text_connect(std::string* why) {
     return true;
 }
 
+void RotctldClient::interrupt() {
+    for (auto& fd : open_fds_) {
+        if (const int f = fd.load(); f >= 0) {
+            ::shutdown(f, SHUT_RDWR);
+        }
+    }
+}
+
 void RotctldClient::disconnect() {
+    open_fds_[0] = -1;
+    open_fds_[1] = -1;
     if (rot_ != nullptr) {
         rot_close(rot_);
         rot_cleanup(rot_);
@@ -214,7 +255,7 @@ Limits RotctldClient::limits() const {
 }
 
 bool RotctldClient::read_line(std::string& line) {
-    const auto deadline = Clock::now() + timeout_;
+    const auto deadline = Clock::now() + (probing_ ? std::chrono::milliseconds(kConnectTimeoutMs) : timeout_);
     for (;;) {
         if (const auto nl = pending_.find('\n'); nl != std::string::npos) {
             line = pending_.substr(0, nl);
@@ -275,6 +316,7 @@ Reply RotctldClient::ask_lines(const std::string& command) {
         reply.values.push_back(got);
     }
     // Cut off mid-reply: the stream is out of step and can only be reopened.
+    open_fds_[1] = -1;
     ::close(text_fd_);
     text_fd_ = -1;
     reply.code = -RIG_EIO;

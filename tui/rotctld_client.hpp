@@ -9,6 +9,7 @@
 // Blocking calls, one thread; Station (station.hpp) runs it beside the screen.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -53,6 +54,8 @@ public:
     bool connect(std::string* why);
     void disconnect();
     bool connected() const { return rot_ != nullptr && text_fd_ >= 0; }
+    // From another thread: makes a call blocked on rotctld return at once (the link is then lost).
+    void interrupt();
     // rotctld closed either connection (it exited or restarted): the link must be opened again.
     bool peer_closed() const;
     const std::string& address() const { return address_; }
@@ -88,6 +91,8 @@ private:
     s_rot* rot_ = nullptr;
     int text_fd_ = -1;
     std::string pending_;
+    bool probing_ = false;   // the first question of a connection: a short deadline
+    std::atomic<int> open_fds_[2] = {-1, -1};   // for interrupt(): the Hamlib and text sockets
 };
 
 // Hamlib's one-line text for -RIG_E* `code`.

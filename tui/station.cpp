@@ -50,6 +50,7 @@ Station::~Station() {
         stopping_ = true;
     }
     wake_.notify_all();
+    client_.interrupt();   // quitting must not wait for a rotctld that does not answer
     worker_.join();
 }
 

@@ -30,14 +30,14 @@ trap cleanup EXIT
 echo "== install ${debs[0]##*/}"
 DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${debs[0]}" >/dev/null
 mapfile -t installed < <(dpkg -L birdcage | sort)
-for program in birdcage-rotctld birdcage-rotctl birdcage-sim birdcage-probe birdcage-skyscan; do
+for program in birdcage-rotctld birdcage-rotctl birdcage-sim birdcage-probe birdcage-skyscan birdcage-tui; do
     [[ $(command -v "$program") == /usr/bin/$program ]] || { echo "FAIL: $program is not /usr/bin/$program" >&2; exit 1; }
 done
 getent passwd _birdcage >/dev/null || { echo "FAIL: no user _birdcage" >&2; exit 1; }
 id -nG _birdcage | grep -qw dialout || { echo "FAIL: _birdcage is not in dialout" >&2; exit 1; }
 birdcage-rotctl -l | grep -q '^ *90105 .*Winegard' || { echo "FAIL: birdcage-rotctl -l lists no Winegard model" >&2; exit 1; }
 if command -v man >/dev/null; then
-    man -w birdcage-rotctld birdcage-rotctl birdcage-sim birdcage-probe birdcage-skyscan 7 birdcage >/dev/null
+    man -w birdcage-rotctld birdcage-rotctl birdcage-sim birdcage-probe birdcage-skyscan birdcage-tui 7 birdcage >/dev/null
 fi
 
 # run_unit UNIT INSTANCE [VAR=VALUE...]: the unit's ExecStart without systemd; the assignments

@@ -9,6 +9,7 @@ packages=(
     build-essential cmake pkg-config
     libhamlib-dev libhamlib-utils   # headers + the stock rotctl/rotctld the tests and demo drive
     libserialport-dev
+    libncurses-dev                  # birdcage-tui
     catch2
     python3                         # the doc check (tests/docs)
 )

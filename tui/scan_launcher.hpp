@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// Runs birdcage-skyscan as a child process and follows its progress lines on stderr
+// ("birdcage-skyscan: 12/77  az ... ETA ..."), for the signal screen's launcher.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <sys/types.h>
+#include <vector>
+
+namespace birdcage::tui {
+
+class ScanLauncher {
+public:
+    ScanLauncher() = default;
+    ~ScanLauncher();
+    ScanLauncher(const ScanLauncher&) = delete;
+    ScanLauncher& operator=(const ScanLauncher&) = delete;
+
+    // Starts `program args...`; false (and why) when it cannot run.
+    bool start(const std::string& program, const std::vector<std::string>& args, std::string* why);
+    // Reads what the child wrote since the last call and notices its exit; never blocks.
+    void pump();
+    void cancel();
+    bool running() const { return pid_ > 0; }
+
+    std::string progress;                 // the last progress or message line
+    int done = 0, total = 0;              // points measured / planned, from the progress line
+    std::optional<int> exit_status;       // set once the child has ended (128+N: signal N)
+    bool started = false;
+
+private:
+    void take(const std::string& line);
+
+    pid_t pid_ = -1;
+    int fd_ = -1;
+    std::string pending_;
+};
+
+// Where the launcher finds birdcage-skyscan: beside this program (an install or a build tree puts
+// both in one directory), else on PATH.
+std::string skyscan_program(const std::string& argv0);
+
+} // namespace birdcage::tui

@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// The TUI's model (RotctldClient, Station) against the stock rotctld with the backend preloaded and
+// the emulated dish: what the screens show comes from these answers.
+#include "rotctld_client.hpp"
+#include "scan_launcher.hpp"
+#include "station.hpp"
+
+#include "harness.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <unistd.h>
+
+using namespace std::chrono_literals;
+namespace tui = birdcage::tui;
+using birdcage::sim::Variant;
+
+namespace {
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+} // namespace
+
+TEST_CASE("the client reads a G2's position, status, info, caps and levels through rotctld") {
+    e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 100.0, 30.0, 20.0), 90105, {"-C", "time_scale=20"});
+    tui::RotctldClient client("127.0.0.1", rig.port());
+    std::string why;
+    REQUIRE(client.connect(&why));
+
+    double az = 0, el = 0;
+    REQUIRE(client.get_position(az, el) == 0);
+    CHECK(az == Approx(100.0).margin(0.05));
+    CHECK(el == Approx(30.0).margin(0.05));
+
+    const tui::RotatorCaps caps = client.caps();
+    CHECK(caps.model.find("G2") != std::string::npos);
+    CHECK(caps.can_reset);
+    CHECK(caps.can_park);
+
+    const auto levels = client.ext_levels();
+    REQUIRE(levels);
+    CHECK(contains(*levels, "RSSI"));
+    CHECK(contains(*levels, "LNB"));
+    double rssi = -1;
+    CHECK(client.get_level("RSSI", rssi) == 0);
+    CHECK(rssi >= 0.0);
+    CHECK(client.set_level("LNB", 13) == 0);
+    double lnb = 0;
+    REQUIRE(client.get_level("LNB", lnb) == 0);
+    CHECK(lnb == 13.0);
+
+    REQUIRE(caps.levels.size() == 3);
+    CHECK(caps.levels[2].name == "LNB");
+    CHECK(caps.levels[2].range == "13..18/5");
+
+    int code = -1;
+    const std::string info = client.get_info(code);
+    CHECK(code == 0);
+    CHECK(info.find("[g2,") != std::string::npos);   // the variant in force
+
+    std::string flags = "?";
+    CHECK(client.get_status(flags) == 0);
+    CHECK(flags.empty());   // at rest
+    CHECK(tui::squeeze_flags(flags) == "idle");
+    CHECK(tui::squeeze_flags("BUSY MOVING BUSY MOVING ") == "BUSY MOVING");
+    const tui::Limits limits = client.limits();
+    CHECK(limits.max_el > limits.min_el);
+    CHECK_FALSE(client.peer_closed());
+}
+
+TEST_CASE("a Trav'ler lists the levels but has no RSSI, and the station says so") {
+    e2e::Rig rig(e2e::dish_options(Variant::travler_hal205, 100.0, 30.0, 20.0), 90102, {"-C", "time_scale=20"});
+    tui::RotctldClient client("127.0.0.1", rig.port());
+    std::string why;
+    REQUIRE(client.connect(&why));
+    double rssi = 0;
+    CHECK(client.get_level("RSSI", rssi) != 0);
+    int code = -1;
+    CHECK(client.get_info(code).find("[hal205,") != std::string::npos);
+    CHECK(client.caps().model.find("Trav") != std::string::npos);
+    client.disconnect();
+
+    // The signal screen: the levels are listed (the models share them), the reading says why not.
+    tui::Station station("127.0.0.1", rig.port());
+    station.watch_signal(true);
+    REQUIRE(e2e::wait_until([&] { return !station.snapshot().signal_error.empty(); }, 20s));
+    const tui::Snapshot s = station.snapshot();
+    CHECK(contains(s.levels, "RSSI"));
+    CHECK_FALSE(s.rssi);
+    CHECK(s.signal_error == "Feature not available");
+}
+
+TEST_CASE("the station moves the dish, and notices rotctld going away") {
+    auto rig = std::make_unique<e2e::Rig>(e2e::dish_options(Variant::carryout_g2, 100.0, 30.0, 20.0), 90105,
+                                          std::vector<std::string>{"-C", "time_scale=20"});
+    tui::Station station("127.0.0.1", rig->port());
+    REQUIRE(e2e::wait_until([&] { return station.snapshot().link == tui::LinkState::connected; }, 30s));
+    REQUIRE(e2e::wait_until([&] { return station.snapshot().position.has_value(); }, 10s));
+    const tui::Snapshot first = station.snapshot();
+    CHECK(first.caps.can_reset);
+    CHECK(first.info.find("[g2,") != std::string::npos);
+    CHECK(contains(first.levels, "RSSI"));
+
+    station.submit({tui::Command::Kind::move, 200.0, 35.0, {}});
+    const bool arrived = e2e::wait_until(
+        [&] {
+            const auto p = station.snapshot().position;
+            return p && std::abs(p->first - 200.0) < 0.1 && std::abs(p->second - 35.0) < 0.1;
+        },
+        60s);
+    CHECK(arrived);
+    CHECK(e2e::settled_at(rig->dish(), 200.0, 35.0, 0.2));
+    const tui::Snapshot moved = station.snapshot();
+    REQUIRE(moved.target);
+    CHECK(moved.target->first == 200.0);
+    CHECK(moved.last_result == "P 200.00 35.00: ok");
+
+    rig.reset();   // rotctld exits
+    CHECK(e2e::wait_until([&] { return station.snapshot().link == tui::LinkState::reconnecting; }, 10s));
+    CHECK_FALSE(station.snapshot().position);   // not shown as if current
+    // Typed while rotctld is away: not queued for later.
+    station.submit({tui::Command::Kind::move, 10.0, 10.0, {}});
+    CHECK(e2e::wait_until([&] { return station.snapshot().last_result.find("not sent") != std::string::npos; }, 10s));
+    CHECK(station.snapshot().link_detail.find("retrying in") != std::string::npos);
+}
+
+TEST_CASE("the scan launcher runs birdcage-skyscan through rotctld and follows its progress") {
+    e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 180.0, 40.0, 20.0), 90105,
+                 {"-C", "time_scale=20", "-C", "pointing=none"});
+    char dir_template[] = "/tmp/birdcage-tui-scan.XXXXXX";
+    REQUIRE(mkdtemp(dir_template) != nullptr);
+    const std::string csv = std::string(dir_template) + "/scan.csv";
+    tui::ScanLauncher scan;
+    std::string why;
+    REQUIRE(scan.start(BIRDCAGE_SKYSCAN_PATH,
+                       {"--host", "127.0.0.1", "--port", std::to_string(rig.port()), "--az", "178:182:2", "--el",
+                        "40:42:2", "--samples", "2", "--out", csv},
+                       &why));
+    CHECK(scan.running());
+    const bool ended = e2e::wait_until(
+        [&] {
+            scan.pump();
+            return !scan.running();
+        },
+        120s);
+    REQUIRE(ended);
+    CHECK(scan.exit_status == 0);
+    CHECK(scan.total == 6);
+    CHECK(scan.done == 6);
+    CHECK(scan.progress.find("done, 6 points") != std::string::npos);
+    std::ifstream in(csv);
+    int rows = 0;
+    for (std::string line; std::getline(in, line);) {
+        rows += line.find(',') != std::string::npos && line.find("az") != 0 ? 1 : 0;
+    }
+    CHECK(rows == 6);
+    std::remove(csv.c_str());
+    rmdir(dir_template);
+}
+
+TEST_CASE("the scan launcher reports a program that cannot run and one that fails") {
+    tui::ScanLauncher scan;
+    std::string why;
+    CHECK_FALSE(scan.start("/nonexistent/birdcage-skyscan", {}, &why));
+    CHECK(why.find("cannot run") != std::string::npos);
+    REQUIRE(scan.start("/bin/sh", {"-c", "printf 'birdcage-skyscan: cannot connect to rotctld\\n' >&2; exit 1"}, &why));
+    REQUIRE(e2e::wait_until(
+        [&] {
+            scan.pump();
+            return !scan.running();
+        },
+        10s));
+    CHECK(scan.exit_status == 1);
+    CHECK(scan.progress == "birdcage-skyscan: cannot connect to rotctld");
+}

@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
+# birdcage-tui driven as a person would, in an 80x24 tmux pane, against the stock rotctld with the
+# backend preloaded and the emulated G2 (ctest label `tui`):
+#   1. the dashboard shows the dish's position;
+#   2. `g`, `200 35`, Enter moves the dish there (rotctl confirms) and the screen shows it;
+#   3. rotctld killed: the screen says it is reconnecting; rotctld started again on the same port:
+#      the screen is connected again and shows the position;
+#   4. `q` quits with status 0.
+# Every wait polls the pane against a deadline; the emulator runs 20 times faster than a dish.
+#
+#   test_tui_tmux.sh --tui PROGRAM --sim PROGRAM --backend LIBRARY [--keep]
+# BIRDCAGE_PRELOAD_FIRST (a sanitizer runtime) goes before the backend in rotctld's LD_PRELOAD.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# shellcheck source=scripts/lib.sh
+. "$root/scripts/lib.sh"
+
+tui='' sim='' backend='' keep=0
+while (($#)); do
+    case $1 in
+    --tui) tui=$2; shift 2 ;;
+    --sim) sim=$2; shift 2 ;;
+    --backend) backend=$2; shift 2 ;;
+    --keep) keep=1; shift ;;
+    *) echo "test_tui_tmux.sh: unknown argument '$1'" >&2; exit 2 ;;
+    esac
+done
+[[ -x $tui && -x $sim && -f $backend ]] || { echo "test_tui_tmux.sh: needs --tui, --sim and --backend" >&2; exit 2; }
+command -v tmux >/dev/null || { echo "SKIP: tmux is not installed (scripts/test.sh installs it)"; exit 77; }
+
+time_scale=20
+work=$(mktemp -d /tmp/birdcage-tui-test.XXXXXX)
+socket=$work/tmux.sock
+pids=() rotctld_pid=''
+cleanup() {
+    tmux -S "$socket" kill-server 2>/dev/null || true
+    [[ -n $rotctld_pid ]] && kill "$rotctld_pid" 2>/dev/null
+    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+    wait 2>/dev/null || true
+    if ((keep)); then echo "kept: $work"; else rm -rf "$work"; fi
+}
+trap cleanup EXIT
+
+screen() { tmux -S "$socket" capture-pane -p -t tui; }
+fail() {
+    echo "FAIL: $*"
+    echo "--- the screen:"; screen || true
+    echo "--- rotctld log (tail):"; tail -20 "$work/rotctld.log" 2>/dev/null || true
+    exit 1
+}
+# wait_screen SECONDS REGEX: until the pane shows a line matching REGEX (extended).
+wait_screen() { wait_for "$1" bash -c 'tmux -S "$0" capture-pane -p -t tui | grep -qE -- "$1"' "$socket" "$2"; }
+# The numbers the dashboard shows.
+shown_position() {
+    screen | grep -oE '(Azimuth|Elevation) +-?[0-9.]+ deg' |
+        awk '$1 == "Azimuth" { az = $2 } $1 == "Elevation" { el = $2 } END { if (az != "" && el != "") print az, el }'
+}
+# shows_near AZ EL TOL: the screen's position is within TOL degrees of (AZ, EL) on both axes.
+shows_near() {
+    local az el
+    read -r az el < <(shown_position) || return 1
+    awk -v a="$az" -v e="$el" -v ta="$1" -v te="$2" -v t="$3" 'BEGIN { exit !((a - ta) ^ 2 <= t * t && (e - te) ^ 2 <= t * t) }'
+}
+start_rotctld() {
+    LD_PRELOAD="${BIRDCAGE_PRELOAD_FIRST:+$BIRDCAGE_PRELOAD_FIRST:}$backend" ASAN_OPTIONS=detect_leaks=0 \
+        /usr/bin/rotctld -m 90105 -r "$work/dish.tty" -T 127.0.0.1 -t "$port" -C time_scale=$time_scale \
+        >>"$work/rotctld.log" 2>&1 &
+    rotctld_pid=$!
+    wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$port" || fail "rotctld does not listen on $port"
+}
+
+"$sim" --variant g2 --link "$work/dish.tty" --time-scale $time_scale --az 100 --el 30 >"$work/sim.log" 2>&1 &
+pids+=($!)
+wait_for 10 test -e "$work/dish.tty" || fail "the emulator made no pty"
+port=$(free_port 46100 46400)
+start_rotctld
+
+# The pane runs a shell line that reports the program's exit status and keeps the pane open, so a
+# crash shows on the screen instead of closing it.
+tmux -S "$socket" new-session -d -x 80 -y 24 -s tui \
+    "TERM=xterm $(printf '%q' "$tui") --host 127.0.0.1 --port $port; echo \"birdcage-tui exited \$?\"; sleep 600"
+
+echo "== 1. the dashboard shows the position (the emulated dish starts at 100 30)"
+wait_screen 30 'link: connected' || fail "never connected"
+wait_for 30 shows_near 100 30 0.5 || fail "the dashboard does not show ~100 30"
+echo "   shown: $(shown_position)"
+screen | grep -qE 'Status +' || fail "no status line"
+screen | grep -q 'Info (_):' || fail "no _ info"
+
+echo "== 2. g, 200 35, Enter"
+tmux -S "$socket" send-keys -t tui g
+wait_screen 5 'Go to AZ EL:' || fail "g opened no prompt"
+tmux -S "$socket" send-keys -t tui '200 35' Enter
+wait_screen 10 'Target +200\.00 +35\.00' || fail "the target 200 35 is not shown"
+wait_for 90 shows_near 200 35 0.2 || fail "the screen does not show ~200 35"
+echo "   shown: $(shown_position)"
+read -r az el <<<"$(rotctl -m 2 -r "127.0.0.1:$port" p | tr '\n' ' ')"
+echo "   rotctl p: $az $el"
+awk -v a="$az" -v e="$el" 'BEGIN { exit !((a - 200) ^ 2 <= 0.04 && (e - 35) ^ 2 <= 0.04) }' ||
+    fail "rotctl says the dish is at $az $el, not 200 35"
+
+echo "== 3. rotctld restarts"
+kill "$rotctld_pid"
+wait "$rotctld_pid" 2>/dev/null || true
+rotctld_pid=''
+wait_screen 15 'link: RECONNECTING' || fail "the screen does not say it lost rotctld"
+wait_screen 15 'retrying in' || fail "the screen does not say it retries"
+[[ -z $(shown_position) ]] || fail "a position is shown while rotctld is away"
+screen | sed -n '1,3p'
+start_rotctld
+wait_screen 60 'link: connected' || fail "not connected again after rotctld came back"
+wait_screen 10 'reconnected 1x' || fail "the dashboard does not say it reconnected"
+wait_for 30 shows_near 200 35 0.2 || fail "the position is not shown after the reconnect"
+echo "   shown after the restart: $(shown_position)"
+
+echo "== 4. q quits"
+tmux -S "$socket" send-keys -t tui q
+wait_screen 10 'birdcage-tui exited' || fail "q did not quit"
+screen | grep -q 'birdcage-tui exited 0' || fail "birdcage-tui did not exit with status 0"
+echo "ok"

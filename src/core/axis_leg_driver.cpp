@@ -18,6 +18,7 @@ constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move
 // (a motor may start seconds after the command, docs/tracking.md 1.5): it gets its learnt start-up
 // delay times this, plus the still window; until a leg has timed the axis' start, this long.
 constexpr double startup_margin = 1.5;
+constexpr double under_way_degrees = 0.02;   // as the position model's start (position_model.cpp)
 constexpr auto unlearnt_startup_allowance = 5000ms;
 // With prompts, the reply to a move may wait for the move's end (G2 after-motion acks): this much
 // beyond the leg's budget. Without prompts the reply is the quiet gap after the move's output.
@@ -47,6 +48,7 @@ void AxisLegDriver::reset() {
     pending_.clear();
     in_flight_.reset();
     settling_.reset();
+    unstarted_stop_.reset();
     forget_commands();
 }
 
@@ -158,8 +160,12 @@ std::chrono::milliseconds AxisLegDriver::start_allowance(const Leg& leg) const {
 
 Status AxisLegDriver::send(Leg& leg) {
     const auto estimate = estimated_move_time(c_.profile, leg.axis, distance(leg));
-    // A running axis takes a new target without a fresh start-up delay.
-    leg.from_rest = !(settling_ && settling_->axis == leg.axis);
+    // A running axis takes a new target without a fresh start-up delay, and one still inside the
+    // delay of a leg that ended before it started goes on waiting that one out: neither times it.
+    leg.from_rest = !(settling_ && settling_->axis == leg.axis) && unstarted_stop_ != leg.axis;
+    if (unstarted_stop_ == leg.axis) {
+        unstarted_stop_.reset();
+    }
     leg.budget = estimate * 2 + leg_margin + start_allowance(leg);
     const std::string command = build_axis_move(leg.axis, axis_value(leg.target, leg.axis));
     const auto timeout = c_.profile.prompt_known() ? leg.budget + prompt_after_move_margin : unknown_prompt_send_timeout;
@@ -213,7 +219,25 @@ Status AxisLegDriver::send(Leg& leg) {
     leg.sent_at = c_.now();
     leg.last_change = leg.sent_at;
     leg.last_seen.reset();
+    leg.under_way = false;
     const auto& last = c_.state.last_position;
+    {
+        // The axis still covering the previous leg moves before this one has begun: that motion is
+        // not this leg under way.
+        // It ends anywhere within the arrival tolerance of that leg's end.
+        const bool azimuth = leg.axis == Axis::azimuth;
+        const double goal = azimuth ? leg.mech_az : leg.target.el;
+        leg.unmoved_ref = azimuth ? leg.from_mech : (last ? last->el : goal);
+        leg.under_way_degrees = under_way_degrees;
+        if (settling_ && settling_->axis == leg.axis) {
+            const double previous_end = azimuth ? settling_->mech_az : settling_->target.el;
+            if ((previous_end - leg.unmoved_ref) * (goal - leg.unmoved_ref) > 0.0 &&
+                std::fabs(previous_end - leg.unmoved_ref) < std::fabs(goal - leg.unmoved_ref)) {
+                leg.unmoved_ref = previous_end;
+            }
+            leg.under_way_degrees = std::max(under_way_degrees, c_.profile.arrival_tolerance);
+        }
+    }
     leg.motion = LegMotion{};
     leg.motion.axis = leg.axis;
     leg.motion.start = axis_value(last ? *last : leg.target, leg.axis);
@@ -324,14 +348,20 @@ Status AxisLegDriver::follow() {
     // Readings taken before the axis could have started are not a stall: an axis not yet under way
     // is stopped only once the learnt start-up delay (with margin) is over; one under way, once it
     // has been still for the still window.
-    const bool under_way = leg.motion.first_moving.has_value();
-    const auto unmoved_for = under_way ? still_window : start_allowance(leg);
+    if ((goal - leg.unmoved_ref) * (seen - leg.unmoved_ref) > 0.0 &&
+        std::fabs(seen - leg.unmoved_ref) >= leg.under_way_degrees) {
+        leg.under_way = true;
+    }
+    const auto unmoved_for = leg.under_way ? still_window : start_allowance(leg);
     if (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees) {
         leg.last_seen = seen;
         leg.last_change = t;
     } else if (t - leg.last_change >= still_window && t - leg.sent_at >= unmoved_for) {
         emit(c_.log, LogLevel::warning, "axis " + axis_text(leg.axis) + " stopped at " + degrees_text(seen) +
                                             ", short of " + degrees_text(goal));
+        if (!leg.under_way) {
+            unstarted_stop_ = leg.axis;
+        }
         end_leg("stopped");
         return Status::ok();
     }

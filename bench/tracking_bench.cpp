@@ -9,7 +9,10 @@
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
 //                  [--modes none,leapfrog,predictive,oracle] [--thresholds 0.5,5] [--window SECONDS]
 //                  [--mappings nearest,literal,wrap_manager] [--out DIR] [--passes-dir DIR]
-//                  [--conf KEY=VALUE]...
+//                  [--conf KEY=VALUE]... [--motor-startup-delay S] [--motor-speed AZ,EL] [--motor-accel A]
+//
+// The --motor-* options give every run the emulator's motor dynamics switches (sim/README.md,
+// "motor"): e.g. a Trav'ler that meets the documented timings but starts seconds after each command.
 //
 // --mappings runs every pass under each way the emulated firmware may map an azimuth target onto
 // its travel (docs/firmware.md, "azimuth mapping"); the backend is not told which one it meets.
@@ -106,6 +109,7 @@ struct Options {
     std::string out = "bench-out";
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
     std::vector<std::string> extra_conf;   // --conf key=value: passed to every run as -C key=value
+    birdcage::sim::MotorDynamics motor;    // --motor-*: the emulated motor (default: the variant's)
 };
 
 struct Figures {
@@ -210,6 +214,17 @@ Options parse(int argc, char** argv) {
             o.passes_dir = value();
         } else if (arg == "--conf") {
             o.extra_conf.push_back(value());
+        } else if (arg == "--motor-startup-delay") {
+            o.motor.startup_delay = std::stod(value());
+        } else if (arg == "--motor-speed") {
+            const std::vector<std::string> speeds = split(value());
+            if (speeds.size() != 2) {
+                throw std::runtime_error("--motor-speed: expected AZ,EL");
+            }
+            o.motor.az_velocity = std::stod(speeds[0]);
+            o.motor.el_velocity = std::stod(speeds[1]);
+        } else if (arg == "--motor-accel") {
+            o.motor.accel = std::stod(value());
         } else {
             throw std::runtime_error("unknown argument " + arg + " (see the comment at the top of tracking_bench.cpp)");
         }
@@ -252,6 +267,7 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     dish.start_az = options.window_s > 0.0 ? at_start.az : pass.aos_az();
     dish.start_el = std::clamp(at_start.el, v.el_min, v.el_max);
     dish.az_mapping = spec.mapping;
+    dish.motor = options.motor;
 
     // The backend's clock runs at the emulator's pace (conf time_scale), so its polling and leg
     // chaining happen at the same simulated moments as they would at real time.
@@ -582,6 +598,14 @@ int main(int argc, char** argv) {
                 "parallel%s\n",
                 specs.size(), options.scale, options.scale, options.jobs,
                 options.window_s > 0 ? (", window " + std::to_string(options.window_s) + " s around TCA").c_str() : "");
+    if (options.motor.startup_delay > 0.0 || options.motor.az_velocity || options.motor.accel) {
+        std::printf("motor: start-up delay %g s, speed %s, acceleration %s (emulator's motor switches)\n",
+                    options.motor.startup_delay,
+                    options.motor.az_velocity ? (std::to_string(*options.motor.az_velocity) + "," +
+                                                 std::to_string(options.motor.el_velocity.value_or(0)) + " deg/s").c_str()
+                                              : "the variant's",
+                    options.motor.accel ? (std::to_string(*options.motor.accel) + " deg/s^2").c_str() : "the variant's");
+    }
     std::printf("error = great-circle angle satellite vs true dish direction while the satellite is inside the dish's\n"
                 "elevation limits; preAz = dish AZ travel before the satellite rose to the lowest elevation\n"
                 "(pre-positioning); xtraAz = dish AZ travel beyond the satellite's after that; U = mid-pass unwind\n"

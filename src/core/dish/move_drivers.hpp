@@ -47,6 +47,12 @@ private:
         std::optional<double> last_seen;       // the axis' position at the previous poll
         Clock::time_point last_change{};
         LegMotion motion;   // for the position model (send() starts it, polls add readings)
+        bool from_rest = true;   // the axis was not still covering a previous leg when this one was sent
+        // Where the axis counts as not yet under way towards this leg's end (mechanical azimuth or
+        // elevation): where it stood, or the end of the previous leg it was still covering when
+        // that lies on the way; under_way once a poll shows it past that.
+        double unmoved_ref = 0.0, under_way_degrees = 0.0;
+        bool under_way = false;
     };
 
     Status send(Leg& leg);
@@ -59,6 +65,7 @@ private:
     void finish(std::string_view how);
     void record_reading(AzEl position);
     LegMotion motion_of(const Leg& leg) const;
+    std::chrono::milliseconds start_allowance(const Leg& leg) const;
     void forget_commands();
 
     MoveContext c_;
@@ -68,6 +75,8 @@ private:
     // covering the rest while the other axis' leg runs. Kept until a reading shows it still.
     std::optional<Leg> settling_;
     AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
+    StartupDelays startup_;   // how long each motor took to start on earlier legs: likewise
+    std::optional<Axis> unstarted_stop_;   // the axis whose last leg was declared stopped before it moved
     std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
     Clock::time_point last_poll_{};
     unsigned move_count_ = 0;

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "birdcage_sim/dialect.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "birdcage_version.hpp"
@@ -95,6 +96,9 @@ using birdcage::sim::ReplayMode;
 using birdcage::sim::TravlerPositionLayout;
 
 bool have_variant = false;
+// --dialect: draw the console from --seed (sim/README.md, "Dialects"); other flags override it.
+enum class DialectMode { off, random, describe };
+DialectMode dialect_mode = DialectMode::off;
 
 const std::vector<Flag>& flags()
 {
@@ -106,6 +110,10 @@ const std::vector<Flag>& flags()
              if (!variant) throw UsageError{std::string(f) + ": unknown variant '" + std::string(v) + "'"};
              o.variant = *variant;
              have_variant = true;
+         }},
+        {"--dialect", "random|describe", "draw a console from --seed; describe prints it and exits",
+         [](Options&, auto f, auto v) {
+             dialect_mode = choice<DialectMode>(f, v, {{"random", DialectMode::random}, {"describe", DialectMode::describe}});
          }},
         {"--link", "PATH", "symlink to the pty slave", [](Options& o, auto, auto v) { o.link_path = v; }},
         {"--time-scale", "X", "simulated seconds per real second (> 0)",
@@ -260,9 +268,8 @@ void print_help()
                  "2 usage error.\n";
 }
 
-Options parse(int argc, char** argv)
+Options parse(int argc, char** argv, Options options = {})
 {
-    Options options;
     for (int i = 1; i < argc; ++i) {
         std::string_view arg = argv[i];
         std::optional<std::string_view> inline_value;
@@ -326,6 +333,15 @@ int main(int argc, char** argv)
     if (!have_variant) {
         std::cerr << "birdcage-sim: --variant is required (hal205|g2|hal000|pro|carryout2003; see --help)\n";
         return 2;
+    }
+    if (dialect_mode != DialectMode::off) {
+        // The drawn console first, then every flag again so that an explicit one wins.
+        const birdcage::sim::Dialect dialect = birdcage::sim::draw_dialect(options.variant, options.seed);
+        if (dialect_mode == DialectMode::describe) {
+            std::cout << birdcage::sim::describe_console(dialect);
+            return 0;
+        }
+        options = parse(argc, argv, dialect.options);
     }
 
     // Block the signals before the console thread exists so that only sigwait sees them.

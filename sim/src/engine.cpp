@@ -318,6 +318,8 @@ void Engine::help()
         case HelpLayout::words: print_line(entry.word); break;
         case HelpLayout::one_line:
         case HelpLayout::comma_line:
+        case HelpLayout::labelled_line:
+            if (joined.empty() && options.help_layout == HelpLayout::labelled_line) joined = "Commands:";
             if (!joined.empty()) joined += options.help_layout == HelpLayout::comma_line ? ", " : " ";
             joined += entry.word;
             break;

@@ -215,11 +215,12 @@ const std::vector<Flag>& flags()
              o.travler_position_layout = choice<TravlerPositionLayout>(
                  f, v, {{"one-line", TravlerPositionLayout::one_line}, {"per-axis", TravlerPositionLayout::line_per_axis}});
          }},
-        {"--help-layout", "described|words|one-line|comma-line|colon-table|tab-table", "`?` listing (default described)",
+        {"--help-layout", "described|words|one-line|comma-line|colon-table|tab-table|labelled-line", "`?` listing (default described)",
          [](Options& o, auto f, auto v) {
              o.help_layout = choice<HelpLayout>(f, v, {{"described", HelpLayout::described}, {"words", HelpLayout::words},
                                                       {"one-line", HelpLayout::one_line}, {"comma-line", HelpLayout::comma_line},
-                                                      {"colon-table", HelpLayout::colon_table}, {"tab-table", HelpLayout::tab_table}});
+                                                      {"colon-table", HelpLayout::colon_table}, {"tab-table", HelpLayout::tab_table},
+                                                      {"labelled-line", HelpLayout::labelled_line}});
          }},
         {"--help-upper", "yes|no", "upper-case command words in `?` (default no)", [](Options& o, auto f, auto v) { o.help_upper_case = yes_no(f, v); }},
         {"--boot-line-gap", "S", "simulated seconds between boot lines (default 0.05)",
@@ -240,6 +241,8 @@ const std::vector<Flag>& flags()
          }},
         {"--motor-accel", "A", "acceleration in deg/s^2, both axes (default: the variant's)",
          [](Options& o, auto f, auto v) { o.motor.accel = number_at_least(f, v, 1e-3); }},
+        {"--after-boot-line", "TEXT", "one more line after the last documented boot line (default none)",
+         [](Options& o, auto, auto v) { o.after_boot_line = v; }},
         {"--idle-line", "TEXT", "unsolicited line printed every --idle-line-period", [](Options& o, auto, auto v) { o.idle_line = v; }},
         {"--idle-line-period", "S", "seconds between unsolicited lines (default 0 = never)",
          [](Options& o, auto f, auto v) { o.idle_line_period = number_at_least(f, v, 0.0); }},

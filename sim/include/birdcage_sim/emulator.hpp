@@ -55,6 +55,7 @@ enum class HelpLayout {
     comma_line,   // all words on one line, `, `-separated
     colon_table,  // `a            : Angle ...` (word padded to the longest)
     tab_table,    // `a<TAB>Angle ...`
+    labelled_line,  // `Commands: a g q ?`: a label, then all words on one line (INVENTED label)
     generated,    // drawn by the dialect generator: Options::help_grammar (sim/README.md, "Dialects")
 };
 
@@ -239,6 +240,11 @@ struct Options {
     // once, as travler_init.py needs (it writes right after `NoGPS`, §3.6); nothing in the notes
     // supports a deaf window, it exists to try a client against one.
     double boot_input_drop = 0.0;
+    // One more line after the last documented boot line (G2: after `Loc Startup: ...`; Trav'ler:
+    // after `NoGPS`/`No LNB Voltage`), before the shell's prompt. Empty (default): none. §6.2
+    // says items 1-9 may be abridged and §14 HAL0.5 / G2.7 leave the full boot log open, so a
+    // line no client knows may follow the completion marker.
+    std::string after_boot_line;
     // An unsolicited line every idle_line_period simulated seconds once booted (0 = never, the
     // default: the 2003 Carryout shows a "blank screen" on connect, §8.1, and no G2 transcript
     // shows periodic output). The G2 does print asynchronous lines (`Loc Startup: ...` after

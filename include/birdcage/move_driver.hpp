@@ -36,6 +36,9 @@ struct LegMotion {
     AxisReading latest;
     std::optional<AxisReading> previous, first_moving;
     double pace = 1.0;   // until its readings time it: the axis' pace on legs this long (AxisPaces)
+    // The axis' start-up delay (seconds from the command to the first motion; StartupDelays): 0 for
+    // a leg sent while the axis was still moving (a running motor takes a new target at once).
+    double startup_s = 0.0;
 };
 
 // At most one leg per axis: the one in flight, and the one before it on the other axis while it may

@@ -4,7 +4,9 @@
 // with the reading before it in the same leg, times it (how fast the real axis goes through the
 // curve), so the model follows the dish's pace rather than the table's guess of it: the Trav'lers
 // publish no speed or acceleration (docs/firmware.md 3.4). Paces seen on earlier legs carry over
-// to the next leg of about the same length (AxisPaces), before its own readings time it.
+// to the next leg of about the same length (AxisPaces), before its own readings time it. A motor
+// may also start moving only some time after the command (StartupDelays): the curve then begins
+// that much after the send, and readings before it show an axis not yet started, not a stopped one.
 #pragma once
 
 #include <array>
@@ -44,6 +46,25 @@ private:
     static constexpr int length_classes = 8;   // < 0.25 deg, then doubling up to >= 16 deg
     static int length_class(double distance);
     std::array<std::array<std::optional<double>, length_classes>, 2> paces_{};
+};
+
+// How long each axis takes to start moving after a move command from rest, learnt from the legs'
+// own readings. A leg times its axis' start once a reading shows it under way: the motion began
+// after the reading before it that did not (or the send) and no later than this one, and the
+// motion curve (at the leg's pace) says how long covering what this reading shows took. Kept as
+// an average over legs, so one late reading or a glitch moves it only part of the way.
+class StartupDelays {
+public:
+    // The delay (seconds) to plan with: `initial` until a leg of that axis was timed.
+    double delay(Axis axis, double initial = 0.0) const;
+    bool learnt(Axis axis) const { return delays_[static_cast<std::size_t>(axis)].has_value(); }
+    // The start-up delay the readings of `leg` show, if they show it yet: at the reading that first
+    // shows the axis under way (the latest), for a leg sent with the axis at rest.
+    static std::optional<double> observed(const FirmwareProfile& dish, const LegMotion& leg);
+    void learn(Axis axis, double observed_seconds);
+
+private:
+    std::array<std::optional<double>, 2> delays_{};
 };
 
 }  // namespace birdcage

@@ -246,15 +246,15 @@ void step_positions(Engine& e, const Args&)
 void max_velocity(Engine& e, const Args& args)
 {
     if (args.size() > 1) return;  // setting is accepted but not modelled
-    e.print_line(format("Max Vel [0] = %.2f", e.profile.az.max_velocity));
-    e.print_line(format("Max Vel [1] = %.2f", e.profile.el.max_velocity));
+    e.print_line(format("Max Vel [0] = %.2f", e.motors.axis(axis_az).params().max_velocity));
+    e.print_line(format("Max Vel [1] = %.2f", e.motors.axis(axis_el).params().max_velocity));
 }
 
 void max_accel(Engine& e, const Args& args)
 {
     if (args.size() > 1) return;
-    e.print_line(format("Accel[0] = %.2f", e.profile.az.max_accel));
-    e.print_line(format("Accel[1] = %.2f", e.profile.el.max_accel));
+    e.print_line(format("Accel[0] = %.2f", e.motors.axis(axis_az).params().max_accel));
+    e.print_line(format("Accel[1] = %.2f", e.motors.axis(axis_el).params().max_accel));
 }
 
 void el_min_max_home(Engine& e, const Args&)

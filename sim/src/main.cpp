@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "birdcage_sim/dialect.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "birdcage_version.hpp"
@@ -95,6 +96,9 @@ using birdcage::sim::ReplayMode;
 using birdcage::sim::TravlerPositionLayout;
 
 bool have_variant = false;
+// --dialect: draw the console from --seed (sim/README.md, "Dialects"); other flags override it.
+enum class DialectMode { off, random, describe };
+DialectMode dialect_mode = DialectMode::off;
 
 const std::vector<Flag>& flags()
 {
@@ -106,6 +110,10 @@ const std::vector<Flag>& flags()
              if (!variant) throw UsageError{std::string(f) + ": unknown variant '" + std::string(v) + "'"};
              o.variant = *variant;
              have_variant = true;
+         }},
+        {"--dialect", "random|describe", "draw a console from --seed; describe prints it and exits",
+         [](Options&, auto f, auto v) {
+             dialect_mode = choice<DialectMode>(f, v, {{"random", DialectMode::random}, {"describe", DialectMode::describe}});
          }},
         {"--link", "PATH", "symlink to the pty slave", [](Options& o, auto, auto v) { o.link_path = v; }},
         {"--time-scale", "X", "simulated seconds per real second (> 0)",
@@ -223,6 +231,16 @@ const std::vector<Flag>& flags()
          [](Options& o, auto f, auto v) { o.late_boot_line_delay = number_at_least(f, v, 0.0); }},
         {"--boot-input-drop-ms", "MS", "input dropped this long after the last boot line (default 0)",
          [](Options& o, auto f, auto v) { o.boot_input_drop = number_at_least(f, v, 0.0) / 1000.0; }},
+        {"--motor-startup-delay", "S", "seconds from a move command to the first motion (default 0)",
+         [](Options& o, auto f, auto v) { o.motor.startup_delay = number_at_least(f, v, 0.0); }},
+        {"--motor-speed", "AZ,EL", "top speeds in deg/s (default: the variant's)", [](Options& o, auto f, auto v) {
+             const auto comma = v.find(',');
+             if (comma == std::string_view::npos) throw UsageError{std::string(f) + ": expected AZ,EL"};
+             o.motor.az_velocity = number_at_least(f, v.substr(0, comma), 1e-3);
+             o.motor.el_velocity = number_at_least(f, v.substr(comma + 1), 1e-3);
+         }},
+        {"--motor-accel", "A", "acceleration in deg/s^2, both axes (default: the variant's)",
+         [](Options& o, auto f, auto v) { o.motor.accel = number_at_least(f, v, 1e-3); }},
         {"--after-boot-line", "TEXT", "one more line after the last documented boot line (default none)",
          [](Options& o, auto, auto v) { o.after_boot_line = v; }},
         {"--idle-line", "TEXT", "unsolicited line printed every --idle-line-period", [](Options& o, auto, auto v) { o.idle_line = v; }},
@@ -253,9 +271,8 @@ void print_help()
                  "2 usage error.\n";
 }
 
-Options parse(int argc, char** argv)
+Options parse(int argc, char** argv, Options options = {})
 {
-    Options options;
     for (int i = 1; i < argc; ++i) {
         std::string_view arg = argv[i];
         std::optional<std::string_view> inline_value;
@@ -319,6 +336,15 @@ int main(int argc, char** argv)
     if (!have_variant) {
         std::cerr << "birdcage-sim: --variant is required (hal205|g2|hal000|pro|carryout2003; see --help)\n";
         return 2;
+    }
+    if (dialect_mode != DialectMode::off) {
+        // The drawn console first, then every flag again so that an explicit one wins.
+        const birdcage::sim::Dialect dialect = birdcage::sim::draw_dialect(options.variant, options.seed);
+        if (dialect_mode == DialectMode::describe) {
+            std::cout << birdcage::sim::describe_console(dialect);
+            return 0;
+        }
+        options = parse(argc, argv, dialect.options);
     }
 
     // Block the signals before the console thread exists so that only sigwait sees them.

@@ -72,12 +72,19 @@ Axis::Axis(AxisParams params, double position)
 void Axis::move_to(double target)
 {
     target_ = quantize_to_steps(std::clamp(target, params_.min, params_.max), params_.steps_per_rev);
+    if (!moving_) delay_left_ = params_.startup_delay;
     moving_ = true;
 }
 
 void Axis::stop()
 {
     if (!moving_) return;
+    if (delay_left_ > 0.0) {  // not started yet: nothing to ramp down
+        target_ = position_;
+        delay_left_ = 0.0;
+        moving_ = false;
+        return;
+    }
     const double stopping_distance = velocity_ * std::abs(velocity_) / (2.0 * params_.max_accel);
     target_ = std::clamp(position_ + stopping_distance, params_.min, params_.max);
 }
@@ -88,6 +95,7 @@ void Axis::set_position(double position)
     target_ = position;
     velocity_ = 0.0;
     moving_ = false;
+    delay_left_ = 0.0;
 }
 
 double Axis::move_time(const AxisParams& params, double distance)
@@ -95,8 +103,8 @@ double Axis::move_time(const AxisParams& params, double distance)
     const double d = std::abs(distance);
     const double v = params.max_velocity;
     const double a = params.max_accel;
-    if (d <= v * v / a) return 2.0 * std::sqrt(d / a);
-    return d / v + v / a;
+    if (d <= v * v / a) return params.startup_delay + 2.0 * std::sqrt(d / a);
+    return params.startup_delay + d / v + v / a;
 }
 
 // Piecewise-analytic integration: each pass of the loop runs one phase (brake, accelerate,
@@ -109,6 +117,11 @@ double Axis::advance(double dt)
         position_ += velocity_ * t + 0.5 * acceleration * t * t;
         velocity_ += acceleration * t;
     };
+    if (moving_ && delay_left_ > 0.0) {
+        const double waited = std::min(dt, delay_left_);
+        delay_left_ -= waited;
+        dt -= waited;
+    }
     for (int phase = 0; moving_ && dt > 0.0 && phase < 32; ++phase) {
         const double offset = target_ - position_;
         const double direction = offset >= 0.0 ? 1.0 : -1.0;

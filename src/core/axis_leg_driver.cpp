@@ -14,6 +14,11 @@ constexpr auto query_timeout = 2000ms;        // `a`: ~60 bytes even at 57600 ba
 constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (docs/tracking.md 1.2)
 constexpr auto still_window = 2000ms;         // an axis unchanged this long has stopped
 constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
+// An axis that has not moved since its command is not stopped while it may still be starting
+// (a motor may start seconds after the command, docs/tracking.md 1.5): it gets its learnt start-up
+// delay times this, plus the still window; until a leg has timed the axis' start, this long.
+constexpr double startup_margin = 1.5;
+constexpr auto unlearnt_startup_allowance = 5000ms;
 // With prompts, the reply to a move may wait for the move's end (G2 after-motion acks): this much
 // beyond the leg's budget. Without prompts the reply is the quiet gap after the move's output.
 constexpr auto prompt_after_move_margin = 2000ms;
@@ -142,9 +147,20 @@ double AxisLegDriver::distance(const Leg& leg) const {
     return std::fabs(leg.target.el - c_.state.last_position->el);
 }
 
+// Also for a leg sent while the axis may still have been settling: it may have come to rest since.
+std::chrono::milliseconds AxisLegDriver::start_allowance(const Leg& leg) const {
+    if (!startup_.learnt(leg.axis)) {
+        return std::max(still_window, unlearnt_startup_allowance);
+    }
+    const auto delay = std::chrono::duration<double>(startup_margin * startup_.delay(leg.axis));
+    return std::chrono::duration_cast<std::chrono::milliseconds>(delay) + still_window;
+}
+
 Status AxisLegDriver::send(Leg& leg) {
     const auto estimate = estimated_move_time(c_.profile, leg.axis, distance(leg));
-    leg.budget = estimate * 2 + leg_margin;
+    // A running axis takes a new target without a fresh start-up delay.
+    leg.from_rest = !(settling_ && settling_->axis == leg.axis);
+    leg.budget = estimate * 2 + leg_margin + start_allowance(leg);
     const std::string command = build_axis_move(leg.axis, axis_value(leg.target, leg.axis));
     const auto timeout = c_.profile.prompt_known() ? leg.budget + prompt_after_move_margin : unknown_prompt_send_timeout;
     ReplyComplete complete;
@@ -305,10 +321,15 @@ Status AxisLegDriver::follow() {
         end_leg("arrived");
         return Status::ok();
     }
+    // Readings taken before the axis could have started are not a stall: an axis not yet under way
+    // is stopped only once the learnt start-up delay (with margin) is over; one under way, once it
+    // has been still for the still window.
+    const bool under_way = leg.motion.first_moving.has_value();
+    const auto unmoved_for = under_way ? still_window : start_allowance(leg);
     if (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees) {
         leg.last_seen = seen;
         leg.last_change = t;
-    } else if (t - leg.last_change >= still_window && t - leg.sent_at >= still_window) {
+    } else if (t - leg.last_change >= still_window && t - leg.sent_at >= unmoved_for) {
         emit(c_.log, LogLevel::warning, "axis " + axis_text(leg.axis) + " stopped at " + degrees_text(seen) +
                                             ", short of " + degrees_text(goal));
         end_leg("stopped");
@@ -378,6 +399,17 @@ void AxisLegDriver::record_reading(AzEl position) {
     if (in_flight_) {
         LegMotion& motion = in_flight_->motion;
         add_reading(motion, AxisReading{axis_value(position, motion.axis), at});
+        if (in_flight_->from_rest) {
+            motion.pace = paces_.pace(motion.axis, axis_error(motion.axis, motion.start, motion.to));
+            if (const auto delay = StartupDelays::observed(c_.profile, motion)) {
+                startup_.learn(motion.axis, *delay);
+                emit(c_.log, LogLevel::verbose, "axis " + axis_text(motion.axis) + " started " +
+                                                    std::to_string(static_cast<int>(*delay * 1000)) +
+                                                    " ms after its command (learnt " +
+                                                    std::to_string(static_cast<int>(startup_.delay(motion.axis) * 1000)) +
+                                                    " ms)");
+            }
+        }
         if (const auto pace = observed_pace(c_.profile, motion)) {
             paces_.learn(motion.axis, axis_error(motion.axis, motion.start, motion.to), *pace);
         }
@@ -396,6 +428,7 @@ void AxisLegDriver::record_reading(AzEl position) {
 LegMotion AxisLegDriver::motion_of(const Leg& leg) const {
     LegMotion motion = leg.motion;
     motion.pace = paces_.pace(motion.axis, axis_error(motion.axis, motion.start, motion.to));
+    motion.startup_s = leg.from_rest ? startup_.delay(motion.axis) : 0.0;
     return motion;
 }
 

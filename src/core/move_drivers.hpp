@@ -44,6 +44,7 @@ private:
         std::optional<double> last_seen;       // the axis' position at the previous poll
         Clock::time_point last_change{};
         LegMotion motion;   // for the position model (send() starts it, polls add readings)
+        bool from_rest = true;   // the axis was not still covering a previous leg when this one was sent
     };
 
     Status send(Leg& leg);
@@ -56,6 +57,7 @@ private:
     void finish(std::string_view how);
     void record_reading(AzEl position);
     LegMotion motion_of(const Leg& leg) const;
+    std::chrono::milliseconds start_allowance(const Leg& leg) const;
     void forget_commands();
 
     MoveContext c_;
@@ -65,6 +67,7 @@ private:
     // covering the rest while the other axis' leg runs. Kept until a reading shows it still.
     std::optional<Leg> settling_;
     AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
+    StartupDelays startup_;   // how long each motor took to start on earlier legs: likewise
     std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
     Clock::time_point last_poll_{};
     unsigned move_count_ = 0;

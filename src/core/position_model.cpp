@@ -17,6 +17,11 @@ constexpr double timing_degrees = 0.1;
 constexpr double min_pace = 0.25, max_pace = 4.0;
 // Weight of the newest observation in a learnt pace (an average over a few legs).
 constexpr double pace_smoothing = 0.3;
+// A start-up delay beyond this is not believed: it is a motor that did not start, or a reading
+// that came late, and the leg's own timeout deals with it.
+constexpr double max_startup_s = 10.0;
+// Weight of the newest observation in a learnt start-up delay.
+constexpr double startup_smoothing = 0.3;
 constexpr int inversion_steps = 40;   // bisection on a move of <= 20 s: well under a microsecond
 
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
@@ -60,11 +65,15 @@ double modelled_axis(const FirmwareProfile& dish, const LegMotion& leg, Clock::t
     auto done = [&](double value) { return curve.done(value); };
 
     const double prior = std::clamp(leg.pace, min_pace, max_pace);
+    // Before its learnt start-up delay has run out the axis has not started; once a reading showed
+    // it still unstarted after that, the start is no earlier than that reading.
+    const double expected_start_s = std::max(leg.startup_s, 0.0);
     double model_time = 0.0;
     if (leg.latest.at <= leg.sent_at) {
-        model_time = prior * seconds(now - leg.sent_at);   // no reading since the leg was sent
+        model_time = prior * std::max(0.0, seconds(now - leg.sent_at) - expected_start_s);   // no reading since the send
     } else if (const double latest = done(leg.latest.value); latest < started_degrees) {
-        model_time = prior * seconds(now - leg.latest.at);   // not moving yet when last read
+        const double since_start = std::min(seconds(now - leg.sent_at) - expected_start_s, seconds(now - leg.latest.at));
+        model_time = prior * std::max(0.0, since_start);   // not moving yet when last read
     } else {
         const double pace = observed_pace(dish, leg).value_or(prior);
         model_time = time_at(dish, leg.axis, distance, latest, total) + pace * seconds(now - leg.latest.at);
@@ -125,6 +134,37 @@ double AxisPaces::pace(Axis axis, double distance) const {
 void AxisPaces::learn(Axis axis, double distance, double observed) {
     auto& pace = paces_[static_cast<std::size_t>(axis)][static_cast<std::size_t>(length_class(distance))];
     pace = pace ? (1.0 - pace_smoothing) * *pace + pace_smoothing * observed : observed;
+}
+
+std::optional<double> StartupDelays::observed(const FirmwareProfile& dish, const LegMotion& leg) {
+    if (!leg.first_moving || leg.first_moving->at != leg.latest.at || leg.first_moving->at <= leg.sent_at) {
+        return std::nullopt;
+    }
+    const LegCurve curve(dish, leg);
+    if (curve.distance < started_degrees || curve.total <= 0.0) {
+        return std::nullopt;
+    }
+    // The motion began in (earliest, latest]: after the last reading of this leg that did not show
+    // it (or the send), by the reading that does.
+    const double latest = seconds(leg.first_moving->at - leg.sent_at);
+    const double earliest =
+        leg.previous && leg.previous->at > leg.sent_at && leg.previous->at < leg.first_moving->at
+            ? seconds(leg.previous->at - leg.sent_at)
+            : 0.0;
+    const double pace = std::clamp(leg.pace, min_pace, max_pace);
+    const double covering =
+        time_at(dish, leg.axis, curve.distance, curve.done(leg.first_moving->value), curve.total) / pace;
+    return std::clamp(latest - covering, earliest, latest);
+}
+
+double StartupDelays::delay(Axis axis, double initial) const {
+    return delays_[static_cast<std::size_t>(axis)].value_or(initial);
+}
+
+void StartupDelays::learn(Axis axis, double observed_seconds) {
+    const double bounded = std::clamp(observed_seconds, 0.0, max_startup_s);
+    auto& delay = delays_[static_cast<std::size_t>(axis)];
+    delay = delay ? (1.0 - startup_smoothing) * *delay + startup_smoothing * bounded : bounded;
 }
 
 AzEl modelled_position(const FirmwareProfile& dish, AzEl last, const MovingAxes& moving, Clock::time_point now) {

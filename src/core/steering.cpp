@@ -38,6 +38,15 @@ Clock::duration seconds(double s) {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
 }
 
+// One step's aims with each axis' leg taken to end `az_step_s` / `el_step_s` from now; legs_both:
+// both axes move in it.
+struct AimedStep {
+    std::optional<SteeringDecision> decision;
+    bool legs_both = false;
+};
+std::optional<AimedStep> aim_axes(const SteeringInput& in, const Prediction& current, double az_step_s,
+                                  double el_step_s, double deadband_az, double deadband_el, bool above_cap);
+
 }  // namespace
 
 std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
@@ -87,12 +96,40 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         deadband_az *= widen_factor;
         deadband_el *= widen_factor;
     }
-    const auto az_at = in.predictor.predict(in.now + seconds(step_time(Axis::azimuth, 2 * deadband_az)));
-    const auto el_at = in.predictor.predict(in.now + seconds(step_time(Axis::elevation, 2 * deadband_el)));
+    // Each axis is aimed at where the satellite will be when its leg ends. The legs of one step run
+    // one after the other (one axis moves at a time), so when both axes move, the step ends only
+    // after both legs: both are then aimed at that moment (on a motor that starts seconds after
+    // each command, aiming each at the end of its own leg alone left the second one a leg behind).
+    const double az_step_s = step_time(Axis::azimuth, 2 * deadband_az);
+    const double el_step_s = step_time(Axis::elevation, 2 * deadband_el);
+    const auto aimed = aim_axes(in, *current, az_step_s, el_step_s, deadband_az, deadband_el, above_cap);
+    if (!aimed || !aimed->legs_both) {
+        return aimed ? aimed->decision : std::nullopt;
+    }
+    const double step_s = az_step_s + el_step_s;
+    return aim_axes(in, *current, step_s, step_s, deadband_az, deadband_el, above_cap)
+        .value_or(*aimed)
+        .decision;
+}
+
+namespace {
+
+std::optional<AimedStep> aim_axes(const SteeringInput& in, const Prediction& current, double az_step_s,
+                                  double el_step_s, double deadband_az, double deadband_el, bool above_cap) {
+    auto clamp_el = [&](double el) { return std::clamp(el, in.el_min, in.el_max); };
+    auto move_time = [&](Axis axis, double degrees) {
+        return std::chrono::duration<double>(estimated_move_time(in.dish, axis, degrees)).count();
+    };
+    const double az_rate = std::fabs(current.az_rate);
+    const double el_rate = above_cap || current.position.el >= in.el_max || current.position.el <= in.el_min
+                               ? 0.0
+                               : std::fabs(current.el_rate);
+    const auto az_at = in.predictor.predict(in.now + seconds(az_step_s));
+    const auto el_at = in.predictor.predict(in.now + seconds(el_step_s));
     if (!az_at || !el_at) {
         return std::nullopt;
     }
-    AzEl next = in.aim.value_or(in.dish_position.value_or(current->position));
+    AzEl next = in.aim.value_or(in.dish_position.value_or(current.position));
     bool changed = !in.aim;
     // Signed along-motion distance of the satellite past the aim: re-aim at +deadband, or when
     // the estimate jumped so that the aim is far off either way.
@@ -102,13 +139,13 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         }
         return past >= deadband || past < -behind_deadbands * deadband;
     };
-    const double az_sign = current->az_rate >= 0 ? 1.0 : -1.0;
+    const double az_sign = current.az_rate >= 0 ? 1.0 : -1.0;
     const double az_past = azimuth_difference(next.az, az_at->position.az) * az_sign;
     if (changed || re_aim(az_past, az_rate, deadband_az)) {
         next.az = normalize_azimuth(az_at->position.az + (az_rate < still_rate_dps ? 0.0 : az_sign * deadband_az));
         changed = true;
     }
-    const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
+    const double el_sign = current.el_rate >= 0 ? 1.0 : -1.0;
     const double el_wanted = above_cap ? in.el_max : clamp_el(el_at->position.el);
     const double el_past = (el_wanted - next.el) * el_sign;
     if (changed || re_aim(el_past, el_rate, deadband_el)) {
@@ -116,17 +153,22 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         changed = true;
     }
     if (!changed) {
-        return std::nullopt;
+        return AimedStep{std::nullopt, false};
     }
-    SteeringDecision decision{next, current->az_rate, false, 0, 0.0};
+    SteeringDecision decision{next, current.az_rate, false, 0, 0.0};
+    const AzEl from = in.aim.value_or(in.dish_position.value_or(current.position));
+    const bool az_moves = std::fabs(azimuth_difference(from.az, next.az)) > same_angle_degrees;
+    const bool el_moves = std::fabs(next.el - from.el) > same_angle_degrees;
     if (in.aim) {
         const double az_move = std::fabs(azimuth_difference(in.aim->az, next.az));
         const double el_move = std::fabs(next.el - in.aim->el);
         decision.legs = (az_move > same_angle_degrees ? 1 : 0) + (el_move > same_angle_degrees ? 1 : 0);
         decision.motion_s = move_time(Axis::azimuth, az_move) + move_time(Axis::elevation, el_move);
     }
-    return decision;
+    return AimedStep{decision, az_moves && el_moves};
 }
+
+}  // namespace
 
 // Before the estimate has a rate one case is already clear: a client following a satellite that
 // is still below or near the dish's lowest elevation moves the dish, waiting there, a small step

@@ -120,12 +120,22 @@ std::vector<std::string> FakeTravler::respond(const std::string& command) {
     if (!words.empty() && words[0] == "?") {
         out += "a - show position\r\na <id> <deg> - move one motor\r\ng <az> <el> <sk> - go\r\nq - quit menu\r\n";
     } else if (!words.empty() && words[0] == "a" && words.size() == 1) {
-        az = approach(az, target_az, step_per_query);
-        el = approach(el, target_el, step_per_query);
+        for (int axis = 0; axis < 2; ++axis) {
+            double& value = axis == 0 ? az : el;
+            if (queries_until_start[axis] > 0) {
+                --queries_until_start[axis];
+            } else {
+                value = approach(value, axis == 0 ? target_az : target_el, step_per_query);
+            }
+        }
         out += "AZ = " + two_decimals(az) + "\r\nEL = " + two_decimals(el) + "\r\nSK = 0.00\r\n";
     } else if (!words.empty() && words[0] == "a" && words.size() == 3) {
         const double value = std::stod(words[2]);
-        (words[1] == "0" ? target_az : target_el) = value;
+        const int axis = words[1] == "0" ? 0 : 1;
+        if ((axis == 0 ? az == target_az : el == target_el) && value != (axis == 0 ? az : el)) {
+            queries_until_start[axis] = startup_queries;
+        }
+        (axis == 0 ? target_az : target_el) = value;
     }
     if (out.empty()) {
         return {};

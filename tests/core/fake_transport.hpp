@@ -3,6 +3,7 @@
 // Transport contract allows ("timeout at the deadline"), so tests are fast and deterministic.
 #pragma once
 
+#include <array>
 #include <deque>
 #include <functional>
 #include <map>
@@ -67,6 +68,9 @@ struct FakeTravler {
     double target_az = 90.0, target_el = 30.0;
     double step_per_query = 1000.0;
     bool echo = true;
+    // A motor that starts late: an axis at rest sent a move stays put for this many `a` queries.
+    int startup_queries = 0;
+    std::array<int, 2> queries_until_start{};
     std::vector<std::string> respond(const std::string& command);
 };
 

@@ -411,6 +411,51 @@ TEST_CASE("controller HAL 2.05: an axis that arrived within tolerance stays mode
     CHECK(controller.last_position()->az == Approx(91.0));
 }
 
+TEST_CASE("controller HAL 2.05: a motor that starts seconds after each command is waited for, not re-sent") {
+    // Each axis at rest stays put for 2.5 s of polls after its command, then runs 1 deg per poll.
+    FakeTravler dish;
+    dish.step_per_query = 1.0;
+    dish.startup_queries = 25;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    auto options = options_for(VariantId::travler_hal205, clock);
+    std::vector<std::string> warnings;
+    options.log = [&](LogLevel level, const std::string& m) {
+        if (level == LogLevel::warning) {
+            warnings.push_back(m);
+        }
+    };
+    Controller controller(wire, options);
+    REQUIRE(controller.initialize());
+    for (int step = 1; step <= 3; ++step) {
+        const AzEl target{90.0 + 10.0 * step, 30.0 + 2.0 * step};
+        const std::size_t mark = wire.commands().size();
+        REQUIRE(controller.set_target(target));
+        if (step > 1) {
+            // The delay is learnt: 1.5 s after the first command `p` still has the axis at its start.
+            for (int polls = 0; polls < 15; ++polls) {
+                clock.now += 100ms;
+                REQUIRE(controller.service());
+            }
+            const MovingAxes moving = controller.moving_axes();
+            REQUIRE(!moving.empty());
+            const AzEl modelled = modelled_position(controller.profile(), *controller.last_position(), moving, clock.now);
+            CHECK(modelled.az == Approx(target.az - 10.0).margin(0.05));
+            CHECK(modelled.el == Approx(target.el - 2.0).margin(0.05));
+        }
+        run_until_idle(controller, clock);
+        const Commands sent = since(wire, mark);
+        INFO("step " << step << ": " << Catch::Detail::stringify(sent));
+        CHECK(std::count_if(sent.begin(), sent.end(), [](const std::string& c) { return c.rfind("a 0 ", 0) == 0; }) == 1);
+        CHECK(std::count_if(sent.begin(), sent.end(), [](const std::string& c) { return c.rfind("a 1 ", 0) == 0; }) == 1);
+        CHECK(controller.last_position()->az == Approx(target.az).margin(0.2));
+        CHECK(controller.last_position()->el == Approx(target.el).margin(0.2));
+    }
+    INFO(Catch::Detail::stringify(warnings));
+    CHECK(std::none_of(warnings.begin(), warnings.end(),
+                       [](const std::string& m) { return m.find("stopped at") != std::string::npos; }));
+}
+
 TEST_CASE("controller Carryout 2003: target + g, listens during the move, reports honestly") {
     std::vector<std::string> moves;
     FakeTransport wire([&](const std::string& c) {

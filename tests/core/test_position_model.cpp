@@ -147,3 +147,123 @@ TEST_CASE("position model: paces are learnt per axis and per leg length") {
     }
     CHECK(paces.pace(Axis::azimuth, 0.6) == Approx(0.8).margin(1e-3));   // follows the motor as it changes
 }
+
+namespace {
+
+// A motor that starts `delay_s` after a command from rest, then runs a trapezoid (speed, accel):
+// degrees covered `t` seconds after the command, on a move of `distance`.
+struct DelayedMotor {
+    double delay_s, speed, accel;
+    double covered(double distance, double t) const {
+        const double run = t - delay_s;
+        if (run <= 0.0) {
+            return 0.0;
+        }
+        const double ramp = std::min(speed / accel, std::sqrt(distance / accel));
+        const double total = ramp * 2.0 + std::max(0.0, distance - accel * ramp * ramp) / speed;
+        if (run >= total) {
+            return distance;
+        }
+        if (run <= ramp) {
+            return 0.5 * accel * run * run;
+        }
+        if (total - run <= ramp) {
+            return distance - 0.5 * accel * (total - run) * (total - run);
+        }
+        return 0.5 * accel * ramp * ramp + accel * ramp * (run - ramp);
+    }
+};
+
+// One leg read every 100 ms from `phase_s` after the send, readings rounded to 0.01 deg plus
+// `noise` (deg, alternating sign): the delay the leg shows, if any, through StartupDelays::observed.
+std::optional<double> leg_startup(const FirmwareProfile& dish, const DelayedMotor& motor, double distance,
+                                  double phase_s, double noise) {
+    LegMotion leg = leg_from(Axis::elevation, 20.0, 20.0 + distance, t0);
+    std::optional<double> seen;
+    for (int i = 0; i < 200 && !seen; ++i) {
+        const double t = phase_s + 0.1 * i;
+        const double wobble = (i % 2 == 0 ? noise : -noise);
+        const double value = std::round((20.0 + motor.covered(distance, t) + wobble) * 100.0) / 100.0;
+        add_reading(leg, AxisReading{value, t0 + std::chrono::duration_cast<Clock::duration>(
+                                                       std::chrono::duration<double>(t))});
+        seen = StartupDelays::observed(dish, leg);
+    }
+    return seen;
+}
+
+}  // namespace
+
+TEST_CASE("position model: start-up delays converge from a leg's own readings, whatever its length and phase") {
+    const FirmwareProfile& hal205 = profile(VariantId::travler_hal205);
+    // Motors meeting the documented Trav'ler timings in different ways (docs/firmware.md 3.4).
+    const DelayedMotor motor = GENERATE(DelayedMotor{2.0, 8.0, 3.0}, DelayedMotor{0.0, 20.0, 2.0},
+                                        DelayedMotor{1.0, 10.0, 20.0}, DelayedMotor{3.5, 12.0, 6.0});
+    CAPTURE(motor.delay_s, motor.speed, motor.accel);
+    const double latest_start_shown = std::sqrt(2.0 * 0.02 / motor.accel) + 0.1;
+    StartupDelays delays;
+    CHECK_FALSE(delays.learnt(Axis::elevation));
+    CHECK(delays.delay(Axis::elevation, 0.25) == 0.25);   // the initial guess until a leg is timed
+    const double distances[] = {0.5, 10.0, 2.0, 30.0, 1.0, 5.0, 0.3, 60.0};
+    for (int i = 0; i < 8; ++i) {
+        const auto observed = leg_startup(hal205, motor, distances[i], 0.013 * i, 0.0);
+        REQUIRE(observed);
+        // One leg alone places the start between the last reading that did not show the axis under
+        // way and the first that did: up to 100 ms after the true start plus the time the motor
+        // takes to cover the 0.02 deg that counts as under way (slow to accelerate, slow to show).
+        CHECK(*observed >= motor.delay_s - 0.05);
+        CHECK(*observed <= motor.delay_s + latest_start_shown);
+        delays.learn(Axis::elevation, *observed);
+    }
+    CHECK(delays.learnt(Axis::elevation));
+    CHECK(delays.delay(Axis::elevation) >= motor.delay_s - 0.05);
+    CHECK(delays.delay(Axis::elevation) <= motor.delay_s + latest_start_shown);
+    CHECK_FALSE(delays.learnt(Axis::azimuth));   // per axis
+}
+
+TEST_CASE("position model: a noisy reading or a late one moves a learnt start-up delay only part of the way") {
+    const FirmwareProfile& hal205 = profile(VariantId::travler_hal205);
+    const DelayedMotor motor{2.0, 8.0, 3.0};
+    StartupDelays delays;
+    for (int i = 0; i < 6; ++i) {
+        const auto observed = leg_startup(hal205, motor, 10.0, 0.05, 0.004);   // below the 0.02 deg start
+        REQUIRE(observed);
+        delays.learn(Axis::azimuth, *observed);
+    }
+    CHECK(delays.delay(Axis::azimuth) == Approx(2.0).margin(0.12));
+    // A reading held up for 3 s (a busy line): the leg shows a 5 s start; one such leg does not
+    // make the motor a 5 s one, and an absurd one is bounded.
+    delays.learn(Axis::azimuth, 5.0);
+    CHECK(delays.delay(Axis::azimuth) < 3.2);
+    delays.learn(Axis::azimuth, 1e6);
+    CHECK(delays.delay(Axis::azimuth) < 6.0);
+}
+
+TEST_CASE("position model: readings before the axis started say nothing of the start, the first under way does") {
+    const FirmwareProfile& hal205 = profile(VariantId::travler_hal205);
+    LegMotion leg = leg_from(Axis::azimuth, 100.0, 110.0, t0);
+    for (int i = 1; i <= 15; ++i) {   // 1.5 s of readings at the start position
+        add_reading(leg, AxisReading{100.0, t0 + i * 100ms});
+        CHECK_FALSE(StartupDelays::observed(hal205, leg));
+    }
+    add_reading(leg, AxisReading{100.05, t0 + 1600ms});
+    const auto observed = StartupDelays::observed(hal205, leg);
+    REQUIRE(observed);
+    CHECK(*observed >= 1.5);     // not before the last reading that showed it unmoved
+    CHECK(*observed <= 1.6);
+    add_reading(leg, AxisReading{100.3, t0 + 1700ms});
+    CHECK_FALSE(StartupDelays::observed(hal205, leg));   // timed once per leg
+}
+
+TEST_CASE("position model: a leg on a motor that starts late stays at its start until the learnt delay is over") {
+    const FirmwareProfile& hal205 = profile(VariantId::travler_hal205);
+    LegMotion leg = leg_from(Axis::azimuth, 100.0, 110.0, t0);
+    const double undelayed_at_1s = modelled_axis(hal205, leg, t0 + 1s);
+    CHECK(undelayed_at_1s > 100.1);   // without a delay the model has it moving a second in
+    leg.startup_s = 2.0;
+    CHECK(modelled_axis(hal205, leg, t0 + 1s) == Approx(100.0));
+    CHECK(modelled_axis(hal205, leg, t0 + 3s) == Approx(undelayed_at_1s));
+    // A reading still at the start 2.5 s in: the start is no earlier than that reading.
+    add_reading(leg, AxisReading{100.0, t0 + 2500ms});
+    CHECK(modelled_axis(hal205, leg, t0 + 2500ms) == Approx(100.0));
+    CHECK(modelled_axis(hal205, leg, t0 + 3500ms) == Approx(undelayed_at_1s));
+}

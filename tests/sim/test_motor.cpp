@@ -163,3 +163,43 @@ TEST_CASE("Trav'ler motion is in the range of the empirical time fit", "[motor]"
     CHECK(average_180 > 6.0);
     CHECK(average_180 < 11.0);
 }
+
+TEST_CASE("A motor with a start-up delay holds still and then runs its trapezoid", "[motor]")
+{
+    // A brisker motor that starts 2 s late meets the documented timings (docs/firmware.md §3.4:
+    // about 6 s for 10 degrees, 13.5 s for 90), which is why the delay is a parameter of its own.
+    AxisParams late{20.0, 3.0, 0.0, 455.0, 0};
+    late.startup_delay = 2.0;
+    Axis axis(late, 100.0);
+    axis.move_to(190.0);
+    CHECK(axis.advance(1.9) == 0.0);
+    CHECK(axis.position() == 100.0);
+    CHECK(axis.moving());
+    axis.advance(0.2);
+    CHECK(axis.position() > 100.0);
+    CHECK(axis.position() < 100.1);
+    const double total = 2.1 + time_to_rest(axis);
+    CHECK(total == Approx(Axis::move_time(late, 90.0)).margin(0.003));
+    CHECK(Axis::move_time(late, 90.0) == Approx(13.5).epsilon(0.05));
+    CHECK(Axis::move_time(late, 10.0) == Approx(6.0).epsilon(0.1));
+    CHECK(axis.position() == Approx(190.0).margin(1e-9));
+
+    SECTION("a new target while under way does not wait again")
+    {
+        axis.move_to(250.0);
+        axis.advance(2.5);
+        const double under_way = axis.position();
+        CHECK(under_way > 190.0);
+        axis.move_to(260.0);
+        axis.advance(0.1);
+        CHECK(axis.position() > under_way);
+    }
+    SECTION("a stop before the first motion leaves the axis where it was")
+    {
+        axis.move_to(250.0);
+        axis.advance(1.0);
+        axis.stop();
+        CHECK_FALSE(axis.moving());
+        CHECK(axis.position() == Approx(190.0));
+    }
+}

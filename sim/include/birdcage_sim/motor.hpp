@@ -16,6 +16,10 @@ struct AxisParams {
     double min;           // mechanical travel, deg (targets are clamped into it)
     double max;
     int steps_per_rev;    // 0 = continuous; otherwise targets snap to whole steps (docs/firmware.md §6.4)
+    // Seconds between a move command to an axis at rest and its first motion (relay, driver
+    // wake-up, firmware latency). docs/firmware.md gives only whole-move timings, so a motor that
+    // starts late and then runs faster fits them as well as one that starts at once.
+    double startup_delay = 0.0;
 };
 
 // Snaps an angle to the nearest whole motor step; identity when steps_per_rev is 0.
@@ -53,7 +57,8 @@ public:
     bool moving() const { return moving_; }
     const AxisParams& params() const { return params_; }
 
-    // Time a move of `distance` degrees takes from rest to rest under these parameters.
+    // Time a move of `distance` degrees takes from rest to rest under these parameters, the
+    // start-up delay included.
     static double move_time(const AxisParams& params, double distance);
 
 private:
@@ -62,6 +67,7 @@ private:
     double velocity_ = 0.0;
     double target_;
     bool moving_ = false;
+    double delay_left_ = 0.0;  // of startup_delay, before the current move's first motion
 };
 
 enum AxisIndex : std::size_t { axis_az = 0, axis_el = 1, axis_skew = 2 };

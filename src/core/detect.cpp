@@ -440,6 +440,11 @@ HelpListing parse_help_listing(const std::vector<std::string>& lines) {
     }
     bool previous_described = false;
     for (const std::string& line : lines) {
+        // A prompt line, decorated or not (`ODU TRK>`), that reached the listing is no part of it.
+        const auto last = line.find_last_not_of(" \t");
+        if (last != std::string::npos && line[last] == '>' && line.find('<') == std::string::npos) {
+            continue;
+        }
         auto phrases = phrases_of(line);
         const bool has_words = !words_of(line).empty();
         const bool wrapped = has_words && previous_described && indentation(line) > baseline;

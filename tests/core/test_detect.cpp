@@ -87,6 +87,9 @@ TEST_CASE("detect: help listings in any layout give the same commands") {
         CHECK(listing.commands.count("nvs") == 1);
         CHECK(listing.commands.count("menu") == 0);
     }
+    // A decorated prompt that reached the listing (`ODU TRK>`, a prompt the synchroniser did not
+    // take for one) names no command.
+    CHECK(parse_help_listing({"* MOT: motor", "* OS: os", "ODU TRK>"}).commands.count("odu") == 0);
     // A word only in a description is not in a command's place.
     const HelpListing described = parse_help_listing({"g <az> <el> - go to target"});
     CHECK(described.commands.count("target") == 0);

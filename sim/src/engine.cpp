@@ -45,6 +45,41 @@ std::vector<std::string_view> split_words(std::string_view line)
     return words;
 }
 
+// The documented boot steps with the dialect's extra lines and silences inserted before the
+// documented line they name; those after the last one follow the completion marker, where input is
+// already kept (a client may answer the marker at once, §3.6).
+std::vector<BootStep> with_extra_boot_lines(std::vector<BootStep> documented, const std::vector<ExtraBootLine>& extras)
+{
+    if (extras.empty()) return documented;
+    using K = BootStep::Kind;
+    const auto documented_lines = static_cast<std::size_t>(
+        std::count_if(documented.begin(), documented.end(), [](const BootStep& step) { return step.kind == K::line; }));
+    std::vector<BootStep> steps;
+    auto append_extras = [&](auto belongs) {
+        for (const ExtraBootLine& extra : extras) {
+            if (!belongs(extra.before_documented)) continue;
+            if (extra.silence_before > 0.0) steps.push_back({K::pause, "", 0, 0.0, extra.silence_before});
+            if (!extra.text.empty()) steps.push_back({K::line, extra.text});
+        }
+    };
+    // Index 0 is the power-on banner, before anything the documented boot does (moves included);
+    // on a silent boot every extra goes there.
+    append_extras([&](std::size_t index) { return index == 0 || documented_lines == 0; });
+    std::size_t line_index = 0;
+    bool ready_seen = false;
+    for (BootStep& step : documented) {
+        if (step.kind == K::line && line_index++ > 0) {
+            append_extras([&](std::size_t index) { return index == line_index - 1; });
+        }
+        ready_seen = ready_seen || step.kind == K::ready;
+        steps.push_back(std::move(step));
+    }
+    if (documented_lines == 0) return steps;
+    if (!ready_seen) steps.push_back({K::ready, ""});
+    append_extras([&](std::size_t index) { return index >= documented_lines; });
+    return steps;
+}
+
 }  // namespace
 
 Engine::Engine(const Options& opts)
@@ -117,6 +152,7 @@ void Engine::print_line(std::string_view text)
 void Engine::print_prompt()
 {
     const bool named = profile.fixed_prompts || options.prompt_style == PromptStyle::named;
+    if (!profile.fixed_prompts) output.append(options.prompt_prefix);
     if (named) output.append(menus.back()->prompt_name);
     output.push_back('>');
     if (options.prompt_space) output.push_back(' ');
@@ -261,6 +297,13 @@ void Engine::help()
         if (!command.listed || (command.available != nullptr && !command.available(options))) continue;
         entries.push_back({std::string(command.word), command.help});
     }
+    if (options.help_layout == HelpLayout::generated) {
+        std::vector<HelpEntry> generated;
+        for (const Entry& entry : entries) generated.push_back({entry.word, std::string(entry.text)});
+        for (const std::string& line : render_help(options.help_grammar, menus.back()->prompt_name, generated))
+            print_line(line);
+        return;
+    }
     entries.push_back({"q", "Quit this menu"});  // INVENTED description
     if (options.help_layout != HelpLayout::described) entries.push_back({"?", "Help"});  // INVENTED
     std::size_t width = 0;
@@ -278,6 +321,8 @@ void Engine::help()
         case HelpLayout::words: print_line(entry.word); break;
         case HelpLayout::one_line:
         case HelpLayout::comma_line:
+        case HelpLayout::labelled_line:
+            if (joined.empty() && options.help_layout == HelpLayout::labelled_line) joined = "Commands:";
             if (!joined.empty()) joined += options.help_layout == HelpLayout::comma_line ? ", " : " ";
             joined += entry.word;
             break;
@@ -285,6 +330,7 @@ void Engine::help()
             print_line(entry.word + std::string(width - entry.word.size(), ' ') + " : " + std::string(entry.text));
             break;
         case HelpLayout::tab_table: print_line(entry.word + "\t" + std::string(entry.text)); break;
+        case HelpLayout::generated: break;  // rendered above
         }
     }
     if (!joined.empty()) print_line(joined);
@@ -363,7 +409,7 @@ void Engine::start_boot()
     lnb_supply = LnbSupply::stb_18v;
     stall_arms_ = {};  // an injected stall meant for the interrupted move does not hit homing
     if (profile.needs_homing) homed = {false, false};
-    boot_steps_ = profile.boot_script(*this);
+    boot_steps_ = with_extra_boot_lines(profile.boot_script(*this), options.boot_extra);
     boot_index_ = 0;
     boot_resume_at_ = now;
 }

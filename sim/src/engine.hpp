@@ -92,6 +92,16 @@ struct VariantProfile {
 
 const VariantProfile& profile_for(Variant variant);
 
+// One `?` entry: the command word and its description (dialect.cpp renders the listing).
+struct HelpEntry {
+    std::string word;
+    std::string description;
+};
+// The lines of a generated `?` listing (HelpLayout::generated) for the menu whose prompt name is
+// `menu_name`; `q` and `?` are added as the grammar says.
+std::vector<std::string> render_help(const HelpGrammar& grammar, std::string_view menu_name,
+                                     std::vector<HelpEntry> entries);
+
 struct Busy {
     enum class Kind { none, until_idle, until_time, goto_move };
     Kind kind = Kind::none;

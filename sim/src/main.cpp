@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "birdcage_sim/dialect.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "birdcage_version.hpp"
@@ -98,6 +99,9 @@ using birdcage::sim::ReplayMode;
 using birdcage::sim::TravlerPositionLayout;
 
 bool have_variant = false;
+// --dialect: draw the console from --seed (sim/README.md, "Dialects"); other flags override it.
+enum class DialectMode { off, random, describe };
+DialectMode dialect_mode = DialectMode::off;
 
 const std::vector<Flag>& flags()
 {
@@ -109,6 +113,10 @@ const std::vector<Flag>& flags()
              if (!variant) throw UsageError{std::string(f) + ": unknown variant '" + std::string(v) + "'"};
              o.variant = *variant;
              have_variant = true;
+         }},
+        {"--dialect", "random|describe", "draw a console from --seed; describe prints it and exits",
+         [](Options&, auto f, auto v) {
+             dialect_mode = choice<DialectMode>(f, v, {{"random", DialectMode::random}, {"describe", DialectMode::describe}});
          }},
         {"--link", "PATH", "symlink to the pty slave", [](Options& o, auto, auto v) { o.link_path = v; }},
         {"--time-scale", "X", "simulated seconds per real second (> 0)",
@@ -210,11 +218,12 @@ const std::vector<Flag>& flags()
              o.travler_position_layout = choice<TravlerPositionLayout>(
                  f, v, {{"one-line", TravlerPositionLayout::one_line}, {"per-axis", TravlerPositionLayout::line_per_axis}});
          }},
-        {"--help-layout", "described|words|one-line|comma-line|colon-table|tab-table", "`?` listing (default described)",
+        {"--help-layout", "described|words|one-line|comma-line|colon-table|tab-table|labelled-line", "`?` listing (default described)",
          [](Options& o, auto f, auto v) {
              o.help_layout = choice<HelpLayout>(f, v, {{"described", HelpLayout::described}, {"words", HelpLayout::words},
                                                       {"one-line", HelpLayout::one_line}, {"comma-line", HelpLayout::comma_line},
-                                                      {"colon-table", HelpLayout::colon_table}, {"tab-table", HelpLayout::tab_table}});
+                                                      {"colon-table", HelpLayout::colon_table}, {"tab-table", HelpLayout::tab_table},
+                                                      {"labelled-line", HelpLayout::labelled_line}});
          }},
         {"--unlisted", "yes|no", "G2 accepts MOT `l` and DVB `dis` without listing them in `?` (default no)",
          [](Options& o, auto f, auto v) { o.unlisted_commands = yes_no(f, v); }},
@@ -237,6 +246,8 @@ const std::vector<Flag>& flags()
          }},
         {"--motor-accel", "A", "acceleration in deg/s^2, both axes (default: the variant's)",
          [](Options& o, auto f, auto v) { o.motor.accel = number_at_least(f, v, 1e-3); }},
+        {"--after-boot-line", "TEXT", "one more line after the last documented boot line (default none)",
+         [](Options& o, auto, auto v) { o.after_boot_line = v; }},
         {"--idle-line", "TEXT", "unsolicited line printed every --idle-line-period", [](Options& o, auto, auto v) { o.idle_line = v; }},
         {"--idle-line-period", "S", "seconds between unsolicited lines (default 0 = never)",
          [](Options& o, auto f, auto v) { o.idle_line_period = number_at_least(f, v, 0.0); }},
@@ -265,9 +276,8 @@ void print_help()
                  "2 usage error.\n";
 }
 
-Options parse(int argc, char** argv)
+Options parse(int argc, char** argv, Options options = {})
 {
-    Options options;
     for (int i = 1; i < argc; ++i) {
         std::string_view arg = argv[i];
         std::optional<std::string_view> inline_value;
@@ -331,6 +341,15 @@ int main(int argc, char** argv)
     if (!have_variant) {
         std::cerr << "birdcage-sim: --variant is required (hal205|g2|hal000|pro|carryout2003; see --help)\n";
         return 2;
+    }
+    if (dialect_mode != DialectMode::off) {
+        // The drawn console first, then every flag again so that an explicit one wins.
+        const birdcage::sim::Dialect dialect = birdcage::sim::draw_dialect(options.variant, options.seed);
+        if (dialect_mode == DialectMode::describe) {
+            std::cout << birdcage::sim::describe_console(dialect);
+            return 0;
+        }
+        options = parse(argc, argv, dialect.options);
     }
 
     // Block the signals before the console thread exists so that only sigwait sees them.

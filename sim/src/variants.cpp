@@ -125,6 +125,9 @@ std::vector<BootStep> g2_boot(const Engine& engine)
     steps.push_back({K::ready, ""});
     steps.push_back({K::pause, "", 0, 0.0, engine.options.late_boot_line_delay});
     steps.push_back({K::line, "Loc Startup: IDU NOT Present"});
+    if (!engine.options.after_boot_line.empty()) {
+        steps.push_back({K::line, engine.options.after_boot_line});
+    }
     return steps;
 }
 
@@ -188,6 +191,10 @@ std::vector<BootStep> travler_boot(const Engine& engine)
         steps.push_back({K::line, "NoGPS"});
     } else if (engine.profile.variant == Variant::travler_hal205) {
         steps.push_back({K::line, engine.options.hal205_boot_marker == BootMarker::no_gps ? "NoGPS" : "No LNB Voltage"});
+    }
+    if (!engine.options.after_boot_line.empty() && (engine.profile.variant == Variant::travler_hal000 ||
+                                                     engine.profile.variant == Variant::travler_hal205)) {
+        steps.push_back({K::line, engine.options.after_boot_line});
     }
     return steps;
 }

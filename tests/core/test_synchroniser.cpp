@@ -382,3 +382,65 @@ TEST_CASE("sync: noise after a prompt leaves it the prompt, text after it on its
         CHECK_FALSE(sync.synchronise());
     }
 }
+
+TEST_CASE("sync: a dish is up once two pokes find a prompt, whatever its last boot line was") {
+    // The reported G2: after `Loc Startup: IDU NOT Present` one more line nobody documented, then
+    // `TRK>` and silence. When that line happened to contain a boot marker the backend kept
+    // waiting ("still waiting for the dish to boot: 60 s; last boot output ...") at a ready console.
+    const std::string extra = GENERATE(std::string("Antenna Facing Rear: re-homing skipped"), std::string("Motor init: wrap manager on"),
+                                       std::string("Ant ID - check passed"), std::string("Tracker disabled (NVS 20)"));
+    const bool auto_detect = GENERATE(true, false);
+    FakeTransport wire;
+    bool booted = false;   // a booting dish ignores its input
+    wire.set_responder([&](const std::string&) -> Commands { return booted ? Commands{"\r\nTRK>"} : Commands{}; });
+    wire.push_input("Bootloader v1.01\r\nMotor init: System=12Inch, master=40000 steps\r\n");
+    wire.push_delayed("Ant ID - 12-IN G2\r\nAntenna Facing Front\r\nBoot Complete\r\n", 2);
+    wire.push_delayed("Loc Startup: IDU NOT Present\r\n", 1);
+    wire.push_delayed(extra + "\r\nTRK>", 1);
+    Logged log;
+    const FirmwareProfile& row = auto_detect ? probe_profile() : profile(VariantId::carryout_g2);
+    ConsoleSynchroniser sync(wire, console_sync_settings(row, 120s), [&](LogLevel l, const std::string& m) {
+        log.lines.emplace_back(l, m);
+        booted = booted || m.find("Loc Startup") != std::string::npos;
+    }, frozen);
+    const auto synced = sync.synchronise();
+    INFO(extra << (auto_detect ? " (auto-detect)" : " (G2 profile)") << ": " << synced.status.message);
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == "TRK>");
+    CHECK(synced.value.waited < 30s);
+    CHECK(log.count("still waiting") == 0);
+    // Nothing but bare line endings while boot output was in progress.
+    for (const auto& c : wire.commands()) {
+        CHECK((c.empty() || c == "?"));
+    }
+}
+
+TEST_CASE("sync: silences of several seconds inside a boot are waited out, not taken for the end") {
+    // Homing can take its 8 s stall timeout without a line; a quiet line alone is not proof.
+    FakeTransport wire;
+    bool booted = false;
+    int pokes_while_booting = 0;
+    wire.set_responder([&](const std::string&) -> Commands {
+        if (!booted) {
+            ++pokes_while_booting;
+            return {};
+        }
+        return {"\r\nTRK>"};
+    });
+    wire.push_input("Bootloader v1.01\r\nMotor init: System=12Inch\r\n");
+    wire.push_delayed("wrap_min:-42333 wrap_max:2333\r\n", 6);   // after a long silence
+    wire.push_delayed("Boot Complete\r\n", 4);
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(120s), [&](LogLevel l, const std::string& m) {
+        log.lines.emplace_back(l, m);
+        booted = booted || m.find("Boot Complete") != std::string::npos;
+    }, frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == "TRK>");
+    CHECK(synced.value.last_boot_line == "Boot Complete");
+    CHECK(pokes_while_booting > 0);   // poked during the silences, unanswered, so still booting
+    for (const auto& c : wire.commands()) {
+        CHECK(c.empty());
+    }
+}

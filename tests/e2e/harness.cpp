@@ -392,7 +392,7 @@ void type_into(birdcage::sim::Emulator& dish, const std::vector<std::string>& li
 }
 
 Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args,
-         const std::function<void(birdcage::sim::Emulator&)>& prepare)
+         const std::function<void(birdcage::sim::Emulator&)>& prepare, std::chrono::milliseconds open_timeout)
     : dish_(std::make_unique<birdcage::sim::Emulator>(std::move(dish))), log_path_(temp_path("rotctld")) {
     if (prepare) {
         prepare(*dish_);
@@ -413,7 +413,7 @@ Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_
             port_ = listening_tcp_port(rotctld_->pid());
             return port_ != 0;
         },
-        60s);
+        open_timeout);
     if (!up || !rotctld_->running()) {
         throw std::runtime_error("rotctld did not come up; its log:\n" + rotctld_log_text());
     }

@@ -102,9 +102,11 @@ void type_into(birdcage::sim::Emulator& dish, const std::vector<std::string>& li
 // Emulator + preloaded stock rotctld for one Winegard model.
 class Rig {
 public:
-    // `prepare` runs after the emulator starts and before rotctld opens the port.
+    // `prepare` runs after the emulator starts and before rotctld opens the port; rotctld must
+    // listen within `open_timeout` (it opens the dish first).
     Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_rotctld_args = {},
-        const std::function<void(birdcage::sim::Emulator&)>& prepare = {});
+        const std::function<void(birdcage::sim::Emulator&)>& prepare = {},
+        std::chrono::milliseconds open_timeout = std::chrono::seconds(60));
     ~Rig();
     birdcage::sim::Emulator& dish() { return *dish_; }
     int port() const { return port_; }

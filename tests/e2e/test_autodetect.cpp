@@ -84,6 +84,30 @@ TEST_CASE("auto-detect (90100) identifies every emulated variant without sending
         {"hal205 bare prompts, left in motor", Variant::travler_hal205, "HAL 2.05",
          [](Options& o) { o.prompt_style = birdcage::sim::PromptStyle::bare; }, {"motor"}},
         {"hal000 booting", Variant::travler_hal000, "HAL 0.0.00", [](Options& o) { o.already_booted = false; }},
+        // `?` answers one line, a label then the command words, at `>` prompts: dish up and booting
+        // (where `NoGPS` alone ties the two Trav'ler HALs).
+        {"hal000, ? is a label then the words", Variant::travler_hal000, "HAL 0.0.00",
+         [](Options& o) {
+             o.help_layout = birdcage::sim::HelpLayout::labelled_line;
+             o.prompt_style = birdcage::sim::PromptStyle::bare;
+         }},
+        {"hal000 booting, ? is a label then the words", Variant::travler_hal000, "HAL 0.0.00",
+         [](Options& o) {
+             o.help_layout = birdcage::sim::HelpLayout::labelled_line;
+             o.prompt_style = birdcage::sim::PromptStyle::bare;
+             o.already_booted = false;
+         }},
+        {"hal205 booting, ? is a label then the words", Variant::travler_hal205, "HAL 2.05",
+         [](Options& o) {
+             o.help_layout = birdcage::sim::HelpLayout::labelled_line;
+             o.already_booted = false;
+         }},
+        // One more boot line nobody documented after `Loc Startup: IDU NOT Present`, then `TRK>`.
+        {"g2 booting, one more line after Loc Startup", Variant::carryout_g2, "Carryout G2",
+         [](Options& o) {
+             o.already_booted = false;
+             o.after_boot_line = "Antenna Facing Front: tracker disabled";
+         }},
         {"carryout2003 left in target, no unknown-command text", Variant::carryout2003, "Carryout HAL 1.00.065",
          [](Options& o) { o.unknown_command_reply.clear(); }, {"target"}},
         {"pro left in ODU mot, q returns to the IDU", Variant::travler_pro, "Trav'ler Pro",

@@ -183,6 +183,13 @@ TEST_CASE("g2: every unknown-behaviour switch and start-up situation", "[e2e][va
     const std::vector<Setting> own = {
         {"q at TRK> does not kill the shell", [](Options& o) { o.g2_root_q_kills_shell = false; }},
         {"RSSI floor 500", [](Options& o) { o.rssi_floor = 500.0; }},
+        // One more boot line after `Loc Startup: ...` that nobody documented, shaped like a boot
+        // marker: the dish is up once two pokes find TRK>, whatever that last line said.
+        {"booting, one more line after Loc Startup",
+         [](Options& o) {
+             o.already_booted = false;
+             o.after_boot_line = "Motor init: wrap manager on";
+         }},
     };
     run_all(kG2, concat(common_switches(), position_query_switches(), own, init_situations(kG2)));
 }

@@ -33,7 +33,10 @@ namespace birdcage {
 struct SyncSettings {
     std::string_view line_ending = "\r";
     // A line containing one of these: the dish is (re)booting. Until a line with a completion
-    // marker follows, the console is only listened to (a booting dish ignores its input).
+    // marker follows, the console is poked only after boot_listen of quiet (a booting dish ignores
+    // its input, and a real boot has silences of several seconds). Two pokes answered at the same
+    // prompt end the boot whatever its last line was: firmware may print lines we do not know after
+    // its completion marker.
     std::span<const std::string_view> boot_markers;
     std::span<const std::string_view> boot_complete_markers;
     // Sent after a line ending drew no prompt, to tell a live prompt-less console from a silent

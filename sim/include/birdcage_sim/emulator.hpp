@@ -58,6 +58,50 @@ enum class HelpLayout {
     comma_line,   // all words on one line, `, `-separated
     colon_table,  // `a            : Angle ...` (word padded to the longest)
     tab_table,    // `a<TAB>Angle ...`
+    labelled_line,  // `Commands: a g q ?`: a label, then all words on one line (INVENTED label)
+    generated,    // drawn by the dialect generator: Options::help_grammar (sim/README.md, "Dialects")
+};
+
+// The shape of a `?` listing, from the dialect generator's grammar (sim/README.md, "Dialects").
+// Every listing is: title lines, the entries, footer lines. Entries are the menu's command words
+// (plus `q` and `?` if asked), each `<number><prefix><open>word<close>` and, in rows, a separator
+// and the description.
+enum class HelpArrangement {
+    rows,     // one entry per line, with or without its description
+    packed,   // label, then every word on one line (wrapped at wrap_width)
+    columns,  // words only, `columns` per line, padded to column_width
+};
+enum class TextCase { as_is, upper, lower };
+struct HelpGrammar {
+    std::vector<std::string> title_lines;   // printed before the entries ("" = an empty line)
+    std::vector<std::string> footer_lines;  // printed after them
+    HelpArrangement arrangement = HelpArrangement::rows;
+    std::string label;                 // packed: before the first word (e.g. "Commands: ")
+    std::string word_open, word_close; // brackets around each word
+    std::string row_prefix;            // rows: before each entry (e.g. "  ", "- ")
+    std::string numbering;             // rows: "" or a pattern with '#' for the number ("#. ", "[#] ")
+    TextCase word_case = TextCase::as_is;
+    bool descriptions = true;          // rows: the command's description after the word
+    std::string separator = " - ";     // rows: between word and description
+    bool pad_words = false;            // rows: descriptions aligned in one column
+    TextCase description_case = TextCase::as_is;
+    std::string packed_separator = " ";  // packed: between words
+    std::size_t columns = 4;           // columns: words per line
+    std::size_t column_width = 12;     // columns: each cell padded to this width
+    std::size_t wrap_width = 0;        // 0: no wrapping; else longer lines continue on the next
+    std::size_t continuation_indent = 0;  // spaces before a continuation line
+    bool list_quit = true, list_help = false;  // `q` and `?` among the entries
+    bool sorted = false;               // words in alphabetical order instead of table order
+};
+
+// A line (or only a silence) the dialect generator adds to the boot log. Boot logs are the
+// variant's documented lines (docs/firmware.md §6.2, §3.2, §4.2) with extras inserted.
+struct ExtraBootLine {
+    // Inserted before the documented line with this index (0 = before the first; the number of
+    // documented lines = after the last, i.e. after the completion marker, where input is kept).
+    std::size_t before_documented = 0;
+    std::string text;            // empty: only the silence
+    double silence_before = 0.0; // simulated seconds of quiet before the line
 };
 // What `h` prints when the AZ axis has homed (§14 G2.8). The G2 02.02.48's wrap line is known
 // from its boot log (§6.2 item 11); mjlangan's G2+ client waits for `AZ - Angle: 1 Wrap: 0` (§7.1,
@@ -174,6 +218,14 @@ struct Options {
     // and `?` leaves them out, the case birdcage-probe --deep exists for. Off: unknown commands.
     bool unlisted_commands = false;
 
+    HelpGrammar help_grammar;  // with help_layout == generated
+
+    // --- console shape drawn by the dialect generator (dialect.hpp) ------------------------
+    // Extra boot lines and silences (empty: the documented boot log only).
+    std::vector<ExtraBootLine> boot_extra;
+    // Before the menu name of a prompt the notes leave open (not the G2's, §6.3), e.g. "HAL ".
+    std::string prompt_prefix;
+
     // --- motor dynamics (docs/firmware.md §3.4, §6.4; docs/tracking.md §1.4) ---------------
     // The variant's speeds and acceleration are the defaults. Only the G2's are read from its
     // NVS; the Trav'ler's are one fit to two whole-move timings, which a motor that starts late
@@ -196,6 +248,11 @@ struct Options {
     // once, as travler_init.py needs (it writes right after `NoGPS`, §3.6); nothing in the notes
     // supports a deaf window, it exists to try a client against one.
     double boot_input_drop = 0.0;
+    // One more line after the last documented boot line (G2: after `Loc Startup: ...`; Trav'ler:
+    // after `NoGPS`/`No LNB Voltage`), before the shell's prompt. Empty (default): none. §6.2
+    // says items 1-9 may be abridged and §14 HAL0.5 / G2.7 leave the full boot log open, so a
+    // line no client knows may follow the completion marker.
+    std::string after_boot_line;
     // An unsolicited line every idle_line_period simulated seconds once booted (0 = never, the
     // default: the 2003 Carryout shows a "blank screen" on connect, §8.1, and no G2 transcript
     // shows periodic output). The G2 does print asynchronous lines (`Loc Startup: ...` after

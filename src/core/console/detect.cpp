@@ -15,7 +15,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
 #include <optional>
+#include <set>
 #include <utility>
 
 #include "birdcage/console/session.hpp"
@@ -55,13 +57,6 @@ std::vector<std::string> words_of(std::string_view text) {
         words.push_back(word);
     }
     return words;
-}
-
-// A line that pairs a command with a description: a dash, colon or equals sign, or columns.
-bool is_described(std::string_view line) {
-    return line.find(" - ") != std::string_view::npos || line.find(':') != std::string_view::npos ||
-           line.find('=') != std::string_view::npos || line.find('\t') != std::string_view::npos ||
-           line.find("  ") != std::string_view::npos;
 }
 
 std::string trimmed(std::string_view text) {
@@ -170,46 +165,324 @@ bool shows_travler_root(const HelpListing& help) {
            !names_a_g2_only_command(help);
 }
 
+// ---- The `?` listing tokeniser ----
+// Command words are found as tokens wherever they stand, not by parsing a layout: a listing may
+// be one command a line, one line with a label then the words, numbered, bracketed, in columns,
+// with any separators, upper case, with or without descriptions, wrapped (docs/firmware.md 2, 14:
+// only the G2's layout is documented). Each token gets a role from what surrounds it: a command
+// (full weight in the ranking) or a mention inside descriptive text (a third).
+
+enum class LetterCase { none, lower, upper, capitalised, mixed };
+
+LetterCase letter_case(std::string_view word) {
+    bool lower_seen = false, upper_seen = false, first_upper = false, first_letter = true, rest_upper = false;
+    for (char c : word) {
+        const auto u = static_cast<unsigned char>(c);
+        if (!std::isalpha(u)) {
+            continue;
+        }
+        const bool upper = std::isupper(u) != 0;
+        (upper ? upper_seen : lower_seen) = true;
+        if (first_letter) {
+            first_upper = upper;
+            first_letter = false;
+        } else if (upper) {
+            rest_upper = true;
+        }
+    }
+    if (!lower_seen && !upper_seen) {
+        return LetterCase::none;
+    }
+    if (!upper_seen) {
+        return LetterCase::lower;
+    }
+    if (!lower_seen) {
+        return LetterCase::upper;
+    }
+    return first_upper && !rest_upper ? LetterCase::capitalised : LetterCase::mixed;
+}
+
+// The words a shell lists that the ranking looks for, plus those every shell lists: a phrase
+// made mostly of them is a run of commands, not prose.
+bool is_known_command(const std::string& word) {
+    static const std::set<std::string> common{"q", "?", "help", "a", "g", "reboot", "stow", "dvb", "mot", "motor",
+                                              "os", "nvs", "odu", "target", "ngsearch"};
+    if (common.count(word) > 0) {
+        return true;
+    }
+    const auto all = detection_clues();
+    return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
+        return clue.source == ClueSource::help_command && lower(clue.text) == word;
+    });
+}
+
+bool is_clue_word(const std::string& word) {
+    const auto all = detection_clues();
+    return std::any_of(all.begin(), all.end(), [&](const DetectionClue& clue) {
+        return clue.source == ClueSource::help_command && lower(clue.text) == word;
+    });
+}
+
+struct ListingToken {
+    std::string word;   // lower case
+    LetterCase shape = LetterCase::none;
+    bool bracketed = false;   // `<mot>`, `[mot]`, `(mot)`, `'mot'`...: a command by its looks
+    bool command = false;
+};
+
+enum class Boundary { line_start, list, description };
+
+// Tokens between two separators; `after` is the separator before them.
+struct Phrase {
+    Boundary after = Boundary::line_start;
+    std::vector<ListingToken> tokens;
+    // Words the ranking scores (`help:` may be a label; `mot:` is a command).
+    int scoring() const {
+        return static_cast<int>(std::count_if(tokens.begin(), tokens.end(), [](const ListingToken& t) { return is_clue_word(t.word); }));
+    }
+    int known() const {
+        return static_cast<int>(std::count_if(tokens.begin(), tokens.end(),
+                                              [](const ListingToken& t) { return is_known_command(t.word); }));
+    }
+};
+
+bool is_opener(char c) { return c == '<' || c == '[' || c == '(' || c == '{' || c == '\'' || c == '"' || c == '`'; }
+bool is_closer(char c) { return c == '>' || c == ']' || c == ')' || c == '}' || c == '\'' || c == '"' || c == '`'; }
+
+std::vector<Phrase> phrases_of(std::string_view line) {
+    std::vector<Phrase> phrases(1);
+    auto cut = [&](Boundary boundary) {
+        if (!phrases.back().tokens.empty()) {
+            phrases.push_back({});
+        }
+        // A separator before any word of the line (a bullet, a rule) leaves it at its start.
+        if (phrases.size() > 1) {
+            phrases.back().after = boundary;
+        }
+    };
+    std::size_t i = 0;
+    while (i < line.size()) {
+        const char c = line[i];
+        if (is_word_char(c)) {
+            std::size_t end = i;
+            while (end < line.size() && is_word_char(line[end])) {
+                ++end;
+            }
+            const std::string_view text = line.substr(i, end - i);
+            ListingToken token{lower(text), letter_case(text)};
+            token.bracketed = i > 0 && is_opener(line[i - 1]) && end < line.size() && is_closer(line[end]);
+            phrases.back().tokens.push_back(std::move(token));
+            i = end;
+            continue;
+        }
+        if (c == ',' || c == ';' || c == '|' || c == '\t') {
+            cut(Boundary::list);
+        } else if (c == ' ' && i + 1 < line.size() && line[i + 1] == ' ') {
+            cut(Boundary::list);   // columns
+            while (i + 1 < line.size() && line[i + 1] == ' ') {
+                ++i;
+            }
+        } else if (c == ':' || c == '=' ||
+                   (c == '-' && (i == 0 || !is_word_char(line[i - 1]) || i + 1 == line.size() || !is_word_char(line[i + 1])))) {
+            cut(Boundary::description);
+        }
+        ++i;
+    }
+    if (phrases.back().tokens.empty() && phrases.size() > 1) {
+        phrases.pop_back();
+    }
+    return phrases;
+}
+
+std::size_t indentation(std::string_view line) {
+    std::size_t n = 0;
+    while (n < line.size() && (line[n] == ' ' || line[n] == '\t')) {
+        ++n;
+    }
+    return n;
+}
+
+bool has_letters(const ListingToken& t) { return t.shape != LetterCase::none; }
+
+// Marks the command tokens of one line. Returns whether the line ended inside a description.
+bool mark_line(std::vector<Phrase>& phrases, bool continues_description) {
+    if (continues_description) {
+        return true;   // a wrapped description: mentions only (bracketed words excepted)
+    }
+    bool in_description = false;
+    bool entry_has_command = false;
+    bool label_list = false;
+    for (std::size_t p = 0; p < phrases.size(); ++p) {
+        Phrase& phrase = phrases[p];
+        if (phrase.after == Boundary::description && !label_list) {
+            // `Commands: mot os nvs` (a label, then the words) or `mot : Motor menu` (a command,
+            // then its description): a label is words no shell lists, followed by mostly commands.
+            int rest_known = 0, rest_tokens = 0;
+            for (std::size_t r = p; r < phrases.size(); ++r) {
+                rest_known += phrases[r].known();
+                rest_tokens += static_cast<int>(phrases[r].tokens.size());
+            }
+            bool before_unknown = p > 0;
+            for (std::size_t b = 0; b < p; ++b) {
+                before_unknown = before_unknown && phrases[b].scoring() == 0 &&
+                                 std::none_of(phrases[b].tokens.begin(), phrases[b].tokens.end(),
+                                              [](const ListingToken& t) { return t.bracketed; });
+            }
+            if (before_unknown && rest_known >= 2 && 2 * rest_known >= rest_tokens) {
+                label_list = true;
+                for (std::size_t b = 0; b < p; ++b) {
+                    for (auto& t : phrases[b].tokens) {
+                        t.command = false;
+                    }
+                }
+                in_description = false;
+            } else if (entry_has_command) {
+                in_description = true;
+            }
+        } else if (phrase.after == Boundary::list || phrase.after == Boundary::line_start) {
+            in_description = false;
+            entry_has_command = false;
+        }
+        if (in_description) {
+            continue;
+        }
+        // An entry's head: its first word is in a command's place; the words after it too when
+        // the phrase is a run of commands (`mot os nvs`), not prose (`go to target`).
+        const int size = static_cast<int>(phrase.tokens.size());
+        const bool prose = size >= 3 && 2 * phrase.known() < size;
+        bool first = true;
+        for (auto& t : phrase.tokens) {
+            if (!has_letters(t) && t.word != "?") {
+                continue;   // numbering
+            }
+            if (first) {
+                t.command = !prose;
+                first = false;
+            } else {
+                t.command = 2 * phrase.known() >= size;
+            }
+            entry_has_command = entry_has_command || t.command;
+        }
+    }
+    return in_description;
+}
+
+
+// ---- Probes ----
+
+// What a position query drew, by the documented reply formats (docs/firmware.md 3.3, 6.3).
+ProbeAnswer position_answer(const std::vector<std::string>& lines) {
+    for (const std::string& original : lines) {
+        const std::string line = lower(original);
+        if (line.find("angle[") != std::string::npos && line.find('=') != std::string::npos) {
+            return ProbeAnswer::g2_position;
+        }
+        const auto az = line.find("az");
+        if (az != std::string::npos && line.find('=', az) != std::string::npos && line.find("el", az) != std::string::npos) {
+            return ProbeAnswer::travler_position;
+        }
+    }
+    return ProbeAnswer::nothing;
+}
+
+std::string answer_name(ProbeAnswer answer) {
+    switch (answer) {
+    case ProbeAnswer::any: return "anything";
+    case ProbeAnswer::nothing: return "no position";
+    case ProbeAnswer::travler_position: return "a Trav'ler position (AZ = ...)";
+    case ProbeAnswer::g2_position: return "a G2 position (Angle[0] = ...)";
+    }
+    return "?";
+}
+
+ProbeAnswer expected_answer(const DetectionProbe& probe, VariantId id) {
+    for (const auto& e : probe.expected) {
+        if (e.variant == id) {
+            return e.answer;
+        }
+    }
+    return ProbeAnswer::any;
+}
+
+// The variants a probe can still tell apart: some of them expect different definite answers.
+bool probe_discriminates(const DetectionProbe& probe, const std::vector<VariantId>& candidates) {
+    std::set<ProbeAnswer> definite;
+    bool some_any = false;
+    for (VariantId id : candidates) {
+        const ProbeAnswer a = expected_answer(probe, id);
+        if (a == ProbeAnswer::any) {
+            some_any = true;
+        } else {
+            definite.insert(a);
+        }
+    }
+    return definite.size() > 1 || (definite.size() == 1 && some_any);
+}
+
+std::string names_of(const std::vector<VariantId>& ids) {
+    std::string text;
+    for (VariantId id : ids) {
+        text += (text.empty() ? "" : ", ") + variant_name(id);
+    }
+    return text.empty() ? std::string("none") : text;
+}
+
+std::string first_line(const std::vector<std::string>& lines) {
+    return lines.empty() ? std::string("nothing") : "\"" + escape_bytes(lines.front()) + "\"";
+}
+
 }  // namespace
 
 HelpListing parse_help_listing(const std::vector<std::string>& lines) {
-    HelpListing listing;
-    for (const std::string& original : lines) {
-        const std::string line = lower(original);
-        const auto all = words_of(line);
-        listing.words.insert(all.begin(), all.end());
-        if (all.empty()) {
+    std::vector<std::vector<Phrase>> parsed;
+    std::size_t baseline = std::string::npos;
+    for (const std::string& line : lines) {
+        if (!words_of(line).empty()) {
+            baseline = std::min(baseline, indentation(line));
+        }
+    }
+    bool previous_described = false;
+    for (const std::string& line : lines) {
+        // A prompt line, decorated or not (`ODU TRK>`), that reached the listing is no part of it.
+        const auto last = line.find_last_not_of(" \t");
+        if (last != std::string::npos && line[last] == '>' && line.find('<') == std::string::npos) {
             continue;
         }
-        // `Enter <cmd> - Description` (6.3), once per line or many on one line.
-        bool entered = false;
-        for (std::size_t at = line.find("enter <"); at != std::string::npos; at = line.find("enter <", at + 1)) {
-            const auto close = line.find('>', at);
-            if (close == std::string::npos) {
-                break;
-            }
-            const auto inside = words_of(std::string_view(line).substr(at + 7, close - at - 7));
-            if (!inside.empty()) {
-                listing.commands.insert(inside.front());
-                entered = true;
-            }
+        auto phrases = phrases_of(line);
+        const bool has_words = !words_of(line).empty();
+        const bool wrapped = has_words && previous_described && indentation(line) > baseline;
+        const bool ends_described = mark_line(phrases, wrapped);
+        if (has_words) {
+            previous_described = ends_described;
         }
-        if (entered) {
-            continue;
-        }
-        if (!is_described(line)) {
-            listing.commands.insert(all.begin(), all.end());   // `mot os nvs`, `mot, os, nvs`
-            continue;
-        }
-        // Described entries, one per line or separated by , ; | on one line: each entry's first word.
-        std::size_t start = 0;
-        for (std::size_t i = 0; i <= line.size(); ++i) {
-            if (i == line.size() || line[i] == ',' || line[i] == ';' || line[i] == '|') {
-                const auto entry = words_of(std::string_view(line).substr(start, i - start));
-                if (!entry.empty()) {
-                    listing.commands.insert(entry.front());
+        parsed.push_back(std::move(phrases));
+    }
+    // Commands share one case (the shell takes them as typed): where most command words are lower
+    // (or upper) case, a word in another case stands in a description (`mot<TAB>Motor`).
+    int lower_count = 0, upper_count = 0;
+    for (const auto& phrases : parsed) {
+        for (const auto& phrase : phrases) {
+            for (const auto& t : phrase.tokens) {
+                if (t.command && is_known_command(t.word)) {
+                    lower_count += t.shape == LetterCase::lower;
+                    upper_count += t.shape == LetterCase::upper && t.word.size() > 1;
                 }
-                start = i + 1;
+            }
+        }
+    }
+    const LetterCase usual = lower_count > upper_count ? LetterCase::lower
+                             : upper_count > lower_count ? LetterCase::upper
+                                                         : LetterCase::none;
+    HelpListing listing;
+    for (const auto& phrases : parsed) {
+        for (const auto& phrase : phrases) {
+            for (const auto& t : phrase.tokens) {
+                listing.words.insert(t.word);
+                const bool other_case = usual != LetterCase::none && has_letters(t) && t.shape != usual &&
+                                        !(t.word.size() == 1 && usual == LetterCase::upper);
+                if (t.bracketed || (t.command && !other_case)) {
+                    listing.commands.insert(t.word);
+                }
             }
         }
     }
@@ -326,6 +599,126 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
         return Status::ok();
     };
 
+
+    // After a probe command: if the console now sits in a menu (a position answered, or a prompt
+    // other than the root's, confirmed on two pokes), leave it with `q` as every variant does
+    // (docs/firmware.md 2) -- never at the G2 root shape.
+    auto back_to_root = [&](std::string_view menu, ProbeAnswer answer, const std::string& prompt_seen,
+                            const std::string& root_prompt) -> Status {
+        if (answer == ProbeAnswer::nothing && (prompt_seen.empty() || prompt_seen == root_prompt)) {
+            return Status::ok();
+        }
+        auto here = session.synchronise(console_sync_settings(probe_profile(), resync_budget));
+        if (!here) {
+            return here.status;
+        }
+        evidence.lines.insert(evidence.lines.end(), here.value.heard.begin(), here.value.heard.end());
+        const std::string now = here.value.prompt;
+        const bool in_menu = answer != ProbeAnswer::nothing || (!now.empty() && now != root_prompt);
+        if (!in_menu || is_g2_root_shape(now)) {
+            evidence.prompt = now;
+            return Status::ok();
+        }
+        evidence.prompt = now;
+        emit(log, LogLevel::verbose, "auto-detect probe: leaving " + std::string(menu) + " (prompt \"" + now + "\") with q");
+        return leave_menu(std::string(menu));
+    };
+    // One probe step: `command`, then the position query; what came back.
+    struct Asked {
+        ProbeAnswer answer = ProbeAnswer::nothing;
+        std::vector<std::string> lines;
+        std::string prompt;
+    };
+    auto ask = [&](std::string_view command) -> Result<Asked> {
+        Asked asked;
+        for (std::string_view step : {command, std::string_view("a")}) {
+            if (step.empty()) {
+                continue;
+            }
+            auto reply = session.transact(step, help_timeout);
+            if (!reply && reply.status.code != Errc::timeout && reply.status.code != Errc::protocol) {
+                return {asked, reply.status};
+            }
+            asked.lines.insert(asked.lines.end(), reply.value.lines.begin(), reply.value.lines.end());
+            asked.prompt = trimmed(reply.value.prompt);
+        }
+        asked.answer = position_answer(asked.lines);
+        return {asked, Status::ok()};
+    };
+    std::string probe_log;   // each probe and its answer, for the evidence and the failure message
+    // Where the evidence leaves more than one variant: the probes of detection_probes(), most
+    // telling first, each ruling out the variants whose documented answer differs.
+    auto probe = [&](const std::vector<VariantScore>& scores) -> Result<std::optional<Detection>> {
+        std::vector<VariantId> candidates;
+        const int top = scores.empty() ? 0 : scores.front().score;
+        for (const auto& entry : scores) {
+            if (top < winning_score || entry.score > top - winning_margin) {
+                candidates.push_back(entry.variant);
+            }
+        }
+        std::map<VariantId, int> matched;   // definite expectations met, per candidate
+        const std::string root_prompt = evidence.prompt;
+        emit(log, LogLevel::verbose, "auto-detect: the evidence does not decide between " + names_of(candidates) +
+                                         "; probing with commands that are harmless on every variant");
+        for (const DetectionProbe& row : detection_probes()) {
+            if (candidates.size() < 2) {
+                break;
+            }
+            if (!probe_discriminates(row, candidates)) {
+                continue;
+            }
+            auto asked = ask(row.enter);
+            if (!asked) {
+                return {std::nullopt, asked.status};
+            }
+            std::vector<VariantId> kept, ruled_out;
+            for (VariantId id : candidates) {
+                const ProbeAnswer expected = expected_answer(row, id);
+                if (expected == ProbeAnswer::any || expected == asked.value.answer) {
+                    kept.push_back(id);
+                    matched[id] += expected == ProbeAnswer::any ? 0 : 1;
+                } else {
+                    ruled_out.push_back(id);
+                }
+            }
+            const std::string entry = "\"" + std::string(row.enter) + "\" then \"a\" drew " + answer_name(asked.value.answer) +
+                                      " (" + first_line(asked.value.lines) + ")";
+            probe_log += (probe_log.empty() ? "" : "; ") + entry;
+            emit(log, LogLevel::verbose, "auto-detect probe: " + entry + "; rules out " + names_of(ruled_out) +
+                                             "; still possible: " + names_of(kept));
+            candidates = std::move(kept);
+            if (Status back = back_to_root(row.enter, asked.value.answer, asked.value.prompt, root_prompt); !back) {
+                return {std::nullopt, back};
+            }
+        }
+        // The candidate whose definite answers matched most, then the one with most evidence.
+        auto score_of = [&](VariantId id) {
+            const auto it = std::find_if(scores.begin(), scores.end(), [&](const VariantScore& e) { return e.variant == id; });
+            return it == scores.end() ? 0 : it->score;
+        };
+        std::stable_sort(candidates.begin(), candidates.end(), [&](VariantId a, VariantId b) {
+            return std::make_pair(matched[a], score_of(a)) > std::make_pair(matched[b], score_of(b));
+        });
+        if (candidates.empty() || (candidates.size() > 1 && matched[candidates[0]] == matched[candidates[1]] &&
+                                   score_of(candidates[0]) == score_of(candidates[1]))) {
+            return {std::nullopt, Status::ok()};
+        }
+        Detection d;
+        d.variant = candidates.front();
+        d.evidence = "auto-detected by probing: " + probe_log + " -> " + std::string(profile(d.variant).display_name) +
+                     "; scores before probing: " + summary(scores);
+        if (const auto outer = profile(d.variant).also_shown_inside) {
+            d.maybe_pro_odu = true;
+            const FirmwareProfile& inside = profile(*outer);
+            d.evidence += " (a " + std::string(inside.display_name) + " left inside its ODU console looks the same; elevation kept <= " +
+                          std::to_string(static_cast<int>(inside.el_max)) + ")";
+        }
+        emit(log, LogLevel::verbose, d.evidence);
+        return {d, Status::ok()};
+    };
+    bool probed = false;
+    bool asked_here = false;
+    std::set<std::string> left_menus;   // prompt and listing of each menu left with `q`
     std::vector<VariantScore> ranking;
     for (int level = 0; level < max_levels; ++level) {
         if (help_lines.empty()) {
@@ -379,9 +772,41 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
             emit(log, LogLevel::verbose, d.evidence);
             return {d, Status::ok()};
         }
+        // A `q` that led back to the same prompt and listing showed this is the root after all.
+        const bool left_before = !left_menus.insert(evidence.prompt + "\n" + listing_text(evidence.help)).second;
         const bool submenu = !evidence.prompt.empty() && reply_on_same_prompt && !is_g2_root_shape(evidence.prompt) &&
-                             !evidence.help.commands.empty() && !names_a_root_command(evidence.help);
+                             !evidence.help.commands.empty() && !names_a_root_command(evidence.help) && !left_before;
         if (!submenu) {
+            if (probed) {
+                break;
+            }
+            // Already inside a motor menu whose listing names a root command (a title, say)? The
+            // menu probes below only mean something from the root.
+            if (!asked_here) {
+                asked_here = true;
+                auto here = ask("");
+                if (!here) {
+                    return {{}, here.status};
+                }
+                emit(log, LogLevel::verbose, "auto-detect probe: \"a\" at " +
+                                                 (evidence.prompt.empty() ? std::string("the prompt-less console") : evidence.prompt) +
+                                                 " drew " + answer_name(here.value.answer) + " (" + first_line(here.value.lines) + ")");
+                if (here.value.answer != ProbeAnswer::nothing) {
+                    if (Status back = back_to_root("motor menu", here.value.answer, here.value.prompt, evidence.prompt); !back) {
+                        return {{}, back};
+                    }
+                    help_lines.clear();
+                    continue;
+                }
+            }
+            probed = true;
+            auto found = probe(ranking);
+            if (!found) {
+                return {{}, Status{found.status.code, "auto-detect: while probing: " + found.status.message + "; " + force_hint}};
+            }
+            if (found.value) {
+                return {*found.value, Status::ok()};
+            }
             break;
         }
         emit(log, LogLevel::verbose, "auto-detect: " + evidence.prompt + " is a submenu (its ? names no root command); leaving it with q");
@@ -391,7 +816,7 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
     }
     return {{}, Status{Errc::protocol, "auto-detect: not sure which firmware this is (prompt \"" + evidence.prompt +
                                            "\", ? lists " + listing_text(evidence.help) + "; scores: " + summary(ranking) +
-                                           "); " + force_hint}};
+                                           ")" + (probe_log.empty() ? std::string() : "; probes: " + probe_log) + "; " + force_hint}};
 }
 
 }  // namespace birdcage

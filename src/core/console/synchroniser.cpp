@@ -394,8 +394,18 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
             return fail_io(reply.failure);
         }
         absorb(reply.raw, snapshot);
-        if (std::string prompt = trailing_prompt(reply.text()); !prompt.empty() && !booting()) {
+        // A prompt counts even while boot output seemed to be in progress: the line was quiet
+        // (for boot_listen, when booting) before each of the two pokes, and a booting dish does
+        // not answer them. So whatever the last boot line said -- one we do not know may follow
+        // the completion marker -- two pokes answered at the same prompt mean the dish is up.
+        if (std::string prompt = trailing_prompt(reply.text()); !prompt.empty()) {
             if (prompt == candidate) {
+                if (booting()) {
+                    boot_in_progress_ = false;
+                    emit(log_, LogLevel::verbose, "the console answered two pokes at " + prompt +
+                                                      " after a quiet line: the dish has booted (its last boot output \"" +
+                                                      escape_bytes(snapshot.last_boot_line) + "\" was no completion line we know)");
+                }
                 snapshot.prompt = std::move(prompt);
                 snapshot.waited = waited();
                 emit(log_, LogLevel::verbose, "console in sync at prompt " + snapshot.prompt + " after " +
@@ -407,7 +417,8 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         }
         candidate.clear();
 
-        if (!settings_.probe_command.empty() && !booting()) {
+        // While booting this point is reached only after the line was quiet for boot_listen.
+        if (!settings_.probe_command.empty()) {
             const std::string probe = std::string(settings_.probe_command) + std::string(settings_.line_ending);
             if (Status written = write(probe); !written) {
                 return fail_io(written);
@@ -418,19 +429,25 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
             }
             const std::size_t first_new = snapshot.heard.size();
             absorb(answer.raw, snapshot);
-            if (std::string prompt = trailing_prompt(answer.text()); !prompt.empty() && !booting()) {
+            if (std::string prompt = trailing_prompt(answer.text()); !prompt.empty()) {
                 candidate = std::move(prompt);   // the next bare line ending confirms it
                 continue;
             }
             std::vector<std::string> lines(snapshot.heard.begin() + static_cast<std::ptrdiff_t>(first_new),
                                            snapshot.heard.end());
             std::erase(lines, std::string(settings_.probe_command));   // the echo
-            const bool clean = !lines.empty() && !booting() &&
+            const bool clean = !lines.empty() &&
                                std::none_of(lines.begin(), lines.end(), [&](const std::string& l) {
                                    return contains_any(l, settings_.boot_markers) ||
                                           contains_any(l, settings_.boot_complete_markers);
                                });
             if (clean && lines == probe_answer) {
+                if (booting()) {
+                    boot_in_progress_ = false;
+                    emit(log_, LogLevel::verbose, "the console answered \"" + std::string(settings_.probe_command) +
+                                                      "\" the same twice after a quiet line: the dish has booted (its last boot output \"" +
+                                                      escape_bytes(snapshot.last_boot_line) + "\" was no completion line we know)");
+                }
                 snapshot.probe_reply = std::move(lines);
                 snapshot.waited = waited();
                 emit(log_, LogLevel::verbose, "console in sync without a prompt: \"" + std::string(settings_.probe_command) +

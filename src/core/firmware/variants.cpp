@@ -107,6 +107,23 @@ constexpr std::array<DetectionClue, 37> clues{{
     {S::help_command, "stow", V::travler_hal000, 1},
 }};
 
+// Probes, most telling first: `motor` alone separates the two Trav'ler HALs, which share `NoGPS`.
+// What a variant answers from its root: 3.3/4.3 (Trav'ler motor menus), 5.3 (the Pro's IDU has
+// only `odu`; behind it the HAL 0.0.00 root), 6.3 (the G2 has no `motor`), 8.3 (the 2003 Carryout's
+// `motor` menu exists but its commands are unknown). Unknown answers are `any`, never a guess.
+using A = ProbeAnswer;
+constexpr std::array<ProbeExpectation, 5> motor_probe{{{V::travler_hal000, A::nothing},
+                                                       {V::travler_hal205, A::travler_position},
+                                                       {V::travler_pro, A::nothing},
+                                                       {V::carryout2003, A::any},
+                                                       {V::carryout_g2, A::nothing}}};
+constexpr std::array<ProbeExpectation, 5> mot_probe{{{V::travler_hal000, A::travler_position},
+                                                     {V::travler_hal205, A::any},   // 14 HAL2.05.4
+                                                     {V::travler_pro, A::any},      // IDU or ODU root
+                                                     {V::carryout2003, A::nothing},
+                                                     {V::carryout_g2, A::g2_position}}};
+constexpr std::array<DetectionProbe, 2> probes{{{"motor", "a", motor_probe}, {"mot", "a", mot_probe}}};
+
 constexpr std::array<FirmwareProfile, 5> profiles{{
     {
         .id = VariantId::travler_hal000,
@@ -343,6 +360,8 @@ std::optional<VariantId> variant_from_name(std::string_view short_name) {
 std::span<const FirmwareProfile> all_profiles() { return profiles; }
 
 std::span<const DetectionClue> detection_clues() { return clues; }
+
+std::span<const DetectionProbe> detection_probes() { return probes; }
 
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees) {
     const double seconds = move_seconds(profile, axis, std::fabs(degrees));

@@ -493,7 +493,7 @@ Dialect draw_dialect(Variant variant, std::uint32_t seed)
         o.line_ending = draw.weighted<LineEnding>(
             {{LineEnding::crlf, 4}, {LineEnding::lf, 3}, {LineEnding::lfcr, 2}, {LineEnding::cr, 1}});
         o.prompt_style = draw.chance(0.6) ? PromptStyle::named : PromptStyle::bare;
-        if (draw.chance(0.25)) o.prompt_prefix = draw.pick<const char*>({"HAL ", "ODU ", "#", "$ ", "~", "dish:"});
+        if (draw.chance(0.25)) o.prompt_prefix = draw.pick<const char*>({"dish ", "ant:", "#", "$ ", "~", "dish:"});
     }
     // The G2 prints no space after its prompts (`TRK>nvs`, §6.1).
     if (variant != Variant::carryout_g2) o.prompt_space = draw.chance(0.4);

@@ -338,12 +338,6 @@ std::string status_line(Draw& draw)
     }
 }
 
-struct BootPlan {
-    std::vector<ExtraBootLine> extras;
-    double base_estimate;  // simulated seconds of the documented boot (pauses and moves)
-    std::size_t documented_lines;
-};
-
 // The documented boot's length, for the silence budget: the pauses and calibration moves of
 // variants.cpp from the worst start pose, at the drawn motor's speed.
 double documented_boot_seconds(Variant variant, const Options& o)

@@ -34,7 +34,8 @@ export BIRDCAGE_DIALECT_SEEDS="$start-$last" BIRDCAGE_DIALECT_ALL_WAYS=1 BIRDCAG
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 # Known-failing cells carry the tag too, so they run here as well.
-"$binary" "[dialects]${variant:+[$variant]}" --list-test-names-only | sed '/^$/d' >"$out/cells"
+# (Catch2 exits with the number of tests it listed.)
+{ "$binary" "[dialects]${variant:+[$variant]}" --list-test-names-only || true; } | sed '/^$/d' >"$out/cells"
 run_cell() {
     local name=$1 file
     file=$2/$(printf '%s' "$name" | tr -c 'A-Za-z0-9' '_').log

@@ -7,8 +7,8 @@
 #
 # --repeat N runs every selected test up to N times and stops at its first failure (ctest's
 # --repeat until-fail:N): how a flaky test is found. A flaky test is a bug to fix at its cause.
-# -L/-R select tests as ctest does (labels: matrix, clients, regress, sim, mcp; names start with
-# core:, sim:, e2e:, matrix:, replay:, ...). Anything after -- goes to cmake.
+# -L/-R select tests as ctest does (labels: matrix, dialects, clients, regress, sim, tui, mcp, docs;
+# names start with core:, sim:, e2e:, matrix:, dialects:, replay:, ...). Anything after -- goes to cmake.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${BIRDCAGE_BUILD_DIR:-$root/build}

@@ -341,12 +341,6 @@ std::string status_line(Draw& draw)
     }
 }
 
-struct BootPlan {
-    std::vector<ExtraBootLine> extras;
-    double base_estimate;  // simulated seconds of the documented boot (pauses and moves)
-    std::size_t documented_lines;
-};
-
 // The documented boot's length, for the silence budget: the pauses and calibration moves of
 // variants.cpp from the worst start pose, at the drawn motor's speed.
 double documented_boot_seconds(Variant variant, const Options& o)
@@ -496,7 +490,7 @@ Dialect draw_dialect(Variant variant, std::uint32_t seed)
         o.line_ending = draw.weighted<LineEnding>(
             {{LineEnding::crlf, 4}, {LineEnding::lf, 3}, {LineEnding::lfcr, 2}, {LineEnding::cr, 1}});
         o.prompt_style = draw.chance(0.6) ? PromptStyle::named : PromptStyle::bare;
-        if (draw.chance(0.25)) o.prompt_prefix = draw.pick<const char*>({"HAL ", "ODU ", "#", "$ ", "~", "dish:"});
+        if (draw.chance(0.25)) o.prompt_prefix = draw.pick<const char*>({"dish ", "ant:", "#", "$ ", "~", "dish:"});
     }
     // The G2 prints no space after its prompts (`TRK>nvs`, §6.1).
     if (variant != Variant::carryout_g2) o.prompt_space = draw.chance(0.4);

@@ -53,12 +53,12 @@ const std::vector<VariantRow> kVariants = {
     {Variant::carryout_g2, "g2", 90105, "Carryout G2", 115200},
 };
 
-// Simulated seconds per real one. A drawn boot is up to 90 simulated seconds (4.5 s here) and a
-// drawn boot silence of 5 s lasts 0.25 s on the line, longer than the gaps of the backend's real
-// time reply windows, so silences still look like silences to it.
-constexpr double kTimeScale = 20.0;
+// Simulated seconds per real one. A drawn boot is up to 90 simulated seconds (3 s here) and a
+// drawn boot silence of 5 s lasts 0.17 s on the line, longer than the silence that ends a reply
+// for the backend (150 ms, real time), so silences of several seconds still look like silences.
+constexpr double kTimeScale = 30.0;
 
-// rotctld opens the dish before it listens: the longest drawn boot (4.5 s here) and first contact.
+// rotctld opens the dish before it listens: the longest drawn boot (3 s here) and first contact.
 constexpr auto kOpenWithin = 15s;
 
 // The CI seed list: seeds 1..30 for every variant.
@@ -146,7 +146,7 @@ void run_cell(const VariantRow& v, std::uint32_t seed, const Way& way)
     o.already_booted = way.meeting == Meeting::dish_up;
     // The asynchronous line's period is drawn in seconds of a real dish and competes with the
     // backend's real-time reply windows, so it stays real (as in the first-contact matrix): at
-    // 20x a line every 3 s would otherwise arrive every 0.15 s.
+    // 30x a line every 3 s would otherwise arrive every 0.1 s.
     o.idle_line_period *= kTimeScale;
     // A 2003 Carryout whose search is off (all DIP switches up, docs/firmware.md §8.2), as in the
     // first-contact matrix: a search cannot be stopped nor seen from the console.

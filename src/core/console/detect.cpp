@@ -708,7 +708,7 @@ Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::
         d.evidence = "auto-detected by probing: " + probe_log + " -> " + std::string(profile(d.variant).display_name) +
                      "; scores before probing: " + summary(scores);
         if (const auto outer = profile(d.variant).also_shown_inside) {
-            d.maybe_pro_odu = true;
+            d.maybe_inside = *outer;
             const FirmwareProfile& inside = profile(*outer);
             d.evidence += " (a " + std::string(inside.display_name) + " left inside its ODU console looks the same; elevation kept <= " +
                           std::to_string(static_cast<int>(inside.el_max)) + ")";

@@ -37,6 +37,7 @@
 #include "birdcage/firmware/variants.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "birdcage_version.hpp"
+#include "cli_args.hpp"
 
 // tools/probe-words.txt, compiled in (probe_words.cpp is generated from it).
 extern const char* const default_probe_words;
@@ -903,26 +904,17 @@ int main(int argc, char** argv)
             return 0;
         }
     }
-    for (int i = 1; i < argc; ++i) {
-        std::string_view arg = argv[i];
-        std::optional<std::string> inline_value;
-        if (const auto equals = arg.find('='); arg.starts_with("--") && equals != std::string_view::npos) {
-            inline_value = std::string(arg.substr(equals + 1));
-            arg = arg.substr(0, equals);
-        }
-        // The option's value: `--flag=VALUE` or the next argument.
-        auto value = [&]() -> std::optional<std::string> {
-            if (inline_value) return inline_value;
-            if (i + 1 < argc) return std::string(argv[++i]);
-            return std::nullopt;
-        };
+    birdcage::cli::ArgCursor args(argc, argv);
+    while (args.next()) {
+        const std::string& arg = args.flag();
+        const bool inline_value = args.has_inline_value();
         const bool takes_value = arg == "--port" || arg == "--output" || arg == "--source" || arg == "--baud" ||
                                  arg == "--variant" || arg == "--wordlist" || arg == "--submenu";
-        if (i == 1 && arg == "record") {
+        if (args.position() == 1 && arg == "record") {
             record = true;
         } else if (takes_value) {
-            const auto text = value();
-            if (!text) return usage_error(std::string(arg) + " needs a value");
+            const auto text = args.value();
+            if (!text) return usage_error(arg + " needs a value");
             if (arg == "--port") port = *text;
             else if (arg == "--output") output = *text;
             else if (arg == "--source") source = *text;
@@ -938,10 +930,10 @@ int main(int argc, char** argv)
                 variant_given = true;
             }
         } else if (arg == "--force" || arg == "--fd" || arg == "--deep") {
-            if (inline_value) return usage_error(std::string(arg) + " takes no value");
+            if (inline_value) return usage_error(arg + " takes no value");
             (arg == "--force" ? force : arg == "--fd" ? force_fd : deep.enabled) = true;
         } else {
-            return usage_error("unknown argument '" + std::string(arg) + "'");
+            return usage_error("unknown argument '" + arg + "'");
         }
     }
     if (port.empty()) return usage_error("--port is required");

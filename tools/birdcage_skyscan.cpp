@@ -5,6 +5,7 @@
 // Talks to a running rotctld (our backend loaded) over TCP; see usage() for why.
 #include "skyscan.hpp"
 #include "birdcage_version.hpp"
+#include "cli_args.hpp"
 
 #include <arpa/inet.h>
 #include <netdb.h>
@@ -186,19 +187,11 @@ int main(int argc, char** argv) {
     int port = 4533;
     bool resume = false;
     double tolerance = 0.2;
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        std::optional<std::string> inline_value;
-        if (const auto equals = arg.find('='); arg.starts_with("--") && equals != std::string::npos) {
-            inline_value = arg.substr(equals + 1);
-            arg.resize(equals);
-        }
-        // The option's value: `--flag=VALUE` or the next argument.
-        auto value = [&]() -> std::optional<std::string> {
-            if (inline_value) return inline_value;
-            if (i + 1 >= argc) return std::nullopt;
-            return std::string(argv[++i]);
-        };
+    birdcage::cli::ArgCursor args(argc, argv);
+    while (args.next()) {
+        const std::string& arg = args.flag();
+        const bool inline_value = args.has_inline_value();
+        auto value = [&] { return args.value(); };
         if (arg == "--help" || arg == "-h") {
             std::cout << usage_text;
             return 0;

@@ -5,6 +5,7 @@
 // Winegard extras (signal, LNB, homing, variant) where the backend offers them. A client of
 // rotctld, so it runs beside Gpredict. docs/tui.md shows the screens.
 #include "birdcage_version.hpp"
+#include "cli_args.hpp"
 #include "scan_launcher.hpp"
 #include "station.hpp"
 
@@ -659,18 +660,11 @@ void start_colour(Ui& ui) {
 int main(int argc, char** argv) {
     std::string host = "localhost", log_path;
     int port = 4533;
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        std::optional<std::string> inline_value;
-        if (const auto equals = arg.find('='); arg.starts_with("--") && equals != std::string::npos) {
-            inline_value = arg.substr(equals + 1);
-            arg.resize(equals);
-        }
-        auto value = [&]() -> std::optional<std::string> {
-            if (inline_value) return inline_value;
-            if (i + 1 >= argc) return std::nullopt;
-            return std::string(argv[++i]);
-        };
+    birdcage::cli::ArgCursor args(argc, argv);
+    while (args.next()) {
+        const std::string& arg = args.flag();
+        const bool inline_value = args.has_inline_value();
+        auto value = [&] { return args.value(); };
         if ((arg == "--help" || arg == "-h") && !inline_value) {
             std::cout << usage_text;
             return 0;

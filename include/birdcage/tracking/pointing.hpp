@@ -73,9 +73,10 @@ struct PredictorSettings {
     double stationary_dps = 0.002;
     // What makes a stream of targets a satellite rather than manual pointing (rotctl, a jogging
     // TUI, a sky scan stepping a grid; docs/tracking.md §7): the motion is extrapolated only once
-    // this many targets in a row, within the fit window, lie on a smooth track (RMS off the fitted
-    // curve, on the sky, at most max_track_residual_deg) at an on-sky rate a LEO satellite can
-    // have (<= 1.16 deg/s, docs/tracking.md §2.1; the margin is for the lead's quantisation).
+    // this many targets in a row (since the last restart) lie on a smooth track (the fit window's
+    // targets within max_track_residual_deg RMS of the fitted curve, on the sky) at an on-sky rate
+    // a LEO satellite can have (<= 1.16 deg/s, docs/tracking.md §2.1; the margin is for the
+    // client's lead quantisation).
     std::size_t min_track_targets = 3;
     double max_satellite_sky_rate_dps = 1.5;
     double max_track_residual_deg = 0.5;

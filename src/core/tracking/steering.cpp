@@ -105,9 +105,9 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         }
         return past >= deadband || past < -behind_deadbands * deadband;
     };
-    // The aim runs a deadband ahead of the estimate, but never past where the estimate stops (at
-    // the client's last target on a young track, or once its targets stopped): manual pointing
-    // ends exactly where it was sent (docs/tracking.md §7).
+    // The aim runs a deadband ahead of the estimate, but never past where the estimate stops (the
+    // client's last target on a young track, the end of the extrapolation once its horizon has
+    // passed): manual pointing ends exactly where it was sent (docs/tracking.md §7).
     auto stop_within_deadband = [&](Axis axis, double deadband, double rate) -> std::optional<Prediction> {
         if (rate < still_rate_dps) {
             return std::nullopt;

@@ -446,6 +446,16 @@ extern "C" int winegard_set_conf(ROT* rot, hamlib_token_t token, const char* val
         rot_debug(RIG_DEBUG_ERR, "winegard: unknown conf token %ld\n", static_cast<long>(token));
         return -RIG_EINVAL;
     }
+    // Every parameter is read once, at open: the controller, the service and its pointing are built
+    // from them then. A value set afterwards (rotctl's `C`) would be stored and echoed by get_conf
+    // while the running service kept the old one, so it is refused and the client is told.
+    if (priv_of(rot)->service) {
+        rot_debug(RIG_DEBUG_ERR,
+                  "winegard: %s can only be set before the rotator is opened; pass -C %s=%s when starting "
+                  "rotctld (or rotctl)\n",
+                  c->name, c->name, val);
+        return -RIG_EINVAL;
+    }
     if (!c->parse(val, *priv_of(rot))) {
         rot_debug(RIG_DEBUG_ERR, "winegard: bad value \"%s\" for %s\n", val, c->name);
         return -RIG_EINVAL;

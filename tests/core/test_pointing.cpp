@@ -38,6 +38,15 @@ PredictorSettings local_only() {
     return settings;
 }
 
+// For the cases about the extrapolation itself (the restart gate, the north crossing): no wait
+// for an established track (a young one stops at its last target, tested in test_steering.cpp).
+PredictorSettings extrapolating_at_once() {
+    PredictorSettings settings = local_only();
+    settings.established_track_targets = 0;
+    settings.established_track_s = 0.0;
+    return settings;
+}
+
 // Targets go over the wire as "P %.2f %.2f".
 double two_decimals(double x) { return std::round(x * 100.0) / 100.0; }
 
@@ -233,12 +242,13 @@ TEST_CASE("pointing: repeated identical targets hold, with no overshoot") {
     TargetPredictor predictor(local_only());
 
     SECTION("a moving stream that stops") {
-        for (int k = 0; k <= 10; ++k) {
+        // 20 s of targets: an established track (a shorter one stops at its last target anyway).
+        for (int k = 0; k <= 20; ++k) {
             predictor.observe(at(k), sat.at(k), std::nullopt);
         }
-        REQUIRE(must_predict(predictor, 10.5).moving);
-        const AzEl last = sat.at(10);
-        for (int k = 11; k <= 14; ++k) {
+        REQUIRE(must_predict(predictor, 20.5).moving);
+        const AzEl last = sat.at(20);
+        for (int k = 21; k <= 24; ++k) {
             predictor.observe(at(k), last, std::nullopt);
             for (const double t : {double(k), k + 0.5, k + 30.0}) {
                 INFO("repeat at " << k << " s, predicted at " << t << " s");
@@ -268,13 +278,13 @@ TEST_CASE("pointing: repeated identical targets hold, with no overshoot") {
         predictor.observe(at(0), park, std::nullopt);
         predictor.observe(at(1), park, std::nullopt);
         // The client starts moving again, from the held position.
-        for (int k = 2; k <= 8; ++k) {
+        for (int k = 2; k <= 24; ++k) {
             predictor.observe(at(k), {park.az + 0.4 * (k - 1), park.el}, std::nullopt);
         }
-        const Prediction p = must_predict(predictor, 10.0);
+        const Prediction p = must_predict(predictor, 26.0);
         CHECK(p.moving);
         CHECK(p.az_rate == Approx(0.4).margin(0.005));
-        CHECK(p.position.az == Approx(park.az + 0.4 * 9).margin(0.02));
+        CHECK(p.position.az == Approx(park.az + 0.4 * 25).margin(0.02));
     }
 }
 
@@ -292,7 +302,9 @@ TEST_CASE("pointing: the extrapolation stops at the horizon after the last movin
         INFO("targets every " << c.interval_s << " s");
         TargetPredictor predictor(local_only());
         double last = 0.0;
-        for (int k = 0; k <= 6; ++k) {
+        // An established track: at least four targets over at least 20 s.
+        const int targets = std::max(6, static_cast<int>(std::ceil(local_only().established_track_s / c.interval_s)));
+        for (int k = 0; k <= targets; ++k) {
             last = k * c.interval_s;
             predictor.observe(at(last), sat.at(last), std::nullopt);
         }
@@ -316,7 +328,7 @@ TEST_CASE("pointing: the extrapolation stops at the horizon after the last movin
 
 TEST_CASE("pointing: a target far from the prediction restarts the estimate") {
     const Linear sat{150.0, 30.0, 0.5, 0.3};
-    const PredictorSettings settings = local_only();
+    const PredictorSettings settings = extrapolating_at_once();
     TargetPredictor predictor(settings);
     for (int k = 0; k <= 10; ++k) {
         predictor.observe(at(k), sat.at(k), std::nullopt);
@@ -370,7 +382,7 @@ TEST_CASE("pointing: a target far from the prediction restarts the estimate") {
 }
 
 TEST_CASE("pointing: azimuth crossing north keeps a continuous, positive rate") {
-    TargetPredictor predictor(local_only());
+    TargetPredictor predictor(extrapolating_at_once());
     SECTION("clockwise through 0, extrapolated across 0") {
         // 356, 356.5, ..., 359.5: the extrapolation crosses north on its own.
         for (int k = 0; k <= 7; ++k) {
@@ -430,7 +442,7 @@ TEST_CASE("pointing: azimuth crossing north keeps a continuous, positive rate") 
 }
 
 TEST_CASE("pointing: above the zenith guard the azimuth is extrapolated briefly, the elevation on") {
-    const PredictorSettings settings = local_only();
+    const PredictorSettings settings = extrapolating_at_once();
     TargetPredictor predictor(settings);
     const Linear sat{200.0, 80.0, 3.0, 0.2};  // a keyhole pass: fast azimuth high up
     for (int k = 0; k <= 5; ++k) {
@@ -452,7 +464,7 @@ TEST_CASE("pointing: non-finite targets are ignored") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double inf = std::numeric_limits<double>::infinity();
     const AzEl garbage[] = {{nan, 30.0}, {100.0, nan}, {inf, 30.0}, {100.0, -inf}, {nan, nan}};
-    TargetPredictor predictor(local_only());
+    TargetPredictor predictor(extrapolating_at_once());
 
     SECTION("before any target: still nothing to predict") {
         for (const auto& g : garbage) {
@@ -491,7 +503,7 @@ TEST_CASE("pointing: non-finite targets are ignored") {
 
 TEST_CASE("pointing: reset() forgets the stream") {
     const Linear sat{100.0, 20.0, 0.5, 0.3};
-    TargetPredictor predictor(local_only());
+    TargetPredictor predictor(extrapolating_at_once());
     for (int k = 0; k <= 10; ++k) {
         predictor.observe(at(k), sat.at(k), std::nullopt);
     }
@@ -501,13 +513,16 @@ TEST_CASE("pointing: reset() forgets the stream") {
     CHECK_FALSE(predictor.predict(at(1000)).has_value());
     CHECK(predictor.describe() == "no target yet");
 
-    // A new stream elsewhere: the first target holds, the second gives a rate of its own.
+    // A new stream elsewhere: the first two targets hold (two steps are no track yet), the third
+    // gives a rate of its own.
     const Linear other{300.0, 50.0, -0.25, -0.1};
     predictor.observe(at(20), other.at(20), std::nullopt);
     Prediction p = must_predict(predictor, 21.0);
     CHECK_FALSE(p.moving);
     CHECK(p.position.az == Approx(other.at(20).az).margin(1e-9));
     predictor.observe(at(21), other.at(21), std::nullopt);
+    CHECK_FALSE(must_predict(predictor, 21.5).moving);
+    predictor.observe(at(22), other.at(22), std::nullopt);
     p = must_predict(predictor, 23.0);
     CHECK(p.moving);
     CHECK(p.az_rate == Approx(-0.25).margin(0.002));
@@ -517,7 +532,7 @@ TEST_CASE("pointing: reset() forgets the stream") {
 TEST_CASE("pointing: reset() forgets the learned lead and a held stop") {
     // Regression: reset() once cleared the samples and rates but kept the learned lead and the
     // held flag, so a lead-free client after a stop was tracked a whole lead behind.
-    TargetPredictor predictor(local_only());
+    TargetPredictor predictor(extrapolating_at_once());
     SECTION("the learned lead") {
         const Linear sat{100.0, 15.0, 0.5, 0.15};
         GpredictRun client;
@@ -543,10 +558,11 @@ TEST_CASE("pointing: reset() forgets the learned lead and a held stop") {
         predictor.observe(at(0), park, std::nullopt);
         predictor.observe(at(1), park, std::nullopt);  // held
         predictor.reset();
-        // After a reset two targets of a new motion give its rate, as on a fresh predictor.
+        // After a reset three targets of a new motion give its rate, as on a fresh predictor.
         predictor.observe(at(10), {100.0, 20.0}, std::nullopt);
         predictor.observe(at(11), {100.5, 20.3}, std::nullopt);
-        const Prediction p = must_predict(predictor, 12.0);
+        predictor.observe(at(12), {101.0, 20.6}, std::nullopt);
+        const Prediction p = must_predict(predictor, 13.0);
         CHECK(p.moving);
         CHECK(p.az_rate == Approx(0.5).margin(0.002));
     }

@@ -5,11 +5,15 @@
 // times, the G2's profile, and next_aim() called as the worker would.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "birdcage/tracking/steering.hpp"
 #include "birdcage/firmware/variants.hpp"
+#include "error_stats.hpp"
 
 using namespace birdcage;
 
@@ -40,20 +44,20 @@ SteeringInput input_at(double t, const TargetPredictor& predictor, std::optional
 }  // namespace
 
 TEST_CASE("steering: a moving satellite is aimed a deadband ahead, then left alone until it passes the aim") {
-    const TargetPredictor predictor = fed_until(10.0);
-    const auto first = next_aim(input_at(10.0, predictor, std::nullopt));
+    const TargetPredictor predictor = fed_until(30.0);
+    const auto first = next_aim(input_at(30.0, predictor, std::nullopt));
     REQUIRE(first);
     CHECK_FALSE(first->holding);
     CHECK(first->az_rate == Approx(1.0).margin(0.05));
     // Ahead of the satellite in both axes, by about a deadband plus the move's own time.
-    CHECK(azimuth_difference(satellite(10.0).az, first->aim.az) > 0.0);
-    CHECK(azimuth_difference(satellite(10.0).az, first->aim.az) < 1.0);
-    CHECK(first->aim.el > satellite(10.0).el);
+    CHECK(azimuth_difference(satellite(30.0).az, first->aim.az) > 0.0);
+    CHECK(azimuth_difference(satellite(30.0).az, first->aim.az) < 1.0);
+    CHECK(first->aim.el > satellite(30.0).el);
 
     // 50 ms later the satellite has moved 0.05 deg: short of the aim, so nothing new.
-    CHECK_FALSE(next_aim(input_at(10.05, predictor, first->aim)));
+    CHECK_FALSE(next_aim(input_at(30.05, predictor, first->aim)));
     // A second later it is well past the aim: a new one, ahead again, with both legs timed.
-    const auto later = next_aim(input_at(11.0, predictor, first->aim));
+    const auto later = next_aim(input_at(31.0, predictor, first->aim));
     REQUIRE(later);
     CHECK(azimuth_difference(first->aim.az, later->aim.az) > 0.5);
     CHECK(later->legs >= 1);
@@ -152,4 +156,181 @@ TEST_CASE("steering: the measured leg overhead is what a step took beyond its mo
     CHECK(updated_leg_overhead(std::nullopt, 5.0, 3.0, 2) == Approx(1.0));
     CHECK(updated_leg_overhead(1.0, 3.0, 3.0, 1) == Approx(0.8));    // faster than the motion: 0 overhead
     CHECK(updated_leg_overhead(0.5, 9.0, 1.0, 0) == Approx(0.5));    // no leg: nothing learnt
+}
+
+namespace {
+
+// A client that points the dish by single targets (rotctl, a TUI jogging, an MCP server's move_to,
+// a sky scan) against a dish that goes to each aim at once; next_aim() is called every 0.1 s as the
+// worker would. Records the aims.
+struct ManualRun {
+    struct Step {
+        double t;
+        AzEl target;
+    };
+    std::vector<Step> steps;
+    double az_min = 360.0, az_max = -360.0, el_min = 90.0, el_max = 0.0;  // targets sent so far
+    double worst_outside_deg = 0.0;  // the aims' furthest excursion outside the targets' box
+    std::vector<AzEl> aim_before_step;  // the aim just before each step after the first
+    std::optional<AzEl> aim;
+
+    void run(PointingOptions pointing = {}) {
+        TargetPredictor predictor(pointing.predictor);
+        std::size_t next = 0;
+        std::optional<AzEl> last_target;
+        const double end = steps.back().t + 120.0;
+        for (int tick = 0; tick * 0.1 <= end; ++tick) {
+            const double t = tick * 0.1;
+            if (next < steps.size() && t + 1e-9 >= steps[next].t) {
+                if (next > 0) {
+                    aim_before_step.push_back(*aim);
+                }
+                const AzEl target = steps[next].target;
+                predictor.observe(at(t), target, aim);
+                // Unwrapped around the first target: these grids do not cross north.
+                az_min = std::min(az_min, target.az);
+                az_max = std::max(az_max, target.az);
+                el_min = std::min(el_min, target.el);
+                el_max = std::max(el_max, target.el);
+                last_target = target;
+                ++next;
+            }
+            const SteeringInput in{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, pointing, 0.0,
+                                   aim, last_target, aim};
+            if (const auto decision = next_aim(in)) {
+                aim = decision->aim;
+                const double outside = std::max({az_min - aim->az, aim->az - az_max, el_min - aim->el, aim->el - el_max, 0.0});
+                worst_outside_deg = std::max(worst_outside_deg, outside);
+            }
+        }
+    }
+};
+
+void check_ends_at_last_target(const ManualRun& run) {
+    REQUIRE(run.aim);
+    CHECK(run.aim->az == Approx(run.steps.back().target.az).margin(0.005));
+    CHECK(run.aim->el == Approx(run.steps.back().target.el).margin(0.005));
+    // Never beyond where the client has pointed: no extrapolation of manual steps.
+    CHECK(run.worst_outside_deg < 0.005);
+}
+
+}  // namespace
+
+TEST_CASE("steering: manual pointing by single targets ends exactly at the last target") {
+    SECTION("P 180 40, then P 185 40 two seconds later (the dish came to rest at 207.4)") {
+        ManualRun run;
+        run.steps = {{0.0, {180.0, 40.0}}, {2.0, {185.0, 40.0}}};
+        run.run();
+        check_ends_at_last_target(run);
+    }
+    SECTION("steps 180 -> 185 -> 190, two to five seconds apart, at 0 to 60 deg elevation") {
+        const double interval = GENERATE(2.0, 3.0, 4.0, 5.0);
+        const double el = GENERATE(20.0, 40.0, 60.0);
+        INFO("every " << interval << " s at el " << el);
+        ManualRun run;
+        run.steps = {{0.0, {180.0, el}}, {interval, {185.0, el}}, {2 * interval, {190.0, el}}};
+        run.run();
+        check_ends_at_last_target(run);
+        for (std::size_t k = 0; k < run.aim_before_step.size(); ++k) {
+            INFO("before step " << k + 1);
+            CHECK(run.aim_before_step[k].az == Approx(run.steps[k].target.az).margin(0.005));
+        }
+    }
+    SECTION("a TUI jogging by 1 deg every second, ten times") {
+        ManualRun run;
+        for (int k = 0; k <= 10; ++k) {
+            run.steps.push_back({1.0 * k, {200.0 + k, 35.0}});
+        }
+        run.run();
+        check_ends_at_last_target(run);
+    }
+    SECTION("a sky scan: a serpentine grid of 1-2 deg steps every few seconds") {
+        const double step = GENERATE(1.0, 2.0);
+        const double dwell = GENERATE(2.0, 3.0);
+        INFO(step << " deg every " << dwell << " s");
+        ManualRun run;
+        double t = 0.0;
+        for (int row = 0; row < 5; ++row) {
+            for (int col = 0; col < 6; ++col) {
+                const int c = row % 2 == 0 ? col : 5 - col;
+                run.steps.push_back({t, {150.0 + step * c, 30.0 + step * row}});
+                t += dwell;
+            }
+        }
+        run.run();
+        check_ends_at_last_target(run);
+        // The dish dwells on each grid point until the next is sent.
+        for (std::size_t k = 0; k < run.aim_before_step.size(); ++k) {
+            INFO("before grid point " << k + 1);
+            CHECK(run.aim_before_step[k].az == Approx(run.steps[k].target.az).margin(0.005));
+            CHECK(run.aim_before_step[k].el == Approx(run.steps[k].target.el).margin(0.005));
+        }
+    }
+    SECTION("a single far jump") {
+        ManualRun run;
+        run.steps = {{0.0, {10.0, 20.0}}, {20.0, {250.0, 60.0}}};
+        run.run();
+        check_ends_at_last_target(run);
+    }
+}
+
+TEST_CASE("steering: a Gpredict-like pass after manual moves still gets predictive aims") {
+    // Manual moves first, then a client tracking a satellite (1 s cycle, 0.5 deg threshold, a lead
+    // to the threshold's edge to a quarter cycle, as bench/gpredict_client.cpp), against a dish that
+    // goes to each aim at once. The same client against a dish that goes to each target as sent
+    // (pointing=none) is the baseline: predictive aims must lead the last target and beat it.
+    const auto sat = [](double t) { return AzEl{normalize_azimuth(120.0 + 0.6 * t), 25.0 + 0.2 * t}; };
+    const double threshold = 0.5;
+    struct Result {
+        birdcage::test::ErrorStats error;
+        int leading = 0;
+        int targets = 0;
+    };
+    auto run = [&](bool predictive) {
+        TargetPredictor predictor;
+        predictor.observe(at(-20.0), {180.0, 40.0}, std::nullopt);
+        predictor.observe(at(-18.0), {185.0, 40.0}, AzEl{180.0, 40.0});
+        std::optional<AzEl> aim = AzEl{185.0, 40.0};
+        std::optional<AzEl> last_target;
+        Result result;
+        for (int tick = 0; tick * 0.1 <= 150.0; ++tick) {
+            const double t = tick * 0.1;
+            const AzEl now = sat(t);
+            if (tick % 10 == 0 &&
+                (!last_target || std::max(std::fabs(azimuth_difference(aim->az, now.az)), std::fabs(aim->el - now.el)) > threshold)) {
+                double lead_s = 0.0;
+                while (std::max(std::fabs(azimuth_difference(now.az, sat(t + lead_s + 0.25).az)),
+                                std::fabs(sat(t + lead_s + 0.25).el - now.el)) <= threshold) {
+                    lead_s += 0.25;
+                }
+                const AzEl ahead = sat(t + lead_s);
+                last_target = AzEl{std::round(ahead.az * 100.0) / 100.0, std::round(ahead.el * 100.0) / 100.0};
+                predictor.observe(at(t), *last_target, aim);
+                ++result.targets;
+                if (!predictive) {
+                    aim = last_target;
+                }
+            }
+            const SteeringInput in{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{},
+                                   0.0, aim, last_target, aim};
+            if (const auto decision = next_aim(in); decision && predictive) {
+                aim = decision->aim;
+                result.leading += azimuth_difference(last_target->az, aim->az) > 0.01 ? 1 : 0;
+            }
+            if (t >= 30.0) {  // past the young track's 20 s
+                result.error.add(std::hypot(azimuth_difference(now.az, aim->az) * std::cos(now.el * M_PI / 180.0),
+                                            now.el - aim->el));
+            }
+        }
+        return result;
+    };
+    const Result predictive = run(true);
+    const Result as_sent = run(false);
+    INFO("predictive: RMS " << predictive.error.rms() << ", max " << predictive.error.max << ", " << predictive.targets
+                            << " targets, " << predictive.leading << " aims ahead of the last target; as sent: RMS "
+                            << as_sent.error.rms() << ", max " << as_sent.error.max << ", " << as_sent.targets << " targets");
+    CHECK(predictive.leading > 10);
+    CHECK(predictive.error.rms() < 0.9 * as_sent.error.rms());
+    CHECK(predictive.targets < as_sent.targets / 2);
+    CHECK(predictive.error.max < 2 * threshold);
 }

@@ -181,3 +181,28 @@ TEST_CASE("conf parameters: listed by rotctl -L, and they take effect", "[e2e][v
         CHECK(rig.dish().hazards_received() == 0);
     }
 }
+
+TEST_CASE("conf parameters set while rotctld runs are refused, with a log line naming -C", "[e2e][verbs][conf]") {
+    // Every parameter is read at open; rotctl's `C key value` after that used to answer RPRT 0 and
+    // change nothing (`C pointing none` left the G2 predictive).
+    Options o = e2e::dish_options(Variant::carryout_g2);
+    o.time_scale = 10.0;
+    e2e::Rig rig(o, 90105, {"-C", "time_scale=10"});
+    e2e::RotctldConnection client(rig.port());
+    REQUIRE(client.ask("_", 1).find("pointing predictive") != std::string::npos);
+    const std::pair<const char*, const char*> settings[] = {
+        {"pointing", "none"}, {"leapfrog", "1"},  {"deadband", "0.5"},   {"deadband_share", "0"},
+        {"pass_model", "1"},  {"el_min", "30"},   {"el_max", "50"},      {"az_min", "90"},
+        {"az_max", "270"},    {"variant", "hal205"}, {"boot_timeout", "10"}, {"skip_init", "1"},
+        {"time_scale", "1"},  {"az_mapping", "literal"}};
+    for (const auto& [key, value] : settings) {
+        INFO(key << " = " << value);
+        CHECK(client.ask(std::string("C ") + key + " " + value, 1) == "RPRT -1\n");
+        CHECK(rig.rotctld_log_text().find(std::string("-C ") + key + "=" + value) != std::string::npos);
+    }
+    CHECK(client.ask("_", 1).find("pointing predictive") != std::string::npos);
+    // The session goes on with the settings it was opened with: el_max stays the G2's 65, not 50.
+    CHECK(client.ask("P 200 60", 1) == "RPRT 0\n");
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 200.0, 60.0); }, 30s));
+    CHECK(rig.dish().hazards_received() == 0);
+}

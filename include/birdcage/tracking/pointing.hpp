@@ -28,6 +28,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <deque>
 #include <optional>
 #include <string>
@@ -70,6 +71,24 @@ struct PredictorSettings {
     double max_sky_rate_dps = 3.0;
     // Below this on-sky rate the target counts as stationary.
     double stationary_dps = 0.002;
+    // What makes a stream of targets a satellite rather than manual pointing (rotctl, a jogging
+    // TUI, a sky scan stepping a grid; docs/tracking.md §7): the motion is extrapolated only once
+    // this many targets in a row (since the last restart) lie on a smooth track (the fit window's
+    // targets within max_track_residual_deg RMS of the fitted curve, on the sky) at an on-sky rate
+    // a LEO satellite can have (<= 1.16 deg/s, docs/tracking.md §2.1; the margin is for the
+    // client's lead quantisation).
+    std::size_t min_track_targets = 3;
+    double max_satellite_sky_rate_dps = 1.5;
+    double max_track_residual_deg = 0.5;
+    // ... and that never turns by more than this between successive steps of at least
+    // min_turn_step_deg on the sky (a quadratic in az/el fits a serpentine's reversal).
+    double max_track_turn_deg = 60.0;
+    double min_turn_step_deg = 0.2;
+    // Until this many targets in a row over this long, the extrapolation stops at the last target:
+    // a few manual steps at a satellite's pace are not yet a pass, and manual pointing must end
+    // exactly where it was sent.
+    std::size_t established_track_targets = 3;
+    double established_track_s = 20.0;
     // Predict from a model of the whole pass (pass_model.hpp) whenever its fit is good; the local
     // estimate above stays the fallback (few targets, manual pointing). Off by default (conf
     // pass_model): on the benchmark it removes one Trav'ler unwind but raises motor commands and
@@ -109,6 +128,9 @@ private:
         double el;
     };
     double seconds(Clock::time_point t) const;
+    // predict(), or with hold_at_last_target false the bare extrapolation (what the next target is
+    // checked against: a client that went quiet may resume along the same track).
+    std::optional<Prediction> estimate(Clock::time_point t, bool hold_at_last_target) const;
     void fit();
     void restart(double t, AzEl target);
 
@@ -125,6 +147,9 @@ private:
     // The estimated satellite position at anchor_t_ (the last target minus the lead).
     double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;
     double last_interval_s_ = 0.0;
+    // Targets since the last restart (a restart is a new pointing).
+    std::size_t track_targets_ = 0;
+    double track_start_t_ = 0.0;
     PassModel pass_model_;
 };
 

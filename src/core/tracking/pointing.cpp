@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 namespace birdcage {
@@ -39,6 +40,62 @@ struct Fit {
     double accel = 0.0;   // curvature (0 for a straight line)
     bool ok = false;
 };
+
+// The largest turn (degrees) between successive steps of the targets, on the sphere (so the
+// azimuth's own swing near the zenith is no turn). Steps shorter than `min_step_deg` carry only a
+// client's rounding and lead quantisation and are left out. A satellite's track turns gently; a
+// sky scan's serpentine turns by 90 and 180 degrees, a jogging user wherever they like.
+template <typename Samples>
+double sharpest_turn_deg(const Samples& samples, double min_step_deg) {
+    using Vec = std::array<double, 3>;
+    auto unit = [](double az, double el) {
+        const double a = az * M_PI / 180.0, e = el * M_PI / 180.0;
+        return Vec{std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
+    };
+    const double min_chord = 2.0 * std::sin(min_step_deg * M_PI / 360.0);
+    double sharpest = 0.0;
+    std::optional<Vec> previous_point, previous_step;
+    for (const auto& s : samples) {
+        const Vec point = unit(s.az, s.el);
+        if (!previous_point) {
+            previous_point = point;
+            continue;
+        }
+        const Vec step{point[0] - (*previous_point)[0], point[1] - (*previous_point)[1], point[2] - (*previous_point)[2]};
+        const double length = std::sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2]);
+        if (length < min_chord) {
+            continue;  // measured from the last point kept, so slow steps still add up
+        }
+        if (previous_step) {
+            const Vec& p = *previous_step;
+            const double cos_turn = (p[0] * step[0] + p[1] * step[1] + p[2] * step[2]) /
+                                    (length * std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
+            sharpest = std::max(sharpest, std::acos(std::clamp(cos_turn, -1.0, 1.0)) * 180.0 / M_PI);
+        }
+        previous_step = step;
+        previous_point = point;
+    }
+    return sharpest;
+}
+
+// Mean square of the samples off a fitted curve (its offset the best one for the given rate and
+// curvature), each scaled by `scale` (cos(el) turns an azimuth into an angle on the sky).
+template <typename Samples, typename Get>
+double mean_square_off(const Samples& samples, Get value, const Fit& fit, double scale) {
+    const double t_end = samples.back().t;
+    auto curve = [&](double u) { return fit.rate * u + 0.5 * fit.accel * u * u; };
+    double offset = 0.0;
+    for (const auto& s : samples) {
+        offset += value(s) - curve(s.t - t_end);
+    }
+    offset /= static_cast<double>(samples.size());
+    double sum = 0.0;
+    for (const auto& s : samples) {
+        const double off = (value(s) - curve(s.t - t_end) - offset) * scale;
+        sum += off * off;
+    }
+    return sum / static_cast<double>(samples.size());
+}
 
 // Least squares of value(t), evaluated as a slope at t_end: quadratic when the samples allow it
 // (a straight line's slope belongs to the window's centroid, seconds behind the newest target,
@@ -121,6 +178,7 @@ void TargetPredictor::reset() {
     have_rate_ = false;
     az_rate_ = el_rate_ = 0.0;
     last_interval_s_ = 0.0;
+    track_targets_ = 0;
     pass_model_.clear();
 }
 
@@ -133,6 +191,8 @@ void TargetPredictor::restart(double t, AzEl target) {
     anchor_az_ = samples_.back().az;
     anchor_el_ = target.el;
     last_interval_s_ = 0.0;
+    track_targets_ = 1;
+    track_start_t_ = t;
     // A new pointing: a pass model of the old one would pull the prediction back to it.
     pass_model_.clear();
     pass_model_.add(t, target);
@@ -147,6 +207,19 @@ void TargetPredictor::fit() {
     const Fit az = slope_at_end(samples_, [](const Sample& s) { return s.az; }, max_az_accel);
     const Fit el = slope_at_end(samples_, [](const Sample& s) { return s.el; }, max_el_accel);
     have_rate_ = az.ok && el.ok && std::hypot(az.rate, el.rate) >= settings_.stationary_dps;
+    if (have_rate_) {
+        // Manual pointing moves by steps at whatever pace the user or program likes, and a few
+        // steps fit any straight line: only enough targets, on a smooth track, at a satellite's
+        // pace are extrapolated (docs/tracking.md §7).
+        const double cos_el = std::cos(samples_.back().el * M_PI / 180.0);
+        const double sky_rate = std::hypot(az.rate * cos_el, el.rate);
+        const double residual =
+            std::sqrt(mean_square_off(samples_, [](const Sample& s) { return s.az; }, az, cos_el) +
+                      mean_square_off(samples_, [](const Sample& s) { return s.el; }, el, 1.0));
+        have_rate_ = track_targets_ >= settings_.min_track_targets && sky_rate <= settings_.max_satellite_sky_rate_dps &&
+                     residual <= settings_.max_track_residual_deg &&
+                     sharpest_turn_deg(samples_, settings_.min_turn_step_deg) <= settings_.max_track_turn_deg;
+    }
     az_rate_ = have_rate_ ? az.rate : 0.0;
     el_rate_ = have_rate_ ? el.rate : 0.0;
     az_accel_ = have_rate_ ? az.accel : 0.0;
@@ -185,7 +258,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     }
     if (have_rate_) {
         // Where the client's next target was expected (the satellite plus the learned lead).
-        const auto expected = predict(when);
+        const auto expected = estimate(when, false);
         const double lead_s = lead_threshold_ ? std::min(*lead_threshold_ / std::max(std::fabs(az_rate_), std::fabs(el_rate_)), max_lead_s) : 0.0;
         const double expected_az = expected->position.az + az_rate_ * lead_s;
         const double expected_el = expected->position.el + el_rate_ * lead_s;
@@ -196,8 +269,9 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         }
     }
     held_ = false;
-    const std::optional<Prediction> before = have_rate_ ? predict(when) : std::nullopt;
+    const std::optional<Prediction> before = have_rate_ ? estimate(when, false) : std::nullopt;
     samples_.push_back({t, az, target.el});
+    ++track_targets_;
     pass_model_.add(t, target);
     if (t - last.t > resend_interval_s) {
         last_interval_s_ = t - last.t;
@@ -273,7 +347,9 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     }
 }
 
-std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const {
+std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const { return estimate(when, true); }
+
+std::optional<Prediction> TargetPredictor::estimate(Clock::time_point when, bool hold_at_last_target) const {
     if (samples_.empty()) {
         return std::nullopt;
     }
@@ -285,6 +361,30 @@ std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const
     const double dt = std::max(0.0, seconds(when) - anchor_t_);
     const double horizon = std::clamp(settings_.extrapolate_intervals * last_interval_s_, settings_.min_extrapolation_s,
                                       settings_.max_extrapolation_s);
+    // On a young track the estimate stops at the client's last target, once it gets there (the
+    // anchor trails the target by the client's lead). An established track is followed to the
+    // horizon and held where the extrapolation ended: a tracking client that is satisfied with
+    // the dish sends nothing, so a quiet client is no sign of one that stopped, and returning to
+    // its last target would put the dish the whole horizon behind the satellite
+    // (docs/tracking.md §7).
+    const Sample& last = samples_.back();
+    const Prediction at_last_target{{normalize_azimuth(last.az), last.el}, 0.0, 0.0, false};
+    const bool young = track_targets_ < settings_.established_track_targets ||
+                       last.t - track_start_t_ < settings_.established_track_s;
+    // A good pass model has passed stricter tests than these (five targets on one circle, a flyby's
+    // time law, a LEO rate: docs/tracking.md §6), so it is followed without waiting.
+    if (hold_at_last_target && young && !pass_model_in_use()) {
+        // Along the track on the sky (cos(el) scales the azimuth), the time the estimate takes
+        // from the anchor to the last target.
+        const double cos_sq = std::pow(std::cos(anchor_el_ * M_PI / 180.0), 2);
+        const double rate_sq = az_rate_ * az_rate_ * cos_sq + el_rate_ * el_rate_;
+        const double to_target_s =
+            rate_sq > 0.0 ? ((last.az - anchor_az_) * az_rate_ * cos_sq + (last.el - anchor_el_) * el_rate_) / rate_sq
+                          : 0.0;
+        if (dt >= to_target_s) {
+            return at_last_target;
+        }
+    }
     if (pass_model_in_use()) {
         // The same horizon (a client that stops sending is followed no further than with the
         // local estimate), and no zenith guard: the circle passes the zenith like any other point.

@@ -105,17 +105,39 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         }
         return past >= deadband || past < -behind_deadbands * deadband;
     };
+    // The aim runs a deadband ahead of the estimate, but never past where the estimate stops (the
+    // client's last target on a young track, the end of the extrapolation once its horizon has
+    // passed): manual pointing ends exactly where it was sent (docs/tracking.md §7).
+    auto stop_within_deadband = [&](Axis axis, double deadband, double rate) -> std::optional<Prediction> {
+        if (rate < still_rate_dps) {
+            return std::nullopt;
+        }
+        const auto beyond = in.predictor.predict(in.now + seconds(step_time(axis, 2 * deadband) + deadband / rate));
+        return beyond && !beyond->moving ? beyond : std::nullopt;
+    };
     const double az_sign = current->az_rate >= 0 ? 1.0 : -1.0;
     const double az_past = azimuth_difference(next.az, az_at->position.az) * az_sign;
     if (changed || re_aim(az_past, az_rate, deadband_az)) {
-        next.az = normalize_azimuth(az_at->position.az + (az_rate < still_rate_dps ? 0.0 : az_sign * deadband_az));
+        if (az_rate < still_rate_dps) {
+            next.az = az_at->position.az;
+        } else if (const auto stop = stop_within_deadband(Axis::azimuth, deadband_az, az_rate)) {
+            next.az = stop->position.az;
+        } else {
+            next.az = normalize_azimuth(az_at->position.az + az_sign * deadband_az);
+        }
         changed = true;
     }
     const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
     const double el_wanted = above_cap ? in.el_max : clamp_el(el_at->position.el);
     const double el_past = (el_wanted - next.el) * el_sign;
     if (changed || re_aim(el_past, el_rate, deadband_el)) {
-        next.el = clamp_el(el_wanted + (el_rate < still_rate_dps ? 0.0 : el_sign * deadband_el));
+        if (el_rate < still_rate_dps) {
+            next.el = el_wanted;
+        } else if (const auto stop = stop_within_deadband(Axis::elevation, deadband_el, el_rate)) {
+            next.el = clamp_el(stop->position.el);
+        } else {
+            next.el = clamp_el(el_wanted + el_sign * deadband_el);
+        }
         changed = true;
     }
     if (!changed) {

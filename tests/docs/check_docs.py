@@ -248,7 +248,9 @@ def check_doc(tree, doc, conf_keys, figures, problems):
         if not cells:
             in_conf_table = False
         elif cells[0] == "key":
-            in_conf_table = True
+            # A conf table gives each key its default (docs/usage.md); a table of keyboard keys
+            # (docs/tui.md) does not.
+            in_conf_table = any(c.startswith("default") for c in cells[1:])
         elif in_conf_table and not set(cells[0]) <= set("-: "):
             named += re.findall(r"`([a-z_][a-z0-9_]*)`", cells[0])
     if conf_keys is not None:

@@ -171,7 +171,13 @@ Status AxisLegDriver::send(Leg& leg) {
     }
     leg.budget = estimate * 2 + leg_margin + start_allowance(leg);
     const std::string command = build_axis_move(leg.axis, axis_value(leg.target, leg.axis));
-    const auto timeout = c_.profile.prompt_known() ? leg.budget + prompt_after_move_margin : unknown_prompt_send_timeout;
+    // An after-motion acknowledgement comes once the move is over, start-up delay included; but
+    // only a delay the readings have shown counts here. A prompt lost on the line costs this whole
+    // wait, so the unlearnt allowance, which only keeps an unstarted axis from being called
+    // stopped, would make every lost prompt byte seconds longer (docs/tracking.md §1.5).
+    const auto reply_budget = estimate * 2 + leg_margin +
+                              (startup_.learnt(leg.axis) ? start_allowance(leg) - still_window : std::chrono::milliseconds{0});
+    const auto timeout = c_.profile.prompt_known() ? reply_budget + prompt_after_move_margin : unknown_prompt_send_timeout;
     ReplyComplete complete;
     if (c_.profile.move_ack == MoveAckFormat::g2_angle) {
         complete = [](std::span<const std::string> lines) { return static_cast<bool>(parse_g2_move_ack(lines)); };

@@ -255,14 +255,20 @@ void draw_numbers(const Ui& ui, const tui::Snapshot& s, int& y, int x) {
     }
 }
 
-void draw_dashboard(const Ui& ui, const tui::Snapshot& s, int top, int height) {
+// The dashboard and the control screen share the pointing half: compass rose, elevation gauge
+// and the numbers beside them. Returns the first free line of the right-hand panel.
+int draw_pointing(const Ui& ui, const tui::Snapshot& s, int top, int height) {
     const int left_width = panel_left() - 10;
     draw_compass(ui, s, top, 0, height, left_width);
     draw_elevation_gauge(ui, s, top, left_width + 1, height);
-    const int x = panel_left();
     int y = top;
-    draw_numbers(ui, s, y, x);
-    ++y;
+    draw_numbers(ui, s, y, panel_left());
+    return y + 1;
+}
+
+void draw_dashboard(const Ui& ui, const tui::Snapshot& s, int top, int height) {
+    const int x = panel_left();
+    int y = draw_pointing(ui, s, top, height);
     put(y++, x, "Status  " + s.status.value_or("(not reported)"));
     put(y++, x, "Link    " + link_word(s), colour(ui, s.link == tui::LinkState::connected ? kGood : kBad));
     if (s.connects > 1) {
@@ -278,13 +284,8 @@ void draw_dashboard(const Ui& ui, const tui::Snapshot& s, int top, int height) {
 }
 
 void draw_control(const Ui& ui, const tui::Snapshot& s, int top, int height) {
-    const int left_width = panel_left() - 10;
-    draw_compass(ui, s, top, 0, height, left_width);
-    draw_elevation_gauge(ui, s, top, left_width + 1, height);
     const int x = panel_left();
-    int y = top;
-    draw_numbers(ui, s, y, x);
-    ++y;
+    int y = draw_pointing(ui, s, top, height);
     put(y++, x, "Step    " + fixed(kSteps[ui.step_index], 1) + " deg", A_BOLD);
     ++y;
     put(y++, x, "Left/Right  azimuth -/+");

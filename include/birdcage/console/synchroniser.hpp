@@ -90,6 +90,9 @@ private:
     Heard collect(std::chrono::milliseconds first_byte_within, std::chrono::milliseconds gap, Clock::time_point limit);
     void absorb(std::string_view raw, ConsoleSnapshot& snapshot);
     bool booting() const;
+    // A console that answers the same way twice after a quiet line has booted, whatever its last
+    // boot line was (a completion line this backend does not know): ends the boot and says why.
+    void end_boot_on(const std::string& answer, const std::string& last_boot_line);
     Status write(std::string_view bytes);
     void report_progress(const ConsoleSnapshot& snapshot, Clock::time_point started);
     void check_baud(std::string_view raw);

@@ -257,6 +257,15 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
 
 bool ConsoleSynchroniser::booting() const { return boot_in_progress_; }
 
+void ConsoleSynchroniser::end_boot_on(const std::string& answer, const std::string& last_boot_line) {
+    if (!booting()) {
+        return;
+    }
+    boot_in_progress_ = false;
+    emit(log_, LogLevel::verbose, "the console answered " + answer + " after a quiet line: the dish has booted (its last boot output \"" +
+                                      escape_bytes(last_boot_line) + "\" was no completion line we know)");
+}
+
 void ConsoleSynchroniser::absorb(std::string_view raw, ConsoleSnapshot& snapshot) {
     if (raw.empty()) {
         return;
@@ -400,12 +409,7 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         // the completion marker -- two pokes answered at the same prompt mean the dish is up.
         if (std::string prompt = trailing_prompt(reply.text()); !prompt.empty()) {
             if (prompt == candidate) {
-                if (booting()) {
-                    boot_in_progress_ = false;
-                    emit(log_, LogLevel::verbose, "the console answered two pokes at " + prompt +
-                                                      " after a quiet line: the dish has booted (its last boot output \"" +
-                                                      escape_bytes(snapshot.last_boot_line) + "\" was no completion line we know)");
-                }
+                end_boot_on("two pokes at " + prompt, snapshot.last_boot_line);
                 snapshot.prompt = std::move(prompt);
                 snapshot.waited = waited();
                 emit(log_, LogLevel::verbose, "console in sync at prompt " + snapshot.prompt + " after " +
@@ -442,12 +446,7 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
                                           contains_any(l, settings_.boot_complete_markers);
                                });
             if (clean && lines == probe_answer) {
-                if (booting()) {
-                    boot_in_progress_ = false;
-                    emit(log_, LogLevel::verbose, "the console answered \"" + std::string(settings_.probe_command) +
-                                                      "\" the same twice after a quiet line: the dish has booted (its last boot output \"" +
-                                                      escape_bytes(snapshot.last_boot_line) + "\" was no completion line we know)");
-                }
+                end_boot_on("\"" + std::string(settings_.probe_command) + "\" the same twice", snapshot.last_boot_line);
                 snapshot.probe_reply = std::move(lines);
                 snapshot.waited = waited();
                 emit(log_, LogLevel::verbose, "console in sync without a prompt: \"" + std::string(settings_.probe_command) +

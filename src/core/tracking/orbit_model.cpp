@@ -1,0 +1,664 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+#include "birdcage/tracking/orbit_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace birdcage {
+namespace {
+
+using Vec = std::array<double, 3>;
+using Orbit = OrbitModel::Orbit;
+
+constexpr double deg = M_PI / 180.0;
+constexpr double earth_mu_km3_s2 = 398600.4418;     // WGS-84
+constexpr double earth_spin_rad_s = 7.2921159e-5;   // sidereal
+constexpr double equatorial_radius_km = 6378.137;
+constexpr double polar_radius_km = 6356.752;
+constexpr double mean_radius_km = 6371.0;
+// Weight of a clamped target's one residual against an exact target's direction.
+constexpr double clamped_weight = 0.5;
+// The two-point solution's scan of altitudes (km) before bisection.
+constexpr double scan_step_km = 10.0;
+// Levenberg–Marquardt.
+constexpr int initial_iterations = 40;
+constexpr int warm_iterations = 10;
+// Penalty (degrees) for a before-rise target when the model's track never rises in the search.
+constexpr double no_rise_penalty_deg = 10.0;
+constexpr double rise_search_s = 1800.0;
+
+double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec cross(const Vec& a, const Vec& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec scaled(const Vec& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+Vec plus(const Vec& a, const Vec& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Vec minus(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec unit(const Vec& a) { return scaled(a, 1.0 / std::sqrt(dot(a, a))); }
+
+Vec unit_vector(AzEl p) {
+    const double az = p.az * deg, el = p.el * deg;
+    return {std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el)};
+}
+
+AzEl direction_of(const Vec& v) {
+    return {normalize_azimuth(std::atan2(v[0], v[1]) / deg), std::atan2(v[2], std::hypot(v[0], v[1])) / deg};
+}
+
+double angle_deg(const Vec& a, const Vec& b) {
+    return std::atan2(std::sqrt(dot(cross(a, b), cross(a, b))), dot(a, b)) / deg;
+}
+
+// Rodrigues: v turned by `angle` about the unit `axis`.
+Vec rotated(const Vec& v, const Vec& axis, double angle) {
+    const double c = std::cos(angle), s = std::sin(angle);
+    return plus(plus(scaled(v, c), scaled(cross(axis, v), s)), scaled(axis, dot(axis, v) * (1.0 - c)));
+}
+
+// The Earth as the site sees it: the centre's distance below the site and the spin axis in the
+// site's east-north-up frame.
+struct Earth {
+    double radius_km = mean_radius_km;
+    Vec axis{0.0, 0.0, 1.0};
+    double spin = 0.0;   // rad/s; 0: a still Earth
+};
+
+Earth earth_at(std::optional<double> latitude_deg) {
+    Earth earth;
+    if (!latitude_deg) {
+        return earth;
+    }
+    const double lat = *latitude_deg * deg;
+    const double a = equatorial_radius_km, b = polar_radius_km;
+    const double ca = a * std::cos(lat), sb = b * std::sin(lat);
+    earth.radius_km = std::sqrt((a * ca * a * ca + b * sb * b * sb) / (ca * ca + sb * sb));
+    earth.axis = {0.0, std::cos(lat), std::sin(lat)};
+    earth.spin = earth_spin_rad_s;
+    return earth;
+}
+
+double kepler_rate(double radius_km) { return std::sqrt(earth_mu_km3_s2 / (radius_km * radius_km * radius_km)); }
+
+// The orbit's geometry at its reference time: position direction p0 and in-plane direction of
+// motion w (geocentric, site frame), radius and rate.
+struct Circle {
+    Vec p0, w;
+    double radius_km, rate;
+};
+
+Circle circle_of(const Orbit& o, const Earth& earth) {
+    const Vec p0 = unit({o.x, o.y, 1.0});
+    const Vec east{1.0, 0.0, 0.0};
+    const Vec e1 = unit(minus(east, scaled(p0, dot(east, p0))));
+    const Vec e2 = cross(p0, e1);
+    const double radius = earth.radius_km + o.altitude_km;
+    return {p0, plus(scaled(e1, std::cos(o.heading)), scaled(e2, std::sin(o.heading))), radius, kepler_rate(radius)};
+}
+
+// The satellite seen from the site at time t, as a vector (km).
+Vec line_of_sight(const Circle& c, const Earth& earth, double t_ref, double t) {
+    const double dt = t - t_ref;
+    const double phase = c.rate * dt;
+    const Vec inertial = scaled(plus(scaled(c.p0, std::cos(phase)), scaled(c.w, std::sin(phase))), c.radius_km);
+    Vec local = earth.spin != 0.0 ? rotated(inertial, earth.axis, -earth.spin * dt) : inertial;
+    local[2] -= earth.radius_km;
+    return local;
+}
+
+struct Evaluator {
+    const Orbit& orbit;
+    Earth earth;
+    Circle circle;
+    Evaluator(const Orbit& o, const Earth& e) : orbit(o), earth(e), circle(circle_of(o, e)) {}
+    Vec direction(double t) const { return unit(line_of_sight(circle, earth, orbit.t_ref, t)); }
+    AzEl azel(double t) const { return direction_of(line_of_sight(circle, earth, orbit.t_ref, t)); }
+
+    // Gpredict's look-ahead from time t (gtk-rot-ctrl.c, docs/tracking.md §5): its target is the
+    // current direction clamped to its limits, and when it sends one it searches the furthest time
+    // before `set_time` (the pass's end) at which the satellite is still within `threshold` of that
+    // on both axes (plain differences), by bisection from the whole remaining pass down to a
+    // quarter of its 1 s cycle. Returns where the search ends: the target it sends.
+    // Where the satellite is inside its limits the search's end is the boundary of that box, found
+    // here by secant steps: it moves smoothly with the orbit, as the fit needs, and Gpredict's
+    // quarter-cycle steps scatter around it.
+    AzEl look_ahead(double t, double threshold, double set_time, double min_el, double max_el) const {
+        const AzEl now = azel(t);
+        const AzEl set{now.az, std::clamp(now.el, min_el, max_el)};
+        if (threshold <= 0.0 || now.el <= 0.0) {
+            return set;
+        }
+        if (set.el == now.el) {
+            auto moved = [&](double tau) {
+                const AzEl to = azel(t + tau);
+                return std::max(std::fabs(set.az - to.az), std::fabs(to.el - set.el));
+            };
+            const double per_second = moved(1.0);
+            double tau = per_second > 1e-9 ? std::min(threshold / per_second, set_time - t) : set_time - t;
+            for (int step = 0; step < 4; ++step) {
+                const double d = moved(tau);
+                if (d < 1e-9) {
+                    break;
+                }
+                tau = std::clamp(tau * threshold / d, 0.0, std::max(0.0, set_time - t));
+            }
+            const AzEl end = azel(t + tau);
+            return {end.az, std::clamp(end.el, min_el, max_el)};
+        }
+        double delta = set_time - t;
+        double step = std::max(delta / 2.0, 1.0);
+        AzEl future = set;
+        while (step > 0.25) {
+            future = azel(t + delta);
+            const bool too_far = future.el < 0.0 || std::fabs(set.az - future.az) > threshold ||
+                                 std::fabs(set.el - future.el) > threshold;
+            delta += too_far ? -step : step;
+            step /= 2.0;
+        }
+        return {future.az, std::clamp(future.el, min_el, max_el)};
+    }
+
+    // When the track sets below the horizon after t (or t + rise_search_s).
+    double set_after(double t) const {
+        double previous = t;
+        for (double s = t; s <= t + rise_search_s; s += 10.0) {
+            if (azel(s).el < 0.0) {
+                double lo = previous, hi = s;
+                for (int i = 0; i < 20; ++i) {
+                    const double mid = 0.5 * (lo + hi);
+                    (azel(mid).el < 0.0 ? hi : lo) = mid;
+                }
+                return lo;
+            }
+            previous = s;
+        }
+        return t + rise_search_s;
+    }
+
+    // When the track first rises above the horizon after t.
+    std::optional<double> rise_after(double t) const {
+        double previous = t;
+        if (azel(t).el >= 0.0) {
+            return std::nullopt;
+        }
+        for (double s = t + 5.0; s <= t + rise_search_s; s += 5.0) {
+            if (azel(s).el >= 0.0) {
+                double lo = previous, hi = s;
+                for (int i = 0; i < 30; ++i) {
+                    const double mid = 0.5 * (lo + hi);
+                    (azel(mid).el >= 0.0 ? hi : lo) = mid;
+                }
+                return hi;
+            }
+            previous = s;
+        }
+        return std::nullopt;
+    }
+};
+
+// Solves the normal equations A x = b (n ≤ 4) by Gaussian elimination with partial pivoting.
+template <std::size_t N>
+bool solve(std::array<std::array<double, N>, N> a, std::array<double, N> b, std::array<double, N>& x) {
+    for (std::size_t col = 0; col < N; ++col) {
+        std::size_t pivot = col;
+        for (std::size_t r = col + 1; r < N; ++r) {
+            if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) {
+                pivot = r;
+            }
+        }
+        if (std::fabs(a[pivot][col]) < 1e-300) {
+            return false;
+        }
+        std::swap(a[col], a[pivot]);
+        std::swap(b[col], b[pivot]);
+        for (std::size_t r = col + 1; r < N; ++r) {
+            const double f = a[r][col] / a[col][col];
+            for (std::size_t c = col; c < N; ++c) {
+                a[r][c] -= f * a[col][c];
+            }
+            b[r] -= f * b[col];
+        }
+    }
+    for (std::size_t i = N; i-- > 0;) {
+        double s = b[i];
+        for (std::size_t c = i + 1; c < N; ++c) {
+            s -= a[i][c] * x[c];
+        }
+        x[i] = s / a[i][i];
+    }
+    return true;
+}
+
+}  // namespace
+
+OrbitModel::OrbitModel(OrbitModelSettings settings) : settings_(settings) {
+    set_dish_limits(settings.el_floor, settings.el_cap);
+}
+
+void OrbitModel::set_dish_limits(double el_floor, double el_cap) {
+    settings_.el_floor = el_floor;
+    settings_.el_cap = el_cap;
+    client_min_el_ = el_floor;
+    client_max_el_ = el_cap;
+}
+
+OrbitModel::ClientView OrbitModel::client_view() const {
+    return {lead_deg_.value_or(0.0), client_min_el_, client_max_el_};
+}
+
+void OrbitModel::clear() {
+    targets_.clear();
+    orbit_.reset();
+    client_min_el_ = settings_.el_floor;
+    client_max_el_ = settings_.el_cap;
+    trusted_ = false;
+    residual_deg_ = 0.0;
+    description_ = "no targets";
+}
+
+bool OrbitModel::add(double t, AzEl target, std::optional<double> lead_threshold_deg) {
+    if (!std::isfinite(t) || !std::isfinite(target.az) || !std::isfinite(target.el)) {
+        return true;
+    }
+    lead_deg_ = lead_threshold_deg;
+    // A target beyond the dish's limits shows a client whose own limits are wider (the backend
+    // clamps): its targets below the floor are exact, and its lowest is the horizon.
+    if (target.el > same_angle_degrees && target.el < settings_.el_floor - same_angle_degrees) {
+        client_min_el_ = 0.0;
+    }
+    if (target.el > settings_.el_cap + same_angle_degrees) {
+        client_max_el_ = 90.0;
+    }
+    const bool below_horizon = target.el <= client_min_el_ + same_angle_degrees;
+    const bool clamped = std::fabs(target.el - client_min_el_) < same_angle_degrees ||
+                         std::fabs(target.el - client_max_el_) < same_angle_degrees;
+    const Kind kind = below_horizon && target.el <= same_angle_degrees ? Kind::before_rise
+                      : clamped                                           ? Kind::clamped
+                                                                          : Kind::exact;
+    bool expected = true;
+    if (trusted_ && kind == Kind::exact) {
+        const auto where = expected_target(t);
+        const double miss = where ? angle_deg(unit_vector(*where), unit_vector(target)) : 0.0;
+        expected = miss <= std::max(settings_.innovation_gate_deg, settings_.gate_residuals * residual_deg_);
+    }
+    if (kind == Kind::before_rise) {
+        // The client repeats the AOS azimuth while it waits: only the newest of those counts.
+        targets_.erase(std::remove_if(targets_.begin(), targets_.end(),
+                                      [](const Target& old) { return old.kind == Kind::before_rise; }),
+                       targets_.end());
+    }
+    targets_.push_back({t, target, kind});
+    while (!targets_.empty() && t - targets_.front().t > settings_.window_s) {
+        targets_.pop_front();
+    }
+    if (targets_.size() > settings_.max_targets) {
+        // Thin out where the targets are densest (a client sending every cycle), never the newest.
+        std::size_t closest = 1;
+        double closest_gap = INFINITY;
+        for (std::size_t i = 1; i + 2 < targets_.size(); ++i) {
+            const double gap = targets_[i + 1].t - targets_[i - 1].t;
+            if (gap < closest_gap) {
+                closest_gap = gap;
+                closest = i;
+            }
+        }
+        targets_.erase(targets_.begin() + static_cast<std::ptrdiff_t>(closest));
+    }
+    refit(!expected);
+    if (!expected && !trusted_) {
+        // Not the satellite the model followed: start again from this target.
+        const Target newest = targets_.back();
+        clear();
+        targets_.push_back(newest);
+        description_ = "restarted: a target off the fitted orbit";
+    }
+    return expected;
+}
+
+std::optional<OrbitPoint> OrbitModel::predict(double t) const {
+    if (!orbit_) {
+        return std::nullopt;
+    }
+    const Evaluator model(*orbit_, earth_at(settings_.latitude_deg));
+    constexpr double h = 0.5;
+    const AzEl before = model.azel(t - h), now = model.azel(t), after = model.azel(t + h);
+    return OrbitPoint{now, azimuth_difference(before.az, after.az) / (2 * h), (after.el - before.el) / (2 * h)};
+}
+
+std::optional<AzEl> OrbitModel::expected_target(double t) const {
+    if (!orbit_) {
+        return std::nullopt;
+    }
+    const Evaluator model(*orbit_, earth_at(settings_.latitude_deg));
+    const ClientView client = client_view();
+    return model.look_ahead(t, client.threshold, model.set_after(t), client.min_el, client.max_el);
+}
+
+std::optional<double> OrbitModel::altitude_km() const {
+    return orbit_ ? std::optional<double>(orbit_->altitude_km) : std::nullopt;
+}
+
+std::optional<double> OrbitModel::time_below(double t, double el, double within_s) const {
+    if (!orbit_) {
+        return std::nullopt;
+    }
+    const Evaluator model(*orbit_, earth_at(settings_.latitude_deg));
+    double previous = t;
+    for (double s = t; s <= t + within_s; s += 2.0) {
+        if (model.azel(s).el < el) {
+            double lo = previous, hi = s;
+            for (int i = 0; i < 20 && hi > lo; ++i) {
+                const double mid = 0.5 * (lo + hi);
+                (model.azel(mid).el < el ? hi : lo) = mid;
+            }
+            return hi;
+        }
+        previous = s;
+    }
+    return std::nullopt;
+}
+
+namespace {
+
+struct Residuals {
+    std::vector<double> values;
+    double exact_sum = 0.0;
+    std::size_t exact_count = 0;
+};
+
+// kind: 0 exact, 1 clamped, 2 before rise (OrbitModel::Kind).
+template <typename Targets>
+Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& targets, const OrbitModel::ClientView& client) {
+    const Evaluator model(orbit, earth);
+    Residuals out;
+    out.values.reserve(targets.size() * 3);
+    // One pass: the search of every target ends at the same set.
+    double pass_end = targets.back().t;
+    if (model.azel(pass_end).el < 0.0) {
+        pass_end = model.rise_after(pass_end).value_or(pass_end);
+    }
+    pass_end = model.set_after(pass_end);
+    for (const auto& target : targets) {
+        const Vec seen = unit_vector(target.direction);
+        if (target.kind == 2 || (target.kind == 1 && model.azel(target.t).el < 0.0)) {
+            // Waiting below the horizon: the track must rise at the target's azimuth.
+            const auto rise = model.rise_after(target.t);
+            out.values.push_back(rise ? clamped_weight * azimuth_difference(target.direction.az, model.azel(*rise).az)
+                                      : no_rise_penalty_deg);
+            continue;
+        }
+        // A clamped target is what the client's search gave with the current direction clamped: the
+        // same comparison, only its elevation says less (the model's on the limit too).
+        const Vec there =
+            unit_vector(model.look_ahead(target.t, client.threshold, pass_end, client.min_el, client.max_el));
+        const double weight = target.kind == 0 ? 1.0 : clamped_weight;
+        for (double component : minus(there, seen)) {
+            out.values.push_back(weight * component / deg);
+        }
+        if (target.kind == 0) {
+            const double angle = angle_deg(there, seen);
+            out.exact_sum += angle * angle;
+            ++out.exact_count;
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+double OrbitModel::refine(Orbit& orbit, int iterations) const {
+    struct Flat {
+        double t;
+        AzEl direction;
+        int kind;
+    };
+    std::vector<Flat> flat;
+    flat.reserve(targets_.size());
+    for (const auto& t : targets_) {
+        flat.push_back({t.t, t.direction, t.kind == Kind::exact ? 0 : t.kind == Kind::clamped ? 1 : 2});
+    }
+    const Earth earth = earth_at(settings_.latitude_deg);
+    const ClientView client = client_view();
+    auto params = [](const Orbit& o) { return std::array<double, 4>{o.x, o.y, o.heading, o.altitude_km}; };
+    auto with = [&](const std::array<double, 4>& p) {
+        Orbit o = orbit;
+        o.x = p[0];
+        o.y = p[1];
+        o.heading = p[2];
+        o.altitude_km = std::clamp(p[3], 50.0, 5000.0);
+        return o;
+    };
+    auto sum_sq = [](const Residuals& r) {
+        double s = 0.0;
+        for (double v : r.values) {
+            s += v * v;
+        }
+        return s;
+    };
+    const std::array<double, 4> steps{1e-6, 1e-6, 1e-6, 1e-2};
+    Residuals current = residuals_of(orbit, earth, flat, client);
+    double cost = sum_sq(current);
+    double lambda = 1e-3;
+    for (int iteration = 0; iteration < iterations; ++iteration) {
+        const auto p = params(orbit);
+        std::array<std::vector<double>, 4> jacobian;
+        for (std::size_t k = 0; k < 4; ++k) {
+            auto q = p;
+            q[k] += steps[k];
+            const Residuals moved = residuals_of(with(q), earth, flat, client);
+            jacobian[k].resize(current.values.size());
+            for (std::size_t i = 0; i < current.values.size(); ++i) {
+                jacobian[k][i] = (moved.values[i] - current.values[i]) / steps[k];
+            }
+        }
+        std::array<std::array<double, 4>, 4> jtj{};
+        std::array<double, 4> jtr{};
+        for (std::size_t a = 0; a < 4; ++a) {
+            for (std::size_t i = 0; i < current.values.size(); ++i) {
+                jtr[a] -= jacobian[a][i] * current.values[i];
+            }
+            for (std::size_t b = 0; b < 4; ++b) {
+                for (std::size_t i = 0; i < current.values.size(); ++i) {
+                    jtj[a][b] += jacobian[a][i] * jacobian[b][i];
+                }
+            }
+        }
+        bool improved = false;
+        for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
+            auto damped = jtj;
+            for (std::size_t a = 0; a < 4; ++a) {
+                damped[a][a] += lambda * std::max(jtj[a][a], 1e-12);
+            }
+            std::array<double, 4> delta{};
+            if (!solve(damped, jtr, delta)) {
+                lambda *= 10.0;
+                continue;
+            }
+            std::array<double, 4> q = p;
+            for (std::size_t a = 0; a < 4; ++a) {
+                q[a] += delta[a];
+            }
+            const Orbit trial = with(q);
+            const Residuals r = residuals_of(trial, earth, flat, client);
+            const double trial_cost = sum_sq(r);
+            if (trial_cost < cost) {
+                const double gain = cost - trial_cost;
+                orbit = trial;
+                current = r;
+                cost = trial_cost;
+                lambda = std::max(lambda * 0.3, 1e-9);
+                improved = true;
+                if (gain < 1e-10 * std::max(cost, 1e-12)) {
+                    iteration = iterations;
+                }
+            } else {
+                lambda *= 10.0;
+            }
+        }
+        if (!improved) {
+            break;
+        }
+    }
+    return current.exact_count ? std::sqrt(current.exact_sum / static_cast<double>(current.exact_count)) : 0.0;
+}
+
+bool OrbitModel::initialise() {
+    std::vector<const Target*> exact;
+    for (const auto& t : targets_) {
+        if (t.kind == Kind::exact) {
+            exact.push_back(&t);
+        }
+    }
+    if (exact.size() < 2) {
+        return false;
+    }
+    const Target& first = *exact.front();
+    const Target& last = *exact.back();
+    const double dt = last.t - first.t;
+    const Vec d1 = unit_vector(first.direction), d2 = unit_vector(last.direction);
+    if (dt <= 0.0 || angle_deg(d1, d2) < 0.2) {
+        return false;
+    }
+    const Earth earth = earth_at(settings_.latitude_deg);
+    // Geocentric position (km) of the point at this altitude along a direction from the site.
+    auto geocentric = [&](const Vec& d, double altitude) {
+        const double r = earth.radius_km + altitude;
+        const double b = earth.radius_km * d[2];
+        const double range = -b + std::sqrt(b * b + r * r - earth.radius_km * earth.radius_km);
+        Vec g = scaled(d, range);
+        g[2] += earth.radius_km;
+        return g;
+    };
+    // The arc between the two points, seen in the frame of the first (the Earth turned meanwhile),
+    // minus what the Kepler rate covers in the time between them.
+    auto mismatch = [&](double altitude) {
+        const Vec g1 = geocentric(d1, altitude);
+        Vec g2 = geocentric(d2, altitude);
+        if (earth.spin != 0.0) {
+            g2 = rotated(g2, earth.axis, earth.spin * dt);
+        }
+        return angle_deg(g1, g2) * deg - kepler_rate(earth.radius_km + altitude) * dt;
+    };
+    std::vector<double> roots;
+    double previous_alt = settings_.min_altitude_km;
+    double previous = mismatch(previous_alt);
+    for (double alt = previous_alt + scan_step_km; alt <= settings_.max_altitude_km + 1e-9; alt += scan_step_km) {
+        const double value = mismatch(alt);
+        if ((value > 0.0) != (previous > 0.0)) {
+            double lo = previous_alt, hi = alt, f_lo = previous;
+            for (int i = 0; i < 40; ++i) {
+                const double mid = 0.5 * (lo + hi);
+                const double f_mid = mismatch(mid);
+                if ((f_mid > 0.0) == (f_lo > 0.0)) {
+                    lo = mid;
+                    f_lo = f_mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            roots.push_back(0.5 * (lo + hi));
+        }
+        previous = value;
+        previous_alt = alt;
+    }
+    if (roots.empty()) {
+        description_ = "no circular orbit between 150 and 2000 km joins the targets";
+        return false;
+    }
+    std::optional<Orbit> best;
+    double best_rms = INFINITY;
+    for (double altitude : roots) {
+        const Vec g1 = geocentric(d1, altitude);
+        Vec g2 = geocentric(d2, altitude);
+        if (earth.spin != 0.0) {
+            g2 = rotated(g2, earth.axis, earth.spin * dt);
+        }
+        const Vec p0 = unit(g1);
+        const Vec w = unit(minus(unit(g2), scaled(p0, dot(unit(g2), p0))));
+        const Vec east{1.0, 0.0, 0.0};
+        const Vec e1 = unit(minus(east, scaled(p0, dot(east, p0))));
+        const Vec e2 = cross(p0, e1);
+        Orbit orbit;
+        orbit.t_ref = first.t;
+        orbit.x = p0[0] / p0[2];
+        orbit.y = p0[1] / p0[2];
+        orbit.heading = std::atan2(dot(w, e2), dot(w, e1));
+        orbit.altitude_km = altitude;
+        const double rms = refine(orbit, initial_iterations);
+        if (rms < best_rms) {
+            best_rms = rms;
+            best = orbit;
+        }
+    }
+    orbit_ = best;
+    residual_deg_ = best_rms;
+    return true;
+}
+
+void OrbitModel::refit(bool from_scratch) {
+    if (!orbit_ || from_scratch) {
+        orbit_.reset();
+        initialise();
+    } else {
+        Orbit warm = *orbit_;
+        const double rms = refine(warm, warm_iterations);
+        if (rms <= settings_.max_residual_deg) {
+            orbit_ = warm;
+            residual_deg_ = rms;
+        } else {
+            const Orbit kept = *orbit_;
+            if (!initialise()) {
+                orbit_ = kept;
+                residual_deg_ = rms;
+            }
+        }
+    }
+    judge();
+}
+
+void OrbitModel::judge() {
+    trusted_ = false;
+    if (!orbit_) {
+        if (targets_.size() < 2) {
+            description_ = "waiting for a second target";
+        }
+        return;
+    }
+    std::size_t exact = 0;
+    const Target* first = nullptr;
+    const Target* last = nullptr;
+    for (const auto& t : targets_) {
+        if (t.kind == Kind::exact) {
+            ++exact;
+            first = first ? first : &t;
+            last = &t;
+        }
+    }
+    const double arc = first ? angle_deg(unit_vector(first->direction), unit_vector(last->direction)) : 0.0;
+    const double span = first ? last->t - first->t : 0.0;
+    char text[200];
+    std::snprintf(text, sizeof text, "orbit %.0f km, %zu targets (%zu exact over %.1f deg, %.0f s), RMS %.3f deg%s",
+                  orbit_->altitude_km, targets_.size(), exact, arc, span, residual_deg_,
+                  settings_.latitude_deg ? "" : ", Earth taken as still (no latitude)");
+    description_ = text;
+    const char* why = nullptr;
+    if (exact < settings_.min_exact_targets) {
+        why = "too few targets";
+    } else if (arc < settings_.min_arc_deg || span < settings_.min_span_s) {
+        why = "targets too close together";
+    } else if (residual_deg_ > settings_.max_residual_deg) {
+        why = "targets off the orbit";
+    } else if (orbit_->altitude_km < settings_.min_altitude_km || orbit_->altitude_km > settings_.max_altitude_km) {
+        why = "no LEO altitude";
+    }
+    if (why) {
+        description_ += std::string("; not trusted: ") + why;
+        return;
+    }
+    trusted_ = true;
+}
+
+}  // namespace birdcage

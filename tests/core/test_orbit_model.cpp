@@ -1,0 +1,275 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// OrbitModel on the SGP4 passes of bench/passes (site 45° N, bench/generate_passes.py): exact
+// directions, then a Gpredict-like threshold client with its look-ahead (docs/tracking.md §5,
+// bench/gpredict_client.cpp), and the refusals: manual pointing, a jump to another satellite.
+// Pure and deterministic: no threads, no sleeping; every time is built here.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "birdcage/base/azel.hpp"
+#include "birdcage/tracking/orbit_model.hpp"
+#include "error_stats.hpp"
+
+using namespace birdcage;
+
+namespace {
+
+double two_decimals(double x) { return std::round(x * 100.0) / 100.0; }
+
+double sky_angle(AzEl a, AzEl b) {
+    const double d = M_PI / 180.0;
+    const double c = std::sin(a.el * d) * std::sin(b.el * d) +
+                     std::cos(a.el * d) * std::cos(b.el * d) * std::cos((a.az - b.az) * d);
+    return std::acos(std::clamp(c, -1.0, 1.0)) / d;
+}
+
+// A pass from bench/passes (columns t,az,el; '#' comment lines), interpolated linearly.
+struct TruePass {
+    std::string name;
+    std::vector<double> t, az, el;
+
+    static TruePass load(const std::string& name) {
+        TruePass pass;
+        pass.name = name;
+        std::ifstream in(std::string(BIRDCAGE_SOURCE_DIR) + "/bench/passes/" + name + ".csv");
+        REQUIRE(in.good());
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line.empty() || line[0] == '#' || line[0] == 't') {
+                continue;
+            }
+            double t = 0, az = 0, el = 0;
+            char comma = 0;
+            std::istringstream row(line);
+            row >> t >> comma >> az >> comma >> el;
+            pass.t.push_back(t);
+            pass.az.push_back(az);
+            pass.el.push_back(el);
+        }
+        REQUIRE(pass.t.size() > 100);
+        return pass;
+    }
+
+    AzEl at(double time) const {
+        const auto upper = std::upper_bound(t.begin(), t.end(), time);
+        const std::size_t i = std::clamp<std::size_t>(static_cast<std::size_t>(upper - t.begin()), 1, t.size() - 1) - 1;
+        const double f = (time - t[i]) / (t[i + 1] - t[i]);
+        return {normalize_azimuth(az[i] + f * azimuth_difference(az[i], az[i + 1])), el[i] + f * (el[i + 1] - el[i])};
+    }
+    double rise() const {
+        for (std::size_t i = 0; i < t.size(); ++i) {
+            if (el[i] >= 0.0) {
+                return t[i];
+            }
+        }
+        return t.front();
+    }
+};
+
+using Errors = birdcage::test::ErrorStats;
+
+const char* const pass_names[] = {"iss-20", "iss-45", "iss-60", "iss-70", "iss-85",
+                                  "sso-20", "sso-45", "sso-70", "sso-85"};
+constexpr double site_latitude = 45.0;   // bench/generate_passes.py
+
+// Errors of the model's prediction against the pass from `from` to the end (satellite above the
+// horizon), every second.
+Errors prediction_errors(const OrbitModel& model, const TruePass& pass, double from) {
+    Errors errors;
+    for (double s = from; s < pass.t.back(); s += 1.0) {
+        const AzEl truth = pass.at(s);
+        if (truth.el < 0.0) {
+            continue;
+        }
+        const auto p = model.predict(s);
+        REQUIRE(p.has_value());
+        errors.add(sky_angle(p->position, truth));
+    }
+    return errors;
+}
+
+}  // namespace
+
+TEST_CASE("orbit model: three directions a minute after rise predict the rest of each pass") {
+    for (const char* name : pass_names) {
+        const TruePass pass = TruePass::load(name);
+        for (const bool with_latitude : {true, false}) {
+            OrbitModelSettings settings;
+            if (with_latitude) {
+                settings.latitude_deg = site_latitude;
+            }
+            OrbitModel model(settings);
+            const double rise = pass.rise();
+            for (const double after : {30.0, 45.0, 60.0}) {
+                const AzEl seen = pass.at(rise + after);
+                model.add(rise + after, {two_decimals(seen.az), two_decimals(seen.el)}, std::nullopt);
+            }
+            const Errors errors = prediction_errors(model, pass, rise + 60.0);
+            std::printf("%-7s latitude %-3s trusted %d alt %.0f  RMS %.3f max %.3f  | %s\n", name,
+                        with_latitude ? "yes" : "no", model.trusted(), model.altitude_km().value_or(-1), errors.rms(),
+                        errors.max, model.describe().c_str());
+            INFO(name << (with_latitude ? " with" : " without") << " the latitude: " << model.describe());
+            // Measured when written: with the latitude 0.11-2.53 deg RMS, 0.14-5.8 max, altitude
+            // within 17 km of the elements' (420 and 820 km); without, 1.6-14 deg RMS.
+            if (with_latitude) {
+                CHECK(errors.rms() < 3.0);
+                CHECK(errors.max < 7.0);
+                CHECK(std::fabs(*model.altitude_km() - (name[0] == 'i' ? 420.0 : 820.0)) < 30.0);
+            } else {
+                CHECK(model.describe().find("no latitude") != std::string::npos);
+            }
+        }
+    }
+}
+
+namespace {
+
+struct ClientRun {
+    int targets = 0;
+    Errors now_error;        // the model's satellite now against the truth, while trusted
+    double trusted_from_el = 90.0;   // the satellite's elevation when the model was first trusted
+    int seconds_untrusted = 0;       // above the floor
+};
+
+// Gpredict's timer every second (docs/tracking.md §5) against a dish that goes to each target
+// clamped to [floor, cap] at once: targets clamped to the client's limits (before AOS: the AOS
+// azimuth at its lowest elevation), sent when the dish is off by more than `threshold` on either
+// axis, leading the satellite (bisection to a quarter cycle), two decimals.
+ClientRun run_client(const TruePass& pass, double threshold, double client_min_el, double client_max_el,
+                     double floor, double cap, std::optional<double> lead_known) {
+    OrbitModelSettings settings;
+    settings.latitude_deg = site_latitude;
+    settings.el_floor = floor;
+    settings.el_cap = cap;
+    OrbitModel model(settings);
+    ClientRun run;
+    const double rise = pass.rise();
+    AzEl aos{pass.at(rise).az, 0.0};
+    AzEl dish{aos.az + 40.0, floor};
+    const double end = pass.t.back() - 1.0;
+    auto clamp_el = [&](double el) { return std::clamp(el, client_min_el, client_max_el); };
+    for (double now = rise - 60.0; now < end; now += 1.0) {
+        const AzEl sat = pass.at(now);
+        AzEl set = sat.el < 0.0 ? AzEl{aos.az, clamp_el(0.0)} : AzEl{sat.az, clamp_el(sat.el)};
+        const bool off = std::fabs(set.az - dish.az) > threshold || std::fabs(set.el - dish.el) > threshold;
+        if (off) {
+            if (sat.el > 0.0) {
+                double delta = end - now, step = std::max(delta / 2.0, 1.0);
+                AzEl future = set;
+                while (step > 0.25) {
+                    future = pass.at(now + delta);
+                    const bool too_far = future.el < 0.0 || std::fabs(set.az - future.az) > threshold ||
+                                         std::fabs(set.el - future.el) > threshold;
+                    delta += too_far ? -step : step;
+                    step /= 2.0;
+                }
+                set = {future.az, clamp_el(future.el)};
+            }
+            const AzEl target{two_decimals(set.az), two_decimals(set.el)};
+            model.add(now, target, lead_known);
+            dish = {target.az, std::clamp(target.el, floor, cap)};
+            ++run.targets;
+        }
+        if (sat.el < floor) {
+            continue;
+        }
+        if (!model.trusted()) {
+            ++run.seconds_untrusted;
+            continue;
+        }
+        run.trusted_from_el = std::min(run.trusted_from_el, sat.el);
+        run.now_error.add(sky_angle(model.predict(now)->position, sat));
+    }
+    return run;
+}
+
+}  // namespace
+
+TEST_CASE("orbit model: a Gpredict-like client's look-ahead targets give the satellite within tenths of a degree") {
+    struct Setting {
+        double threshold;
+        double client_min_el, client_max_el;
+        std::optional<double> lead;
+    };
+    for (const Setting s : {Setting{5.0, 18, 65, 5.0}, Setting{5.0, 0, 90, 5.0}, Setting{0.5, 18, 65, 0.5},
+                            Setting{0.5, 0, 90, 0.5}, Setting{5.0, 18, 65, std::nullopt}}) {
+        double sum_rms = 0.0;
+        for (const char* name : pass_names) {
+            const TruePass pass = TruePass::load(name);
+            const ClientRun run = run_client(pass, s.threshold, s.client_min_el, s.client_max_el, 18.0, 65.0, s.lead);
+            std::printf("thr %.1f limits %2.0f-%2.0f lead %-4s %-7s targets %3d untrusted %3d s, trusted from el %4.1f, RMS %.3f max %.3f\n",
+                        s.threshold, s.client_min_el, s.client_max_el, s.lead ? "yes" : "no", name, run.targets,
+                        run.seconds_untrusted, run.trusted_from_el, run.now_error.rms(), run.now_error.max);
+            INFO("threshold " << s.threshold << " client limits " << s.client_min_el << "-" << s.client_max_el
+                              << (s.lead ? " lead known " : " lead unknown ") << name);
+            if (!s.lead) {
+                // A look-ahead taken for none puts the satellite a whole threshold ahead: the lead
+                // must be learnt (TargetPredictor), and this shows why.
+                CHECK((run.now_error.n == 0 || run.now_error.rms() > 0.5 * s.threshold));
+                continue;
+            }
+            // Measured when written: 0.06-0.33 deg RMS per pass (sso-45 with wide limits at 5 deg
+            // 0.75), trusted from the dish's floor on most passes, at the latest from el 39.
+            REQUIRE(run.now_error.n > 0);
+            CHECK(run.now_error.rms() < 1.0);
+            CHECK(run.trusted_from_el < 40.0);
+            sum_rms += run.now_error.rms();
+        }
+        if (s.lead) {
+            CHECK(sum_rms / 9.0 < 0.35);
+        }
+    }
+}
+
+TEST_CASE("orbit model: manual pointing and a jump to another satellite are not an orbit") {
+    OrbitModelSettings settings;
+    settings.latitude_deg = site_latitude;
+    OrbitModel model(settings);
+    SECTION("a single target has no fit") {
+        model.add(0.0, {120.0, 30.0}, std::nullopt);
+        CHECK_FALSE(model.trusted());
+        CHECK_FALSE(model.predict(10.0).has_value());
+    }
+    SECTION("manual pointing back and forth") {
+        const AzEl points[] = {{100, 20}, {140, 40}, {110, 25}, {180, 10}, {90, 60}, {130, 30}};
+        double t = 0.0;
+        for (const AzEl p : points) {
+            model.add(t, p, std::nullopt);
+            t += 20.0;
+            CHECK_FALSE(model.trusted());
+        }
+        INFO(model.describe());
+    }
+    SECTION("a sky scan's grid steps") {
+        double t = 0.0;
+        for (double el = 20.0; el <= 40.0; el += 10.0) {
+            for (double az = 100.0; az <= 160.0; az += 10.0) {
+                model.add(t, {az, el}, std::nullopt);
+                t += 5.0;
+                INFO(model.describe());
+                CHECK_FALSE(model.trusted());
+            }
+        }
+    }
+    SECTION("a pass, then another satellite elsewhere") {
+        const TruePass pass = TruePass::load("iss-45");
+        const double rise = pass.rise();
+        for (double after = 60.0; after <= 180.0; after += 10.0) {
+            const AzEl seen = pass.at(rise + after);
+            CHECK(model.add(rise + after, {two_decimals(seen.az), two_decimals(seen.el)}, std::nullopt));
+        }
+        REQUIRE(model.trusted());
+        CHECK_FALSE(model.add(rise + 190.0, {30.0, 50.0}, std::nullopt));
+        CHECK_FALSE(model.trusted());
+        CHECK(model.targets() == 1);
+    }
+}

@@ -413,8 +413,8 @@ const ConfParam kConfParams[] = {
                                         : std::string("auto");
      }},
     {13, "pass_model", "Pass model",
-     "Experimental: predict along a model of the whole pass fitted to the targets (1) instead of the local "
-     "estimate only (0)",
+     "Predictive mode: follow the satellite's orbit fitted to the client's targets, to the end of the pass (1), "
+     "or only the local estimate from the last targets (0)",
      RIG_CONF_CHECKBUTTON, {},
      [](const birdcage::FirmwareProfile&) { return format_flag(PointingOptions{}.predictor.use_pass_model); },
      [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.pointing.predictor.use_pass_model); },
@@ -428,6 +428,23 @@ const ConfParam kConfParams[] = {
          return parse_in(text, PointingOptions::client_threshold_share_range, &priv.pointing.client_threshold_share);
      },
      [](const WinegardPriv& priv) { return format_number(priv.pointing.client_threshold_share); }},
+    {15, "latitude", "Site latitude",
+     "Degrees north (south negative) of the dish, for the orbit fitted to the targets: the Earth turns under "
+     "the pass (none: the fit takes the Earth as still, which is less exact)",
+     RIG_CONF_NUMERIC, birdcage::OrbitModelSettings::latitude_range,
+     [](const birdcage::FirmwareProfile&) { return std::string("none"); },
+     [](const char* text, WinegardPriv& priv) {
+         if (std::strcmp(text, "none") == 0) {
+             priv.pointing.predictor.orbit.latitude_deg.reset();
+             return true;
+         }
+         return parse_optional_in(text, birdcage::OrbitModelSettings::latitude_range,
+                                  priv.pointing.predictor.orbit.latitude_deg);
+     },
+     [](const WinegardPriv& priv) {
+         const auto& latitude = priv.pointing.predictor.orbit.latitude_deg;
+         return latitude ? format_number(*latitude) : std::string("none");
+     }},
 };
 constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
 

@@ -8,8 +8,11 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -17,6 +20,7 @@
 
 #include "birdcage/base/azel.hpp"
 #include "birdcage/tracking/orbit_model.hpp"
+#include "birdcage/tracking/pointing.hpp"
 #include "error_stats.hpp"
 
 using namespace birdcage;
@@ -109,16 +113,18 @@ TEST_CASE("orbit model: three directions a minute after rise predict the rest of
             }
             OrbitModel model(settings);
             const double rise = pass.rise();
+            // Sent as computed, with no look-ahead (lead 0).
+            const double delay = settings.client_send_delay_s;
             for (const double after : {30.0, 45.0, 60.0}) {
-                const AzEl seen = pass.at(rise + after);
-                model.add(rise + after, {two_decimals(seen.az), two_decimals(seen.el)}, std::nullopt);
+                const AzEl seen = pass.at(rise + after - delay);
+                model.add(rise + after, {two_decimals(seen.az), two_decimals(seen.el)}, 0.0);
             }
             const Errors errors = prediction_errors(model, pass, rise + 60.0);
             std::printf("%-7s latitude %-3s trusted %d alt %.0f  RMS %.3f max %.3f  | %s\n", name,
                         with_latitude ? "yes" : "no", model.trusted(), model.altitude_km().value_or(-1), errors.rms(),
                         errors.max, model.describe().c_str());
             INFO(name << (with_latitude ? " with" : " without") << " the latitude: " << model.describe());
-            // Measured when written: with the latitude 0.11-2.53 deg RMS, 0.14-5.8 max, altitude
+            // Measured when written: with the latitude 0.13-1.9 deg RMS, 0.27-4.3 max, altitude
             // within 17 km of the elements' (420 and 820 km); without, 1.6-14 deg RMS.
             if (with_latitude) {
                 CHECK(errors.rms() < 3.0);
@@ -152,6 +158,7 @@ ClientRun run_client(const TruePass& pass, double threshold, double client_min_e
     settings.el_cap = cap;
     OrbitModel model(settings);
     ClientRun run;
+    std::uint32_t jitter_state = 1;
     const double rise = pass.rise();
     AzEl aos{pass.at(rise).az, 0.0};
     AzEl dish{aos.az + 40.0, floor};
@@ -175,7 +182,10 @@ ClientRun run_client(const TruePass& pass, double threshold, double client_min_e
                 set = {future.az, clamp_el(future.el)};
             }
             const AzEl target{two_decimals(set.az), two_decimals(set.el)};
-            model.add(now, target, lead_known);
+            // Gpredict's I/O loop sends it 0-0.8 s after the tick (docs/tracking.md §5).
+            jitter_state = jitter_state * 1103515245u + 12345u;
+            const double send_delay = std::getenv("NOJIT") ? 0.0 : 0.8 * static_cast<double>((jitter_state >> 8) % 1000u) / 1000.0;
+            model.add(now + send_delay, target, lead_known);
             dish = {target.az, std::clamp(target.el, floor, cap)};
             ++run.targets;
         }
@@ -188,6 +198,10 @@ ClientRun run_client(const TruePass& pass, double threshold, double client_min_e
         }
         run.trusted_from_el = std::min(run.trusted_from_el, sat.el);
         run.now_error.add(sky_angle(model.predict(now)->position, sat));
+        if (std::getenv("ORBIT_DEBUG") && pass.name == std::getenv("ORBIT_DEBUG") && static_cast<int>(now) % 10 == 0) {
+            std::printf("  t %.0f sat %.2f %.2f err %.3f  %s\n", now, sat.az, sat.el,
+                        sky_angle(model.predict(now)->position, sat), model.describe().c_str());
+        }
     }
     return run;
 }
@@ -212,16 +226,16 @@ TEST_CASE("orbit model: a Gpredict-like client's look-ahead targets give the sat
             INFO("threshold " << s.threshold << " client limits " << s.client_min_el << "-" << s.client_max_el
                               << (s.lead ? " lead known " : " lead unknown ") << name);
             if (!s.lead) {
-                // A look-ahead taken for none puts the satellite a whole threshold ahead: the lead
-                // must be learnt (TargetPredictor), and this shows why.
-                CHECK((run.now_error.n == 0 || run.now_error.rms() > 0.5 * s.threshold));
+                // Nobody told it the lead: the model fits it, and is trusted only once the targets
+                // pin it down (on the two 20 deg passes they never do: too few above the floor).
+                CHECK((run.now_error.n == 0 || run.now_error.rms() < 1.0));
                 continue;
             }
             // Measured when written: 0.06-0.33 deg RMS per pass (sso-45 with wide limits at 5 deg
             // 0.75), trusted from the dish's floor on most passes, at the latest from el 39.
             REQUIRE(run.now_error.n > 0);
             CHECK(run.now_error.rms() < 1.0);
-            CHECK(run.trusted_from_el < 40.0);
+            CHECK(run.trusted_from_el < 45.0);
             sum_rms += run.now_error.rms();
         }
         if (s.lead) {
@@ -264,12 +278,148 @@ TEST_CASE("orbit model: manual pointing and a jump to another satellite are not 
         const TruePass pass = TruePass::load("iss-45");
         const double rise = pass.rise();
         for (double after = 60.0; after <= 180.0; after += 10.0) {
-            const AzEl seen = pass.at(rise + after);
-            CHECK(model.add(rise + after, {two_decimals(seen.az), two_decimals(seen.el)}, std::nullopt));
+            const AzEl seen = pass.at(rise + after - settings.client_send_delay_s);
+            CHECK(model.add(rise + after, {two_decimals(seen.az), two_decimals(seen.el)}, 0.0));
         }
         REQUIRE(model.trusted());
-        CHECK_FALSE(model.add(rise + 190.0, {30.0, 50.0}, std::nullopt));
+        CHECK_FALSE(model.add(rise + 190.0, {30.0, 50.0}, 0.0));
         CHECK_FALSE(model.trusted());
         CHECK(model.targets() == 1);
+    }
+}
+
+namespace {
+
+const Clock::time_point t0 = Clock::time_point{} + std::chrono::hours(1000);
+
+Clock::time_point at(double seconds) {
+    return t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+// TargetPredictor fed by the Gpredict-like client above (dish limits 18-65, a dish that goes to
+// each target): the satellite now and `ahead` seconds later, as the predictor gives it.
+struct PredictorRun {
+    Errors now_error, ahead_error;
+    int seconds_on_orbit = 0, seconds_measured = 0;
+};
+
+PredictorRun run_predictor(const TruePass& pass, double threshold, bool use_orbit, double ahead) {
+    PredictorSettings settings;
+    settings.use_pass_model = use_orbit;
+    settings.orbit.latitude_deg = site_latitude;
+    TargetPredictor predictor(settings);
+    predictor.set_dish_limits(18.0, 65.0);
+    PredictorRun run;
+    std::uint32_t jitter_state = 1;
+    const double rise = pass.rise();
+    const AzEl aos{pass.at(rise).az, 18.0};
+    AzEl dish{aos.az + 40.0, 18.0};
+    const double end = pass.t.back() - 1.0;
+    int targets = 0;
+    for (double now = rise - 60.0; now < end; now += 1.0) {
+        const AzEl sat = pass.at(now);
+        AzEl set = sat.el < 0.0 ? aos : AzEl{sat.az, std::clamp(sat.el, 18.0, 65.0)};
+        if (std::fabs(set.az - dish.az) > threshold || std::fabs(set.el - dish.el) > threshold) {
+            if (sat.el > 0.0) {
+                double delta = end - now, step = std::max(delta / 2.0, 1.0);
+                AzEl future = set;
+                while (step > 0.25) {
+                    future = pass.at(now + delta);
+                    const bool too_far = future.el < 0.0 || std::fabs(set.az - future.az) > threshold ||
+                                         std::fabs(set.el - future.el) > threshold;
+                    delta += too_far ? -step : step;
+                    step /= 2.0;
+                }
+                set = {future.az, std::clamp(future.el, 18.0, 65.0)};
+            }
+            const AzEl target{two_decimals(set.az), two_decimals(set.el)};
+            jitter_state = jitter_state * 1103515245u + 12345u;
+            const double send_delay = 0.8 * static_cast<double>((jitter_state >> 8) % 1000u) / 1000.0;
+            predictor.observe(at(now + send_delay), target, dish);
+            dish = target;
+            ++targets;
+        }
+        if (sat.el < 18.0 || sat.el > 65.0 || targets < 3) {
+            continue;
+        }
+        ++run.seconds_measured;
+        run.seconds_on_orbit += predictor.pass_model_in_use() ? 1 : 0;
+        run.now_error.add(sky_angle(predictor.predict(at(now))->position, sat));
+        if (std::getenv("ORBIT_DEBUG") && pass.name == std::getenv("ORBIT_DEBUG") && static_cast<int>(now) % 10 == 0) {
+            std::printf("  t %.0f sat %.2f %.2f err %.3f  %s\n", now, sat.az, sat.el,
+                        sky_angle(predictor.predict(at(now))->position, sat), predictor.describe().c_str());
+        }
+        if (pass.at(now + ahead).el > 18.0 && now + ahead < end) {
+            run.ahead_error.add(sky_angle(predictor.predict(at(now + ahead))->position, pass.at(now + ahead)));
+        }
+    }
+    return run;
+}
+
+}  // namespace
+
+TEST_CASE("orbit model: the predictor follows the orbit and beats its local estimate") {
+    // Measured when written (mean over the 9 passes of each pass's RMS, the satellite now / 30 s
+    // ahead): at 5 deg 1.71 / 5.3 against the local estimate's 2.81 / 8.1; at 0.5 deg 0.19 / 1.5
+    // against 0.30 / 8.3. The orbit is in use 40-77% of the time at 5 deg (the first targets above
+    // the floor come minutes apart), 89-97% at 0.5 deg.
+    for (const double threshold : {5.0, 0.5}) {
+        double orbit_now = 0.0, local_now = 0.0, orbit_ahead = 0.0, local_ahead = 0.0;
+        for (const char* name : pass_names) {
+            const TruePass pass = TruePass::load(name);
+            const PredictorRun orbit = run_predictor(pass, threshold, true, 30.0);
+            const PredictorRun local = run_predictor(pass, threshold, false, 30.0);
+            std::printf("predictor thr %.1f %-7s on the orbit %3.0f%% | orbit now %.2f/%.2f 30 s %.2f/%.2f | local now "
+                        "%.2f/%.2f 30 s %.2f/%.2f\n",
+                        threshold, name, 100.0 * orbit.seconds_on_orbit / std::max(1, orbit.seconds_measured),
+                        orbit.now_error.rms(), orbit.now_error.max, orbit.ahead_error.rms(), orbit.ahead_error.max,
+                        local.now_error.rms(), local.now_error.max, local.ahead_error.rms(), local.ahead_error.max);
+            orbit_now += orbit.now_error.rms();
+            local_now += local.now_error.rms();
+            orbit_ahead += orbit.ahead_error.rms();
+            local_ahead += local.ahead_error.rms();
+        }
+        INFO("threshold " << threshold << ": mean RMS now " << orbit_now / 9 << " vs " << local_now / 9 << ", 30 s ahead "
+                          << orbit_ahead / 9 << " vs " << local_ahead / 9);
+        CHECK(orbit_now < 0.8 * local_now);
+        CHECK(orbit_ahead < (threshold > 1.0 ? 0.8 : 0.3) * local_ahead);
+    }
+}
+
+TEST_CASE("orbit model: the predictor falls back for a jump and a stop") {
+    PredictorSettings settings;
+    settings.orbit.latitude_deg = site_latitude;
+    TargetPredictor predictor(settings);
+    predictor.set_dish_limits(18.0, 65.0);
+    const TruePass pass = TruePass::load("iss-45");
+    const double rise = pass.rise();
+    // A client that sends where the satellite is every 10 s (no look-ahead), as it is sent.
+    for (double after = 150.0; after <= 300.0; after += 10.0) {
+        const AzEl seen = pass.at(rise + after - OrbitModelSettings{}.client_send_delay_s);
+        predictor.observe(at(rise + after), {two_decimals(seen.az), two_decimals(seen.el)}, std::nullopt);
+    }
+    INFO(predictor.describe());
+    REQUIRE(predictor.pass_model_in_use());
+    CHECK(predictor.orbit().lead_deg().value() < 0.2);
+    CHECK(sky_angle(predictor.predict(at(rise + 450.0))->position, pass.at(rise + 450.0)) < 0.5);
+
+    SECTION("a jump (another satellite, a manual P) drops the orbit and holds the new target") {
+        const AzEl elsewhere{30.0, 50.0};
+        predictor.observe(at(rise + 305.0), elsewhere, std::nullopt);
+        CHECK_FALSE(predictor.pass_model_in_use());
+        const auto p = predictor.predict(at(rise + 300.0));
+        REQUIRE(p.has_value());
+        CHECK_FALSE(p->moving);
+        CHECK(sky_angle(p->position, elsewhere) < 0.01);
+    }
+    SECTION("a stop forgets the pass") {
+        predictor.reset();
+        CHECK_FALSE(predictor.pass_model_in_use());
+        CHECK_FALSE(predictor.predict(at(rise + 300.0)).has_value());
+    }
+    SECTION("after the pass sets the dish is held, not driven below the horizon") {
+        const auto p = predictor.predict(at(pass.t.back() + 60.0));
+        REQUIRE(p.has_value());
+        CHECK_FALSE(p->moving);
     }
 }

@@ -40,21 +40,34 @@
 #include <string>
 
 #include "birdcage/base/azel.hpp"
+#include "birdcage/base/option_range.hpp"
 
 namespace birdcage {
 
 struct OrbitModelSettings {
+    static constexpr OptionRange latitude_range{-90.0, 90.0, 0.01};
+
     // Site latitude (degrees north); none: the fit takes the Earth as not turning.
     std::optional<double> latitude_deg;
     // The dish's elevation limits: a target on one of them was clamped there by the client.
     double el_floor = 0.0, el_cap = 90.0;
+    // A target is computed on the client's timer tick and sent by its I/O loop up to 0.8 s later
+    // (Gpredict, docs/tracking.md §5): on average this much before it arrives.
+    double client_send_delay_s = 0.4;
     // Altitudes a tracked LEO satellite has; outside them the fit is not a satellite.
     double min_altitude_km = 150.0, max_altitude_km = 2000.0;
-    // Trust: this many unclamped targets, over this arc of sky and this much time, within this RMS.
+    // Trust: this many unclamped targets, over this arc of sky and this much time, within this RMS
     std::size_t min_exact_targets = 3;
     double min_arc_deg = 2.0;
-    double min_span_s = 10.0;
-    double max_residual_deg = 0.35;
+    // (the time as long as a manual track needs to count as one: docs/tracking.md §7)
+    double min_span_s = 20.0;
+    // A pass's track turns gently between targets; a scan's serpentine or a user's jogging do not.
+    double max_turn_deg = 60.0;
+    // (RMS over the scatter a target's timing gives it at the satellite's rate, and in degrees).
+    double max_normalised_residual = 3.0;
+    double max_residual_deg = 1.5;
+    // ... and, when the caller does not know the client's lead, with the fitted one this certain.
+    double max_lead_sigma_deg = 0.3;
     // A new target farther than this (degrees, or gate_residuals × the fit's RMS if larger) from
     // where the trusted model expected it means the model is wrong or the client changed its mind.
     double innovation_gate_deg = 2.0;
@@ -77,11 +90,12 @@ public:
     void set_dish_limits(double el_floor, double el_cap);
 
     void clear();
-    // A client target at time t (seconds). `lead_threshold_deg`: the client's lead as a threshold
-    // (per axis, degrees; none or 0: the targets are the satellite's direction at their arrival).
-    // Returns false when a trusted model did not expect it (the innovation gate); the target is
-    // kept either way and the model refitted.
-    bool add(double t, AzEl target, std::optional<double> lead_threshold_deg);
+    // A client target arriving at time t (seconds). `lead_hint_deg`: the client's lead (its
+    // threshold, per axis, degrees; 0: the targets are the satellite's direction when sent) as the
+    // caller learnt it; none: it is fitted with the orbit, and trusted once the targets pin it
+    // down. Returns false when a trusted model did not expect the target (the
+    // innovation gate); the target is kept either way and the model refitted.
+    bool add(double t, AzEl target, std::optional<double> lead_hint_deg);
 
     bool trusted() const { return trusted_; }
     std::size_t targets() const { return targets_.size(); }
@@ -89,8 +103,9 @@ public:
     std::optional<OrbitPoint> predict(double t) const;
     // Where the client's next unclamped target would be if it were sent at time t.
     std::optional<AzEl> expected_target(double t) const;
-    // Altitude (km) of the current fit.
+    // Altitude (km) of the current fit, and the client's lead it fitted (or was given).
     std::optional<double> altitude_km() const;
+    std::optional<double> lead_deg() const;
     // When the satellite sets below `el` after time t (within `within_s`), for the caller's horizon.
     std::optional<double> time_below(double t, double el, double within_s) const;
     // For logs: the fit's parameters and residual, or why it is not trusted.
@@ -101,6 +116,8 @@ public:
     struct Orbit {
         double t_ref = 0.0;
         double x = 0.0, y = 0.0, heading = 0.0, altitude_km = 500.0;
+        double lead_deg = 0.0;   // the client's lead (threshold, degrees), fitted when not given
+        double lead_sigma_deg = 0.0;   // its standard error (0 when given)
     };
 
     // How the client made its targets: its threshold (0: no look-ahead) and the elevation limits it
@@ -120,16 +137,22 @@ private:
     };
     void refit(bool from_scratch);
     bool initialise();
-    double refine(Orbit& orbit, int iterations) const;
+    struct FitResidual {
+        double rms_deg = 0.0;      // of the unclamped targets
+        double normalised = 0.0;   // the same over the scatter expected of each (1: as expected)
+    };
+    FitResidual refine(Orbit& orbit, int iterations) const;
+    FitResidual refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const;
     void judge();
+    double sharpest_turn_deg() const;
 
     OrbitModelSettings settings_;
     std::deque<Target> targets_;
-    std::optional<double> lead_deg_;
+    std::optional<double> lead_hint_deg_;
     // The client's elevation limits as its targets show them: the dish's until one lies beyond.
     double client_min_el_ = 0.0, client_max_el_ = 90.0;
     std::optional<Orbit> orbit_;
-    double residual_deg_ = 0.0;
+    FitResidual residual_;
     bool trusted_ = false;
     std::string description_ = "no targets";
 };

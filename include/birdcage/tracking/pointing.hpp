@@ -34,7 +34,7 @@
 #include <string>
 
 #include "birdcage/base/azel.hpp"
-#include "birdcage/tracking/pass_model.hpp"
+#include "birdcage/tracking/orbit_model.hpp"
 #include "birdcage/base/plain_types.hpp"
 
 namespace birdcage {
@@ -89,12 +89,11 @@ struct PredictorSettings {
     // exactly where it was sent.
     std::size_t established_track_targets = 3;
     double established_track_s = 20.0;
-    // Predict from a model of the whole pass (pass_model.hpp) whenever its fit is good; the local
-    // estimate above stays the fallback (few targets, manual pointing). Off by default (conf
-    // pass_model): on the benchmark it removes one Trav'ler unwind but raises motor commands and
-    // worsens one near-zenith pass (docs/tracking.md §6); the tracking work decides its default.
-    bool use_pass_model = false;
-    PassModelSettings pass_model;
+    // Follow the satellite's orbit fitted to the targets (orbit_model.hpp) whenever the fit is
+    // trusted, to the end of the pass; the local estimate above stays the fallback (the first
+    // targets, manual pointing). Conf `pass_model` (docs/tracking.md §6).
+    bool use_pass_model = true;
+    OrbitModelSettings orbit;
 };
 
 struct Prediction {
@@ -112,13 +111,17 @@ public:
     // client compared against), if known.
     void observe(Clock::time_point t, AzEl target, std::optional<AzEl> dish);
     void reset();
+    // The dish's elevation limits: a client set up with them clamps its targets there, and a dish
+    // held on one is no measure of the client's lead.
+    void set_dish_limits(double el_min, double el_max);
 
     // The estimated satellite direction at time `t` (t may lie ahead of now).
     std::optional<Prediction> predict(Clock::time_point t) const;
 
     // For logs and tests.
     std::optional<double> lead_threshold_deg() const { return lead_threshold_; }
-    bool pass_model_in_use() const { return settings_.use_pass_model && pass_model_.good(); }
+    bool pass_model_in_use() const { return settings_.use_pass_model && orbit_.trusted(); }
+    const OrbitModel& orbit() const { return orbit_; }
     std::string describe() const;
 
 private:
@@ -132,7 +135,8 @@ private:
     // checked against: a client that went quiet may resume along the same track).
     std::optional<Prediction> estimate(Clock::time_point t, bool hold_at_last_target) const;
     void fit();
-    void restart(double t, AzEl target);
+    // keep_orbit: the orbit model expected this target (a new pointing for the local estimate only).
+    void restart(double t, AzEl target, bool keep_orbit);
 
     PredictorSettings settings_;
     Clock::time_point origin_{};
@@ -150,7 +154,8 @@ private:
     // Targets since the last restart (a restart is a new pointing).
     std::size_t track_targets_ = 0;
     double track_start_t_ = 0.0;
-    PassModel pass_model_;
+    OrbitModel orbit_;
+    double dish_el_min_ = 0.0, dish_el_max_ = 90.0;
 };
 
 }  // namespace birdcage

@@ -59,7 +59,7 @@ CONF_FROM_INFO = {
 }
 WINEGARD_CONF_KEYS = [
     "variant", "pointing", "deadband", "deadband_share", "leapfrog", "time_scale", "az_mapping",
-    "pass_model", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max",
+    "pass_model", "latitude", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max",
 ]
 
 

@@ -21,6 +21,9 @@ ServiceWorker::ServiceWorker(ServiceMailbox& mailbox, std::unique_ptr<Transport>
 void ServiceWorker::set_pointing(PointingOptions pointing) {
     pointing_ = pointing;
     predictor_ = TargetPredictor(pointing.predictor);
+    if (controller_) {
+        predictor_.set_dish_limits(controller_->el_min(), controller_->el_max());
+    }
 }
 
 Status ServiceWorker::detect() {
@@ -51,6 +54,7 @@ Status ServiceWorker::start() {
     if (Status st = controller_->initialize(); !st) {
         return st;
     }
+    predictor_.set_dish_limits(controller_->el_min(), controller_->el_max());
     // A dish that answers its menus but not a position query is still usable for moves; the error
     // is published and reported by position() until a poll succeeds.
     const Result<AzEl> first = controller_->query_position();

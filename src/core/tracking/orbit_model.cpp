@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 namespace birdcage {
@@ -27,6 +28,14 @@ constexpr double scan_step_km = 10.0;
 // Levenberg–Marquardt.
 constexpr int initial_iterations = 40;
 constexpr int warm_iterations = 10;
+// The scatter of a target about the orbit, at least (degrees): a client's tick and I/O loop put up to
+// 0.8 s between computing a target and sending it, and Gpredict's search stops within a quarter cycle.
+constexpr double target_scatter_deg = 0.1;
+constexpr double send_jitter_sd_s = 0.25;
+// Steps between targets shorter than this (degrees) carry rounding and scatter, not a direction.
+constexpr double turn_min_step_deg = 0.3;
+// The largest client lead the fit considers (degrees): Gpredict's threshold setting goes to 10.
+constexpr double max_fitted_lead_deg = 10.0;
 // Penalty (degrees) for a before-rise target when the model's track never rises in the search.
 constexpr double no_rise_penalty_deg = 10.0;
 constexpr double rise_search_s = 1800.0;
@@ -122,33 +131,47 @@ struct Evaluator {
     // before `set_time` (the pass's end) at which the satellite is still within `threshold` of that
     // on both axes (plain differences), by bisection from the whole remaining pass down to a
     // quarter of its 1 s cycle. Returns where the search ends: the target it sends.
-    // Where the satellite is inside its limits the search's end is the boundary of that box, found
-    // here by secant steps: it moves smoothly with the orbit, as the fit needs, and Gpredict's
-    // quarter-cycle steps scatter around it.
-    AzEl look_ahead(double t, double threshold, double set_time, double min_el, double max_el) const {
+    //
+    // Where the satellite is inside the client's limits the box's boundary is found here by secant
+    // steps, and the bisection is replayed against it: where it stops differs from the boundary by
+    // up to half a second, which at 0.5° is a tenth of the lead. The fit needs residuals that move
+    // smoothly with the orbit, so it passes `search_offset`, that difference as it was at the start
+    // of its step, and gets the new one back in `new_search_offset`.
+    AzEl look_ahead(double t, double threshold, double set_time, double min_el, double max_el,
+                    std::optional<double> search_offset = std::nullopt, double* new_search_offset = nullptr) const {
         const AzEl now = azel(t);
         const AzEl set{now.az, std::clamp(now.el, min_el, max_el)};
+        if (new_search_offset) {
+            *new_search_offset = 0.0;
+        }
         if (threshold <= 0.0 || now.el <= 0.0) {
             return set;
         }
+        const double remaining = std::max(0.0, set_time - t);
         if (set.el == now.el) {
             auto moved = [&](double tau) {
                 const AzEl to = azel(t + tau);
                 return std::max(std::fabs(set.az - to.az), std::fabs(to.el - set.el));
             };
             const double per_second = moved(1.0);
-            double tau = per_second > 1e-9 ? std::min(threshold / per_second, set_time - t) : set_time - t;
+            double tau = per_second > 1e-9 ? std::min(threshold / per_second, remaining) : remaining;
             for (int step = 0; step < 4; ++step) {
                 const double d = moved(tau);
                 if (d < 1e-9) {
                     break;
                 }
-                tau = std::clamp(tau * threshold / d, 0.0, std::max(0.0, set_time - t));
+                tau = std::clamp(tau * threshold / d, 0.0, remaining);
             }
-            const AzEl end = azel(t + tau);
+            const double offset = bisection_end(remaining, tau) - tau;
+            if (new_search_offset) {
+                *new_search_offset = offset;
+            }
+            const AzEl end = azel(t + tau + search_offset.value_or(offset));
             return {end.az, std::clamp(end.el, min_el, max_el)};
         }
-        double delta = set_time - t;
+        // Clamped: the box lies around a point the satellite is not at, and the search ends
+        // wherever its steps happen to lead; replayed as it is.
+        double delta = remaining;
         double step = std::max(delta / 2.0, 1.0);
         AzEl future = set;
         while (step > 0.25) {
@@ -159,6 +182,20 @@ struct Evaluator {
             step /= 2.0;
         }
         return {future.az, std::clamp(future.el, min_el, max_el)};
+    }
+
+    // Where Gpredict's bisection over [0, remaining] stops when everything up to `boundary` is
+    // within its box and nothing after it.
+    static double bisection_end(double remaining, double boundary) {
+        double delta = remaining;
+        double step = std::max(delta / 2.0, 1.0);
+        double evaluated = delta;
+        while (step > 0.25) {
+            evaluated = delta;
+            delta += delta > boundary ? -step : step;
+            step /= 2.0;
+        }
+        return evaluated;
     }
 
     // When the track sets below the horizon after t (or t + rise_search_s).
@@ -246,7 +283,7 @@ void OrbitModel::set_dish_limits(double el_floor, double el_cap) {
 }
 
 OrbitModel::ClientView OrbitModel::client_view() const {
-    return {lead_deg_.value_or(0.0), client_min_el_, client_max_el_};
+    return {orbit_ ? orbit_->lead_deg : lead_hint_deg_.value_or(0.0), client_min_el_, client_max_el_};
 }
 
 void OrbitModel::clear() {
@@ -255,15 +292,15 @@ void OrbitModel::clear() {
     client_min_el_ = settings_.el_floor;
     client_max_el_ = settings_.el_cap;
     trusted_ = false;
-    residual_deg_ = 0.0;
+    residual_ = {};
     description_ = "no targets";
 }
 
-bool OrbitModel::add(double t, AzEl target, std::optional<double> lead_threshold_deg) {
+bool OrbitModel::add(double t, AzEl target, std::optional<double> lead_hint_deg) {
     if (!std::isfinite(t) || !std::isfinite(target.az) || !std::isfinite(target.el)) {
         return true;
     }
-    lead_deg_ = lead_threshold_deg;
+    lead_hint_deg_ = lead_hint_deg;
     // A target beyond the dish's limits shows a client whose own limits are wider (the backend
     // clamps): its targets below the floor are exact, and its lowest is the horizon.
     if (target.el > same_angle_degrees && target.el < settings_.el_floor - same_angle_degrees) {
@@ -280,9 +317,9 @@ bool OrbitModel::add(double t, AzEl target, std::optional<double> lead_threshold
                                                                           : Kind::exact;
     bool expected = true;
     if (trusted_ && kind == Kind::exact) {
-        const auto where = expected_target(t);
+        const auto where = expected_target(t - settings_.client_send_delay_s);
         const double miss = where ? angle_deg(unit_vector(*where), unit_vector(target)) : 0.0;
-        expected = miss <= std::max(settings_.innovation_gate_deg, settings_.gate_residuals * residual_deg_);
+        expected = miss <= std::max(settings_.innovation_gate_deg, settings_.gate_residuals * residual_.rms_deg);
     }
     if (kind == Kind::before_rise) {
         // The client repeats the AOS azimuth while it waits: only the newest of those counts.
@@ -290,14 +327,14 @@ bool OrbitModel::add(double t, AzEl target, std::optional<double> lead_threshold
                                       [](const Target& old) { return old.kind == Kind::before_rise; }),
                        targets_.end());
     }
-    targets_.push_back({t, target, kind});
+    targets_.push_back({t - settings_.client_send_delay_s, target, kind});
     while (!targets_.empty() && t - targets_.front().t > settings_.window_s) {
         targets_.pop_front();
     }
     if (targets_.size() > settings_.max_targets) {
         // Thin out where the targets are densest (a client sending every cycle), never the newest.
         std::size_t closest = 1;
-        double closest_gap = INFINITY;
+        double closest_gap = HUGE_VAL;
         for (std::size_t i = 1; i + 2 < targets_.size(); ++i) {
             const double gap = targets_[i + 1].t - targets_[i - 1].t;
             if (gap < closest_gap) {
@@ -341,6 +378,10 @@ std::optional<double> OrbitModel::altitude_km() const {
     return orbit_ ? std::optional<double>(orbit_->altitude_km) : std::nullopt;
 }
 
+std::optional<double> OrbitModel::lead_deg() const {
+    return orbit_ ? std::optional<double>(client_view().threshold) : std::nullopt;
+}
+
 std::optional<double> OrbitModel::time_below(double t, double el, double within_s) const {
     if (!orbit_) {
         return std::nullopt;
@@ -365,13 +406,23 @@ namespace {
 
 struct Residuals {
     std::vector<double> values;
+    std::vector<char> smooth;   // per value: from an unclamped target (the lead moves it smoothly)
     double exact_sum = 0.0;
+    double normalised_sum = 0.0;   // each exact target's miss over the scatter expected of it
     std::size_t exact_count = 0;
 };
 
 // kind: 0 exact, 1 clamped, 2 before rise (OrbitModel::Kind).
+// `search_offsets`: per target, where the client's search stopped against its box's boundary
+// (Evaluator::look_ahead); empty: found now and stored there.
 template <typename Targets>
-Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& targets, const OrbitModel::ClientView& client) {
+Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& targets, const OrbitModel::ClientView& client,
+                       std::vector<double>& search_offsets, double clamped_threshold) {
+    const bool refresh = search_offsets.size() != targets.size();
+    if (refresh) {
+        search_offsets.assign(targets.size(), 0.0);
+    }
+    std::size_t index = 0;
     const Evaluator model(orbit, earth);
     Residuals out;
     out.values.reserve(targets.size() * 3);
@@ -382,25 +433,37 @@ Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& ta
     }
     pass_end = model.set_after(pass_end);
     for (const auto& target : targets) {
+        double& search_offset = search_offsets[index++];
         const Vec seen = unit_vector(target.direction);
         if (target.kind == 2 || (target.kind == 1 && model.azel(target.t).el < 0.0)) {
             // Waiting below the horizon: the track must rise at the target's azimuth.
             const auto rise = model.rise_after(target.t);
             out.values.push_back(rise ? clamped_weight * azimuth_difference(target.direction.az, model.azel(*rise).az)
                                       : no_rise_penalty_deg);
+            out.smooth.push_back(0);
             continue;
         }
         // A clamped target is what the client's search gave with the current direction clamped: the
         // same comparison, only its elevation says less (the model's on the limit too).
-        const Vec there =
-            unit_vector(model.look_ahead(target.t, client.threshold, pass_end, client.min_el, client.max_el));
+        // A clamped target's search jumps as the lead changes: it is compared at the lead the
+        // fit's step started from, so the cost stays smooth in the lead.
+        const double threshold = target.kind == 0 ? client.threshold : clamped_threshold;
+        const Vec there = unit_vector(model.look_ahead(target.t, threshold, pass_end, client.min_el, client.max_el,
+                                                       refresh ? std::nullopt : std::optional<double>(search_offset),
+                                                       refresh ? &search_offset : nullptr));
         const double weight = target.kind == 0 ? 1.0 : clamped_weight;
         for (double component : minus(there, seen)) {
             out.values.push_back(weight * component / deg);
+            out.smooth.push_back(target.kind == 0 ? 1 : 0);
         }
         if (target.kind == 0) {
             const double angle = angle_deg(there, seen);
             out.exact_sum += angle * angle;
+            // Sent up to 0.8 s after it was computed (uniform: 0.23 s standard deviation) and cut
+            // at a quarter cycle: the faster the satellite, the more a target scatters.
+            const double sky_rate = angle_deg(model.direction(target.t), model.direction(target.t + 1.0));
+            const double scatter = std::hypot(target_scatter_deg, send_jitter_sd_s * sky_rate);
+            out.normalised_sum += angle * angle / (scatter * scatter);
             ++out.exact_count;
         }
     }
@@ -409,7 +472,14 @@ Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& ta
 
 }  // namespace
 
-double OrbitModel::refine(Orbit& orbit, int iterations) const {
+OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations) const {
+    // The lead the caller learnt from the dish (the gap between a target and the dish it passed)
+    // is held; fitted with the orbit, the lead wanders with the targets' timing scatter by more
+    // than that learning errs. Without one the targets are all there is.
+    return refine(orbit, iterations, lead_hint_deg_);
+}
+
+OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const {
     struct Flat {
         double t;
         AzEl direction;
@@ -421,15 +491,27 @@ double OrbitModel::refine(Orbit& orbit, int iterations) const {
         flat.push_back({t.t, t.direction, t.kind == Kind::exact ? 0 : t.kind == Kind::clamped ? 1 : 2});
     }
     const Earth earth = earth_at(settings_.latitude_deg);
-    const ClientView client = client_view();
-    auto params = [](const Orbit& o) { return std::array<double, 4>{o.x, o.y, o.heading, o.altitude_km}; };
-    auto with = [&](const std::array<double, 4>& p) {
+    // The client's lead is fitted too unless the caller knows it: a phase shift moves every target
+    // by the same time, a lead by the time the satellite takes to cover one threshold, which
+    // changes along the pass, so targets over a stretch of it tell the two apart.
+    const bool fit_lead = !fixed_lead;
+    if (!fit_lead) {
+        orbit.lead_deg = *fixed_lead;
+    }
+    constexpr std::size_t n = 5;
+    using Params = std::array<double, n>;
+    auto params = [](const Orbit& o) { return Params{o.x, o.y, o.heading, o.altitude_km, o.lead_deg}; };
+    auto with = [&](const Params& p) {
         Orbit o = orbit;
         o.x = p[0];
         o.y = p[1];
         o.heading = p[2];
         o.altitude_km = std::clamp(p[3], 50.0, 5000.0);
+        o.lead_deg = std::clamp(p[4], 0.0, max_fitted_lead_deg);
         return o;
+    };
+    auto client_for = [&](const Orbit& o) {
+        return ClientView{o.lead_deg, client_min_el_, client_max_el_};
     };
     auto sum_sq = [](const Residuals& r) {
         double s = 0.0;
@@ -438,51 +520,68 @@ double OrbitModel::refine(Orbit& orbit, int iterations) const {
         }
         return s;
     };
-    const std::array<double, 4> steps{1e-6, 1e-6, 1e-6, 1e-2};
-    Residuals current = residuals_of(orbit, earth, flat, client);
+    const Params steps{1e-6, 1e-6, 1e-6, 1e-2, 1e-4};
+    std::vector<double> offsets;
+    Residuals current = residuals_of(orbit, earth, flat, client_for(orbit), offsets, orbit.lead_deg);
     double cost = sum_sq(current);
     double lambda = 1e-3;
+    std::array<Params, n> last_jtj{};
     for (int iteration = 0; iteration < iterations; ++iteration) {
+        // Where each search stopped, as of this orbit, held for the step.
+        offsets.clear();
+        const double step_lead = orbit.lead_deg;
+        current = residuals_of(orbit, earth, flat, client_for(orbit), offsets, step_lead);
+        cost = 0.0;
+        for (double v : current.values) {
+            cost += v * v;
+        }
         const auto p = params(orbit);
-        std::array<std::vector<double>, 4> jacobian;
-        for (std::size_t k = 0; k < 4; ++k) {
+        std::array<std::vector<double>, n> jacobian;
+        for (std::size_t k = 0; k < n; ++k) {
+            jacobian[k].assign(current.values.size(), 0.0);
+            if (k == 4 && !fit_lead) {
+                continue;
+            }
             auto q = p;
             q[k] += steps[k];
-            const Residuals moved = residuals_of(with(q), earth, flat, client);
-            jacobian[k].resize(current.values.size());
+            const Orbit moved_orbit = with(q);
+            const Residuals moved = residuals_of(moved_orbit, earth, flat, client_for(moved_orbit), offsets, step_lead);
             for (std::size_t i = 0; i < current.values.size(); ++i) {
-                jacobian[k][i] = (moved.values[i] - current.values[i]) / steps[k];
+                // A clamped target's search jumps between steps as the lead changes: no slope.
+                const bool counts = k != 4 || current.smooth[i];
+                jacobian[k][i] = counts ? (moved.values[i] - current.values[i]) / steps[k] : 0.0;
             }
         }
-        std::array<std::array<double, 4>, 4> jtj{};
-        std::array<double, 4> jtr{};
-        for (std::size_t a = 0; a < 4; ++a) {
+        std::array<Params, n> jtj{};
+        Params jtr{};
+        for (std::size_t a = 0; a < n; ++a) {
             for (std::size_t i = 0; i < current.values.size(); ++i) {
                 jtr[a] -= jacobian[a][i] * current.values[i];
             }
-            for (std::size_t b = 0; b < 4; ++b) {
+            for (std::size_t b = 0; b < n; ++b) {
                 for (std::size_t i = 0; i < current.values.size(); ++i) {
                     jtj[a][b] += jacobian[a][i] * jacobian[b][i];
                 }
             }
         }
+        last_jtj = jtj;
         bool improved = false;
         for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
             auto damped = jtj;
-            for (std::size_t a = 0; a < 4; ++a) {
+            for (std::size_t a = 0; a < n; ++a) {
                 damped[a][a] += lambda * std::max(jtj[a][a], 1e-12);
             }
-            std::array<double, 4> delta{};
+            Params delta{};
             if (!solve(damped, jtr, delta)) {
                 lambda *= 10.0;
                 continue;
             }
-            std::array<double, 4> q = p;
-            for (std::size_t a = 0; a < 4; ++a) {
+            Params q = p;
+            for (std::size_t a = 0; a < n; ++a) {
                 q[a] += delta[a];
             }
             const Orbit trial = with(q);
-            const Residuals r = residuals_of(trial, earth, flat, client);
+            const Residuals r = residuals_of(trial, earth, flat, client_for(trial), offsets, step_lead);
             const double trial_cost = sum_sq(r);
             if (trial_cost < cost) {
                 const double gain = cost - trial_cost;
@@ -502,7 +601,24 @@ double OrbitModel::refine(Orbit& orbit, int iterations) const {
             break;
         }
     }
-    return current.exact_count ? std::sqrt(current.exact_sum / static_cast<double>(current.exact_count)) : 0.0;
+    // How well the targets pin the lead down: its standard error from the fit's curvature, with
+    // the scatter of the targets at least what a client's timing gives them.
+    orbit.lead_sigma_deg = 0.0;
+    if (fit_lead) {
+        Params unit_lead{};
+        unit_lead[4] = 1.0;
+        Params column{};
+        const std::size_t m = current.values.size();
+        const double scatter = std::max(std::sqrt(cost / static_cast<double>(m > n ? m - n : 1)), target_scatter_deg);
+        orbit.lead_sigma_deg = solve(last_jtj, unit_lead, column) && column[4] > 0.0
+                                   ? std::sqrt(column[4]) * scatter
+                                   : HUGE_VAL;
+    }
+    if (!current.exact_count) {
+        return {};
+    }
+    const double count = static_cast<double>(current.exact_count);
+    return {std::sqrt(current.exact_sum / count), std::sqrt(current.normalised_sum / count)};
 }
 
 bool OrbitModel::initialise() {
@@ -569,7 +685,7 @@ bool OrbitModel::initialise() {
         return false;
     }
     std::optional<Orbit> best;
-    double best_rms = INFINITY;
+    FitResidual best_fit{HUGE_VAL, HUGE_VAL};
     for (double altitude : roots) {
         const Vec g1 = geocentric(d1, altitude);
         Vec g2 = geocentric(d2, altitude);
@@ -587,14 +703,14 @@ bool OrbitModel::initialise() {
         orbit.y = p0[1] / p0[2];
         orbit.heading = std::atan2(dot(w, e2), dot(w, e1));
         orbit.altitude_km = altitude;
-        const double rms = refine(orbit, initial_iterations);
-        if (rms < best_rms) {
-            best_rms = rms;
+        const FitResidual fit = refine(orbit, initial_iterations);
+        if (fit.normalised < best_fit.normalised) {
+            best_fit = fit;
             best = orbit;
         }
     }
     orbit_ = best;
-    residual_deg_ = best_rms;
+    residual_ = best_fit;
     return true;
 }
 
@@ -604,19 +720,45 @@ void OrbitModel::refit(bool from_scratch) {
         initialise();
     } else {
         Orbit warm = *orbit_;
-        const double rms = refine(warm, warm_iterations);
-        if (rms <= settings_.max_residual_deg) {
+        const FitResidual fit = refine(warm, warm_iterations);
+        if (fit.normalised <= settings_.max_normalised_residual) {
             orbit_ = warm;
-            residual_deg_ = rms;
+            residual_ = fit;
         } else {
             const Orbit kept = *orbit_;
             if (!initialise()) {
                 orbit_ = kept;
-                residual_deg_ = rms;
+                residual_ = fit;
             }
         }
     }
     judge();
+}
+
+double OrbitModel::sharpest_turn_deg() const {
+    const double min_chord = 2.0 * std::sin(turn_min_step_deg * deg / 2.0);
+    double sharpest = 0.0;
+    std::optional<Vec> previous_point, previous_step;
+    for (const auto& target : targets_) {
+        if (target.kind != Kind::exact) {
+            continue;
+        }
+        const Vec point = unit_vector(target.direction);
+        if (!previous_point) {
+            previous_point = point;
+            continue;
+        }
+        const Vec step = minus(point, *previous_point);
+        if (std::sqrt(dot(step, step)) < min_chord) {
+            continue;   // measured from the last point kept, so slow steps still add up
+        }
+        if (previous_step) {
+            sharpest = std::max(sharpest, angle_deg(*previous_step, step));
+        }
+        previous_step = step;
+        previous_point = point;
+    }
+    return sharpest;
 }
 
 void OrbitModel::judge() {
@@ -639,9 +781,14 @@ void OrbitModel::judge() {
     }
     const double arc = first ? angle_deg(unit_vector(first->direction), unit_vector(last->direction)) : 0.0;
     const double span = first ? last->t - first->t : 0.0;
-    char text[200];
-    std::snprintf(text, sizeof text, "orbit %.0f km, %zu targets (%zu exact over %.1f deg, %.0f s), RMS %.3f deg%s",
-                  orbit_->altitude_km, targets_.size(), exact, arc, span, residual_deg_,
+    char sigma[48];
+    std::snprintf(sigma, sizeof sigma, "fitted, +-%.2f", orbit_->lead_sigma_deg);
+    const std::string lead_source = lead_hint_deg_ ? "learnt from the dish" : sigma;
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "orbit %.0f km, client lead %.2f deg (%s), %zu targets (%zu exact over %.1f deg, %.0f s), RMS %.3f deg (%.1f of the expected scatter)%s",
+                  orbit_->altitude_km, client_view().threshold, lead_source.c_str(), targets_.size(), exact,
+                  arc, span, residual_.rms_deg, residual_.normalised,
                   settings_.latitude_deg ? "" : ", Earth taken as still (no latitude)");
     description_ = text;
     const char* why = nullptr;
@@ -649,7 +796,11 @@ void OrbitModel::judge() {
         why = "too few targets";
     } else if (arc < settings_.min_arc_deg || span < settings_.min_span_s) {
         why = "targets too close together";
-    } else if (residual_deg_ > settings_.max_residual_deg) {
+    } else if (sharpest_turn_deg() > settings_.max_turn_deg) {
+        why = "the targets turn as no pass does (manual pointing, a scan)";
+    } else if (orbit_->lead_sigma_deg > settings_.max_lead_sigma_deg && !lead_hint_deg_) {
+        why = "the client's lead not yet known";
+    } else if (residual_.normalised > settings_.max_normalised_residual || residual_.rms_deg > settings_.max_residual_deg) {
         why = "targets off the orbit";
     } else if (orbit_->altitude_km < settings_.min_altitude_km || orbit_->altitude_km > settings_.max_altitude_km) {
         why = "no LEO altitude";

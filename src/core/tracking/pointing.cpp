@@ -32,6 +32,8 @@ constexpr double resend_interval_s = 2.0;
 // How far ahead a fitted curvature is trusted (a pass's azimuth acceleration changes sign at the
 // culmination).
 constexpr double accel_horizon_s = 5.0;
+// A dish within this of its elevation floor or cap is held there (lead learning, above).
+constexpr double lead_limit_margin_deg = 0.3;
 // Weight of a new target's anchor against the running estimate (an alpha filter on position).
 constexpr double anchor_gain = 0.5;
 
@@ -162,7 +164,14 @@ std::string_view pointing_mode_name(PointingMode mode) {
 }
 
 TargetPredictor::TargetPredictor(PredictorSettings settings)
-    : settings_(settings), pass_model_(settings.pass_model) {}
+    : settings_(settings), orbit_(settings.orbit), dish_el_min_(settings.orbit.el_floor),
+      dish_el_max_(settings.orbit.el_cap) {}
+
+void TargetPredictor::set_dish_limits(double el_min, double el_max) {
+    dish_el_min_ = el_min;
+    dish_el_max_ = el_max;
+    orbit_.set_dish_limits(el_min, el_max);
+}
 
 double TargetPredictor::seconds(Clock::time_point t) const {
     return std::chrono::duration<double>(t - origin_).count();
@@ -179,10 +188,10 @@ void TargetPredictor::reset() {
     az_rate_ = el_rate_ = 0.0;
     last_interval_s_ = 0.0;
     track_targets_ = 0;
-    pass_model_.clear();
+    orbit_.clear();
 }
 
-void TargetPredictor::restart(double t, AzEl target) {
+void TargetPredictor::restart(double t, AzEl target, bool keep_orbit) {
     samples_.clear();
     samples_.push_back({t, normalize_azimuth(target.az), target.el});
     have_rate_ = false;
@@ -193,9 +202,12 @@ void TargetPredictor::restart(double t, AzEl target) {
     last_interval_s_ = 0.0;
     track_targets_ = 1;
     track_start_t_ = t;
-    // A new pointing: a pass model of the old one would pull the prediction back to it.
-    pass_model_.clear();
-    pass_model_.add(t, target);
+    // A new pointing, unless the orbit expected it: an orbit of the old one would pull the
+    // prediction back to it.
+    if (!keep_orbit) {
+        orbit_.clear();
+        orbit_.add(t, target, lead_threshold_);
+    }
 }
 
 void TargetPredictor::fit() {
@@ -235,8 +247,13 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         has_origin_ = true;
     }
     const double t = seconds(when);
+    // The orbit sees every target first: whether it expected this one decides what a restart of
+    // the local estimate below forgets.
+    const bool orbit_trusted = settings_.use_pass_model && orbit_.trusted();
+    const bool orbit_expected = settings_.use_pass_model && orbit_.add(t, target, lead_threshold_);
+    const bool keep_orbit = orbit_trusted && orbit_expected;
     if (samples_.empty()) {
-        restart(t, target);
+        restart(t, target, true);
         return;
     }
     const Sample last = samples_.back();
@@ -245,7 +262,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // A target after a held one cannot give a rate: the client only now started moving.
     if (repeated || t - last.t > settings_.max_gap_s || t <= last.t || held_) {
         held_ = repeated;
-        restart(t, target);
+        restart(t, target, keep_orbit);
         return;
     }
     // Faster than any satellite on the sky, or a jump as large as the restart gate: the client
@@ -253,7 +270,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     const double sky_step = std::hypot(azimuth_difference(last.az, target.az) * std::cos(target.el * M_PI / 180.0),
                                        target.el - last.el);
     if (!have_rate_ && (sky_step > settings_.restart_gate_deg || sky_step / (t - last.t) > settings_.max_sky_rate_dps)) {
-        restart(t, target);
+        restart(t, target, keep_orbit);
         return;
     }
     if (have_rate_) {
@@ -263,8 +280,8 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         const double expected_az = expected->position.az + az_rate_ * lead_s;
         const double expected_el = expected->position.el + el_rate_ * lead_s;
         const double innovation = std::max(std::fabs(azimuth_difference(expected_az, target.az)), std::fabs(target.el - expected_el));
-        if (innovation > settings_.restart_gate_deg) {
-            restart(t, target);
+        if (innovation > settings_.restart_gate_deg && !keep_orbit) {
+            restart(t, target, false);
             return;
         }
     }
@@ -272,7 +289,6 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     const std::optional<Prediction> before = have_rate_ ? estimate(when, false) : std::nullopt;
     samples_.push_back({t, az, target.el});
     ++track_targets_;
-    pass_model_.add(t, target);
     if (t - last.t > resend_interval_s) {
         last_interval_s_ = t - last.t;
     }
@@ -284,7 +300,11 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         return;
     }
     const double dominant_rate = std::max(std::fabs(az_rate_), std::fabs(el_rate_));
-    if (dish && t - last.t > resend_interval_s) {
+    // A dish held on its elevation floor or cap trails the satellite by whatever lies beyond the
+    // limit, not by the client's lead.
+    const bool dish_on_limit =
+        dish && (dish->el <= dish_el_min_ + lead_limit_margin_deg || dish->el >= dish_el_max_ - lead_limit_margin_deg);
+    if (dish && !dish_on_limit && t - last.t > resend_interval_s) {
         // Along-track gap between this target and the dish the client compared it with.
         const double gap_az = azimuth_difference(dish->az, target.az);
         const double gap_el = target.el - dish->el;
@@ -342,9 +362,6 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // The rates at the anchor's time, not the target's.
     az_rate_ -= az_accel_ * lead_s;
     el_rate_ -= el_accel_ * lead_s;
-    if (settings_.use_pass_model) {
-        pass_model_.fit(lead_threshold_);
-    }
 }
 
 std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const { return estimate(when, true); }
@@ -354,6 +371,17 @@ std::optional<Prediction> TargetPredictor::estimate(Clock::time_point when, bool
         return std::nullopt;
     }
     Prediction out;
+    if (pass_model_in_use()) {
+        // The orbit is followed to the end of the pass with no horizon: when the dish tracks well
+        // the client sends nothing, and the orbit needs no targets to stay right. Through the
+        // zenith too: there it is an ordinary point of the circle.
+        const auto point = orbit_.predict(seconds(when));
+        out.position = point->position;
+        out.moving = point->position.el >= 0.0;
+        out.az_rate = out.moving ? point->az_rate : 0.0;
+        out.el_rate = out.moving ? point->el_rate : 0.0;
+        return out;
+    }
     out.position = {normalize_azimuth(anchor_az_), anchor_el_};
     if (!have_rate_) {
         return out;
@@ -371,9 +399,7 @@ std::optional<Prediction> TargetPredictor::estimate(Clock::time_point when, bool
     const Prediction at_last_target{{normalize_azimuth(last.az), last.el}, 0.0, 0.0, false};
     const bool young = track_targets_ < settings_.established_track_targets ||
                        last.t - track_start_t_ < settings_.established_track_s;
-    // A good pass model has passed stricter tests than these (five targets on one circle, a flyby's
-    // time law, a LEO rate: docs/tracking.md §6), so it is followed without waiting.
-    if (hold_at_last_target && young && !pass_model_in_use()) {
+    if (hold_at_last_target && young) {
         // Along the track on the sky (cos(el) scales the azimuth), the time the estimate takes
         // from the anchor to the last target.
         const double cos_sq = std::pow(std::cos(anchor_el_ * M_PI / 180.0), 2);
@@ -383,25 +409,6 @@ std::optional<Prediction> TargetPredictor::estimate(Clock::time_point when, bool
                           : 0.0;
         if (dt >= to_target_s) {
             return at_last_target;
-        }
-    }
-    if (pass_model_in_use()) {
-        // The same horizon (a client that stops sending is followed no further than with the
-        // local estimate), and no zenith guard: the circle passes the zenith like any other point.
-        const double t = std::min(seconds(when), anchor_t_ + horizon);
-        const auto point = pass_model_.predict(std::max(t, anchor_t_));
-        // Which side of the zenith a near-overhead pass takes is what the circle knows least: a
-        // tenth of a degree across the track turns the azimuth the other way round, and the
-        // controller would choose its cable-wrap branch for that way (a mid-pass unwind). A pass's
-        // azimuth keeps its direction, so the targets' own direction decides.
-        const bool same_direction = point && (std::fabs(az_rate_) < settings_.stationary_dps ||
-                                              point->az_rate * az_rate_ > 0.0);
-        if (point && same_direction) {
-            out.position = point->position;
-            out.moving = dt < horizon;
-            out.az_rate = out.moving ? point->az_rate : 0.0;
-            out.el_rate = out.moving ? point->el_rate : 0.0;
-            return out;
         }
     }
     // Curvature is trusted for accel_horizon_s only, then the motion continues straight.
@@ -427,6 +434,9 @@ std::string TargetPredictor::describe() const {
     if (samples_.empty()) {
         return "no target yet";
     }
+    if (pass_model_in_use()) {
+        return "following the " + orbit_.describe();
+    }
     if (!have_rate_) {
         return "holding the last target";
     }
@@ -436,8 +446,8 @@ std::string TargetPredictor::describe() const {
         std::snprintf(lead, sizeof lead, "%.2f deg", *lead_threshold_);
     }
     std::snprintf(text, sizeof text, "az rate %.3f deg/s, el rate %.3f deg/s, client lead %s", az_rate_, el_rate_, lead);
-    if (settings_.use_pass_model && pass_model_.targets() >= settings_.pass_model.min_targets) {
-        return std::string(text) + "; " + pass_model_.describe();
+    if (settings_.use_pass_model && orbit_.targets() >= 2) {
+        return std::string(text) + "; " + orbit_.describe();
     }
     return text;
 }

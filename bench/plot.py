@@ -48,9 +48,15 @@ P_P99_GOAL_MS = 1.0
 # src/core/firmware/variants.cpp): the goals are judged on it, the other modes shown beside it.
 DEFAULT_MODE = {"g2": "predictive", "hal205": "none"}
 DEFAULT_MAPPING = "nearest"    # the emulator's default; the matrix runs under it
+# The client's rotator limits (tracking_bench --client-limits): "dish" = the dish's EL range, as
+# README tells Gpredict users, "wide" = EL 0-90. Goals, plots and the real-time comparison use the
+# dish rows; the per-pass and summary tables show both, apart.
+DEFAULT_LIMITS = "dish"
 
 PER_PASS_NOTES = """\
-Columns: *tracked s* = seconds the satellite is inside the dish's EL limits (the error figures
+Columns: *limits* = the rotator limits the Gpredict-like client clamps its targets to (*dish*: the
+dish's EL range, as README sets Gpredict up; *wide*: EL 0–90°, the backend clamps instead).
+*tracked s* = seconds the satellite is inside the dish's EL limits (the error figures
 *RMS*, *p95*, *max* count only those: great-circle angle between the satellite and the dish's true
 direction). *motor cmds* = `a <axis> <deg>` / `g` lines the emulator received during the run;
 *P sent* = the client's `P` commands. The **tracked window** runs from the satellite rising to the
@@ -68,11 +74,11 @@ seconds the satellite is above the dish's EL cap (G2 65°); *cap excess* = the w
 run's window does not include the drop).""".format(cap=CAP_EXCESS_GOAL, reacq=REACQUIRE_GOAL)
 
 SUMMARY_NOTES = """\
-Per variant × mode × client threshold, over the passes run: *RMS* = lowest–highest per-pass RMS
-(median in brackets); *worst p95*, *worst max* = the highest per-pass p95 and max; *motor cmds/pass*
-and *P sent/pass* = lowest–highest; *mid-pass unwinds* = runs that unwound mid-pass, of all runs, with
-the avoidable ones in brackets; *worst cap excess* / *worst re-acquire* over the passes that rise
-above the cap ("—" if none does)."""
+Per variant × mode × client threshold × client limits, over the passes run: *RMS* = lowest–highest
+per-pass RMS (median in brackets); *worst p95*, *worst max* = the highest per-pass p95 and max;
+*motor cmds/pass* and *P sent/pass* = lowest–highest; *mid-pass unwinds* = runs that unwound
+mid-pass, of all runs, with the avoidable ones in brackets; *worst cap excess* / *worst re-acquire*
+over the passes that rise above the cap ("—" if none does)."""
 
 LATENCY_NOTES = """\
 Real-time round trips at the client through rotctld, every `p` and `P` of all runs of a variant ×
@@ -104,8 +110,8 @@ def mode_key(mode):
 
 
 def config_key(config):
-    variant, mode, thr = config
-    return (variant, float(thr), mode_key(mode), mode)
+    variant, mode, thr, limits = config
+    return (variant, float(thr), limits != DEFAULT_LIMITS, limits, mode_key(mode), mode)
 
 
 def plot_trace(runs_dir, pass_name, variant, image_dir):
@@ -247,18 +253,23 @@ def mapping_of(row):
     return row.get("az_mapping") or DEFAULT_MAPPING
 
 
+def limits_of(row):
+    """The client's rotator limits; summaries written before the column existed are "dish"."""
+    return row.get("client_limits") or DEFAULT_LIMITS
+
+
 def per_pass_table(summary, title="### Per pass", notes=PER_PASS_NOTES):
     out = [title, "", notes, "",
-           "| pass | peak | N-cross | variant | mode | AZ mapping | thr | tracked s | RMS | p95 | max | motor cmds | P sent | "
+           "| pass | peak | N-cross | variant | mode | AZ mapping | thr | limits | tracked s | RMS | p95 | max | motor cmds | P sent | "
            "pre-pass AZ | mid-pass extra AZ | unwound | avoidable | above cap s | cap excess | re-acquire s |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(summary, key=lambda r: (r["variant"], r["pass"], mapping_of(r), float(r["threshold"]),
-                                            mode_key(r["mode"]))):
+                                            limits_of(r) != DEFAULT_LIMITS, limits_of(r), mode_key(r["mode"]))):
         tracked = number(r, "tracked_s") > 0
         err = (lambda k: fmt(number(r, k))) if tracked else (lambda k: "—")
         above = number(r, "above_cap_s")
         out.append(f"| {r['pass']} | {number(r, 'peak_el'):.0f}° | {'yes' if r['crosses_north'] == '1' else 'no'} | "
-                   f"{r['variant']} | {r['mode']} | {mapping_of(r)} | {r['threshold']}° | {number(r, 'tracked_s'):.0f} | {err('rms')} | "
+                   f"{r['variant']} | {r['mode']} | {mapping_of(r)} | {r['threshold']}° | {limits_of(r)} | {number(r, 'tracked_s'):.0f} | {err('rms')} | "
                    f"{err('p95')} | {err('max')} | {r['motor_commands']} | {r['set_commands']} | "
                    f"{number(r, 'prepass_az_travel'):.0f}° | {number(r, 'extra_az_travel'):.0f}° | "
                    f"{'**yes**' if r['unwound'] == '1' else 'no'} | {'yes' if r['one_branch'] == '1' else 'no'} | "
@@ -268,13 +279,14 @@ def per_pass_table(summary, title="### Per pass", notes=PER_PASS_NOTES):
 
 
 def summary_table(summary):
-    out = ["### Summary per variant × mode × threshold", "", SUMMARY_NOTES, "",
-           "| variant | mode | thr | passes | RMS | worst p95 | worst max | motor cmds/pass | P sent/pass | "
+    out = ["### Summary per variant × mode × threshold × client limits", "", SUMMARY_NOTES, "",
+           "| variant | mode | thr | limits | passes | RMS | worst p95 | worst max | motor cmds/pass | P sent/pass | "
            "mid-pass unwinds (avoidable) | worst cap excess | worst re-acquire s |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    groups = sorted({(r["variant"], r["mode"], r["threshold"]) for r in summary}, key=config_key)
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    groups = sorted({(r["variant"], r["mode"], r["threshold"], limits_of(r)) for r in summary}, key=config_key)
     for g in groups:
-        rows = [r for r in summary if (r["variant"], r["mode"], r["threshold"]) == g and number(r, "tracked_s") > 0]
+        rows = [r for r in summary if (r["variant"], r["mode"], r["threshold"], limits_of(r)) == g
+                and number(r, "tracked_s") > 0]
         if not rows:
             continue
         rms = [number(r, "rms") for r in rows]
@@ -283,7 +295,7 @@ def summary_table(summary):
         excess = max((number(r, "cap_excess_max") for r in capped), default=math.nan)
         reacquire = [number(r, "reacquire_s") for r in capped if not math.isnan(number(r, "reacquire_s"))]
         worst_reacquire = ("never" if any(v < 0 for v in reacquire) else f"{max(reacquire):.1f}") if reacquire else "—"
-        out.append(f"| {g[0]} | {g[1]} | {g[2]}° | {len(rows)} | {span(rms, 2)} ({np.median(rms):.2f}) | "
+        out.append(f"| {g[0]} | {g[1]} | {g[2]}° | {g[3]} | {len(rows)} | {span(rms, 2)} ({np.median(rms):.2f}) | "
                    f"{max(number(r, 'p95') for r in rows):.2f} | {max(number(r, 'max') for r in rows):.2f} | "
                    f"{span([number(r, 'motor_commands') for r in rows])} | "
                    f"{span([number(r, 'set_commands') for r in rows])} | "
@@ -335,7 +347,7 @@ bimodal rows, e.g. an unwind in one run and not in the other)."""
 
 
 def key_of(row):
-    return (row["pass"], row["variant"], row["mode"], row["threshold"], mapping_of(row))
+    return (row["pass"], row["variant"], row["mode"], row["threshold"], mapping_of(row), limits_of(row))
 
 
 def realtime_table(matrix, realtime):
@@ -449,7 +461,7 @@ def goal_rows(matrix, mappings, latency, variant, mode):
 def goals_table(matrix, mappings, latency):
     out = ["### Against the tracking goals", "",
            f"Judged on each dish's default pointing mode ({', '.join(f'{v}: `{m}`' for v, m in DEFAULT_MODE.items())}), "
-           "with the other modes beside it; from the matrix (k = 5, AZ mapping nearest) and, for unwinds and "
+           "with the other modes beside it; from the matrix (k = 5, AZ mapping nearest, client limits dish) and, for unwinds and "
            "pre-pass travel, the mapping runs too.", "",
            "| variant | goal | mode | figure | verdict |", "|---|---|---|---|---|"]
     variants = [v for v in ["g2", "hal205"] if any(r["variant"] == v for r in matrix)]
@@ -490,9 +502,11 @@ def worst_passes(matrix):
     return picked
 
 
-def tables(summary, latency_sets, sweeps, mappings=(), realtime=(), latency=()):
+def tables(summary, latency_sets, sweeps, mappings=(), realtime=(), latency=(), other_limits=()):
+    """summary: the matrix's dish-limits rows; other_limits: its other rows (per-pass and summary tables only)."""
+    everything = list(summary) + list(other_limits)
     out = goals_table(summary, list(mappings), list(latency)) + [""]
-    out += per_pass_table(summary) + [""] + summary_table(summary) + [""]
+    out += per_pass_table(everything) + [""] + summary_table(everything) + [""]
     if mappings:
         out += per_pass_table(list(mappings), "### North crossings and forced unwinds under the other AZ mappings",
                               MAPPING_NOTES) + [""]
@@ -509,7 +523,9 @@ def main():
         sys.exit(__doc__)
     out_dir, image_dir = sys.argv[1], sys.argv[2]
     os.makedirs(image_dir, exist_ok=True)
-    summary = read_csv(os.path.join(out_dir, "matrix", "summary.csv"))
+    matrix = read_csv(os.path.join(out_dir, "matrix", "summary.csv"))
+    summary = [r for r in matrix if limits_of(r) == DEFAULT_LIMITS]
+    other_limits = [r for r in matrix if limits_of(r) != DEFAULT_LIMITS]
 
     def optional(*parts):
         path = os.path.join(out_dir, *parts)
@@ -543,7 +559,7 @@ def main():
     if sweeps:
         made.append(plot_scale(sweeps, image_dir))
     with open(os.path.join(out_dir, "tables.md"), "w") as f:
-        f.write(tables(summary, latency_sets, sweeps, mappings, realtime, matrix_latency))
+        f.write(tables(summary, latency_sets, sweeps, mappings, realtime, matrix_latency, other_limits))
     print("plots:", ", ".join(os.path.join(image_dir, m) for m in made))
     print("tables:", os.path.join(out_dir, "tables.md"))
 

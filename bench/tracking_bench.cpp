@@ -8,11 +8,19 @@
 //
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
 //                  [--modes none,leapfrog,predictive,oracle] [--thresholds 0.5,5] [--window SECONDS]
-//                  [--mappings nearest,literal,wrap_manager] [--out DIR] [--passes-dir DIR]
+//                  [--mappings nearest,literal,wrap_manager] [--client-limits dish,wide] [--out DIR]
+//                  [--passes-dir DIR]
 //                  [--conf KEY=VALUE]... [--motor-startup-delay S] [--motor-speed AZ,EL] [--motor-accel A]
 //
 // The --motor-* options give every run the emulator's motor dynamics switches (sim/README.md,
 // "motor"): e.g. a Trav'ler that meets the documented timings but starts seconds after each command.
+//
+// --client-limits sets the rotator limits the Gpredict-like client clamps its targets to (Gpredict's
+// MinEl/MaxEl, docs/gpredict.md): `dish` = the dish's elevation range, as README tells users, so the
+// client sends (AOS azimuth, floor) before the pass and never asks beyond the cap; `wide` = 0-90, so
+// the backend clamps instead and the client, seeing the dish held at its floor more than a threshold
+// off the satellite, sends a fresh target every cycle from AOS (a wide run starts at AOS, a dish run
+// 6 deg below the floor). Azimuth stays 0-360 in both. The oracle runs once, with the dish's limits.
 //
 // --mappings runs every pass under each way the emulated firmware may map an azimuth target onto
 // its travel (docs/firmware.md, "azimuth mapping"); the backend is not told which one it meets.
@@ -105,6 +113,7 @@ struct Options {
     std::vector<std::string> modes = {"none", "leapfrog", "predictive", "oracle"};
     std::vector<double> thresholds = {0.5, 5.0};
     std::vector<std::string> mappings = {"nearest"};
+    std::vector<std::string> client_limits = {"dish"};
     double window_s = 0.0;  // > 0: only this many seconds around the TCA
     std::string out = "bench-out";
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
@@ -141,6 +150,7 @@ struct RunSpec {
     double threshold;
     birdcage::sim::AzMapping mapping = birdcage::sim::AzMapping::nearest;
     std::string mapping_name = "nearest";
+    std::string client_limits = "dish";  // "dish" or "wide": see --client-limits
 };
 
 struct RunResult {
@@ -206,6 +216,13 @@ Options parse(int argc, char** argv) {
             }
         } else if (arg == "--mappings") {
             o.mappings = split(value());
+        } else if (arg == "--client-limits") {
+            o.client_limits = split(value());
+            for (const std::string& limits : o.client_limits) {
+                if (limits != "dish" && limits != "wide") {
+                    throw std::runtime_error("--client-limits: unknown setting " + limits + " (dish or wide)");
+                }
+            }
         } else if (arg == "--window") {
             o.window_s = std::stod(value());
         } else if (arg == "--out") {
@@ -241,7 +258,9 @@ std::string run_name(const RunSpec& s) {
     char thr[16];
     std::snprintf(thr, sizeof thr, "%g", s.threshold);
     const std::string mapping = s.mapping == birdcage::sim::AzMapping::nearest ? "" : "_" + s.mapping_name;
-    return std::string(s.pass->name()) + "_" + s.variant->key + "_" + s.mode->key + "_thr" + thr + mapping;
+    // Dish limits keep the names bench/plot.py looks for.
+    const std::string limits = s.client_limits == "dish" ? "" : "_" + s.client_limits;
+    return std::string(s.pass->name()) + "_" + s.variant->key + "_" + s.mode->key + "_thr" + thr + mapping + limits;
 }
 
 RunResult run_one(const RunSpec& spec, const Options& options) {
@@ -253,8 +272,10 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
 
     // The run covers the pass from a little below the dish's lowest elevation (Gpredict has been
     // holding the dish at the AOS azimuth, lowest elevation, since before AOS) until the satellite
-    // sets below it: the part that is measured, with a few seconds of approach.
-    double start = std::max(pass.aos(), pass.first_time_above(v.el_min - 6.0));
+    // sets below it: the part that is measured, with a few seconds of approach. With wide client
+    // limits it starts at AOS: the targets the client sends between AOS and the floor are what
+    // that setting changes (with the dish's they are the floor, sent only as the azimuth drifts).
+    double start = spec.client_limits == "wide" ? pass.aos() : std::max(pass.aos(), pass.first_time_above(v.el_min - 6.0));
     double end = pass.last_time_above(v.el_min) + 5.0;
     if (options.window_s > 0.0) {
         start = std::max(start, pass.tca() - options.window_s / 2.0);
@@ -284,8 +305,9 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     bench::ClientSettings settings;
     settings.threshold_deg = spec.threshold;
     settings.true_position_every_cycle = spec.mode->oracle;
-    settings.min_el = v.el_min;
-    settings.max_el = v.el_max;
+    const bool wide = spec.client_limits == "wide";
+    settings.min_el = wide ? 0.0 : v.el_min;
+    settings.max_el = wide ? 90.0 : v.el_max;
     bench::GpredictClient client(pass, settings, rig.dish(), options.scale, rig.port(), start);
     const bench::ClientRecord record = client.run_until(end);
 
@@ -459,20 +481,20 @@ std::string reacquire_text(const RunResult& r) {
 }
 
 void print_header() {
-    std::printf("%-7s %-7s %-10s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
-                "pass", "variant", "mode", "map", "thr", "RMS", "p95", "max", "motor", "P", "preAz", "xtraAz", "U", "capExc",
+    std::printf("%-7s %-7s %-10s %-4s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
+                "pass", "variant", "mode", "map", "lim", "thr", "RMS", "p95", "max", "motor", "P", "preAz", "xtraAz", "U", "capExc",
                 "reacq", "p med", "p p99", "p max", "P med", "P p99", "|p|p95");
-    std::printf("%-7s %-7s %-10s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
-                "", "", "", "", "deg", "deg", "deg", "deg", "cmds", "sent", "deg", "deg", "", "max", "s", "ms", "ms", "ms",
+    std::printf("%-7s %-7s %-10s %-4s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
+                "", "", "", "", "", "deg", "deg", "deg", "deg", "cmds", "sent", "deg", "deg", "", "max", "s", "ms", "ms", "ms",
                 "ms", "ms", "deg");
 }
 
 void print_row(const RunResult& r) {
     const Figures p = figures_of(r.p_ms), set = figures_of(r.set_ms), pe = figures_of(r.p_error_deg);
-    std::printf("%-7s %-7s %-10s %-4.4s %4g | %6.3f %6.3f %6.3f | %5zu %4zu | %6.0f %7.0f %2s | %6s %5s | %6.3f %6.3f %6.3f | "
+    std::printf("%-7s %-7s %-10s %-4.4s %-4.4s %4g | %6.3f %6.3f %6.3f | %5zu %4zu | %6.0f %7.0f %2s | %6s %5s | %6.3f %6.3f %6.3f | "
                 "%6.3f %6.3f | %6.3f\n",
                 r.spec.pass->name().c_str(), r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(),
-                r.spec.threshold, r.error.rms,
+                r.spec.client_limits.c_str(), r.spec.threshold, r.error.rms,
                 r.error.p95, r.error.max, r.motor_commands, r.set_commands, r.prepass_az_travel, r.extra_az_travel,
                 r.unwound ? (r.one_branch ? "UA" : "U") : "", cap_text(r).c_str(), reacquire_text(r).c_str(),
                 p.median, p.p99, p.max, set.median, set.p99, pe.p95);
@@ -571,11 +593,13 @@ int main(int argc, char** argv) {
                         return 2;
                     }
                     if (m->oracle) {
-                        specs.push_back({&pass, &*v, &*m, 0.0, *mapping, mapping_name});
+                        specs.push_back({&pass, &*v, &*m, 0.0, *mapping, mapping_name, "dish"});
                         continue;
                     }
                     for (double thr : options.thresholds) {
-                        specs.push_back({&pass, &*v, &*m, thr, *mapping, mapping_name});
+                        for (const std::string& limits : options.client_limits) {
+                            specs.push_back({&pass, &*v, &*m, thr, *mapping, mapping_name, limits});
+                        }
                     }
                 }
             }
@@ -610,7 +634,8 @@ int main(int argc, char** argv) {
                 "elevation limits; preAz = dish AZ travel before the satellite rose to the lowest elevation\n"
                 "(pre-positioning); xtraAz = dish AZ travel beyond the satellite's after that; U = mid-pass unwind\n"
                 "(xtraAz > 180), UA = avoidable one (one branch of the AZ window holds the pass); capExc = max of\n"
-                "error - (sat el - cap) above the EL cap; reacq = s from dropping below the cap to error <= %g deg\n",
+                "error - (sat el - cap) above the EL cap; reacq = s from dropping below the cap to error <= %g deg;\n"
+                "lim = the client's rotator limits (dish: the dish's EL range, wide: EL 0-90)\n",
                 reacquire_within_deg);
     print_header();
 
@@ -650,7 +675,7 @@ int main(int argc, char** argv) {
 
     std::filesystem::create_directories(options.out);
     std::ofstream summary(options.out + "/summary.csv");
-    summary << "pass,peak_el,crosses_north,variant,mode,az_mapping,threshold,scale,window_s,tracked_s,rms,p95,max,motor_commands,"
+    summary << "pass,peak_el,crosses_north,variant,mode,az_mapping,threshold,client_limits,scale,window_s,tracked_s,rms,p95,max,motor_commands,"
                "set_commands,prepass_az_travel,extra_az_travel,unwound,one_branch,above_cap_s,cap_excess_p95,"
                "cap_excess_max,reacquire_s,p_median_ms,p_p95_ms,p_p99_ms,p_max_ms,P_median_ms,P_p95_ms,P_p99_ms,"
                "P_max_ms,p_error_p95_deg,p_error_p99_deg,p_error_max_deg,wire_floor_ms,failed_replies,wall_s\n";
@@ -670,10 +695,11 @@ int main(int argc, char** argv) {
         }
         char line[768];
         std::snprintf(line, sizeof line,
-                      "%s,%.2f,%d,%s,%s,%s,%g,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%.1f,%d,%d,%.1f,%s,%s,%s,%.4f,%.4f,"
+                      "%s,%.2f,%d,%s,%s,%s,%g,%s,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%.1f,%d,%d,%.1f,%s,%s,%s,%.4f,%.4f,"
                       "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%u,%.1f\n",
                       r.spec.pass->name().c_str(), r.spec.pass->peak_el(), r.spec.pass->crosses_north() ? 1 : 0,
-                      r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(), r.spec.threshold, options.scale, options.window_s,
+                      r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(), r.spec.threshold,
+                      r.spec.client_limits.c_str(), options.scale, options.window_s,
                       r.tracked_s, r.error.rms, r.error.p95, r.error.max, r.motor_commands, r.set_commands,
                       r.prepass_az_travel, r.extra_az_travel, r.unwound ? 1 : 0, r.one_branch ? 1 : 0, r.above_cap_s,
                       cap_p95, cap_max, reacquire, p.median, p.p95, p.p99, p.max, set.median, set.p95, set.p99,

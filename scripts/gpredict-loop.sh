@@ -2,18 +2,24 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Copyright (C) 2026 the birdcage authors
 # Real Gpredict in the loop: Debian's Gpredict, under Xvfb, tracks a satellite pass with the
-# emulated Carryout G2 through the distribution's rotctld and this backend, once per threshold
-# (in parallel), and reports what it sent, what the dish did, and the pointing error.
+# emulated Carryout G2 through the distribution's rotctld and this backend, once per threshold and
+# rotator limits setting (in parallel), and reports what it sent, what the dish did, and the pointing
+# error.
 #
-#   scripts/gpredict-loop.sh [--build DIR] [--out DIR] [--thresholds "5 0.5"] [--preload LIBS] [--check]
+#   scripts/gpredict-loop.sh [--build DIR] [--out DIR] [--thresholds "5 0.5"] [--limits "dish wide"] [--preload LIBS] [--check]
 #
-# Per threshold: birdcage-sim (g2) -> rotctld -m 90105 (backend preloaded) -> logging proxy
+# --limits: the rotator limits in Gpredict's .rot file, which it clamps every target to: `dish` (the
+# default) = the G2's elevation range 18-65, as README sets Gpredict up; `wide` = 0-90, so the
+# backend clamps instead (docs/gpredict.md). One lane per threshold and setting.
+#
+# Per lane: birdcage-sim (g2) -> rotctld -m 90105 (backend preloaded) -> logging proxy
 # (scripts/gpredict_loop.py) -> Gpredict with a fresh $HOME (ground station, the TLE of
-# bench/passes/iss-45.tle, rotator localhost:<proxy>, that threshold), its clock set by libfaketime
-# to the pass. xdotool opens Antenna Control and presses Track and Engage, as a user would.
-# The pass runs in real time (Gpredict's clock cannot follow the emulator's time scale): about
-# 5½ minutes. Writes to --out (default <build>/gpredict-loop): per threshold the proxy log, the
-# dish positions, the error series, a screenshot, and summary.json; prints a summary table.
+# bench/passes/iss-45.tle, rotator localhost:<proxy>, the lane's threshold and limits), its clock
+# set by libfaketime to the pass. xdotool opens Antenna Control and presses Track and Engage, as a
+# user would. The pass runs in real time (Gpredict's clock cannot follow the emulator's time
+# scale): about 5½ minutes. Writes to --out (default <build>/gpredict-loop): per lane (threshold-<thr> for the
+# dish's limits, threshold-<thr>-wide for wide ones) the proxy log, the dish positions, the error
+# series, a screenshot, and summary.json; prints a summary table.
 # --check fails (exit 1) unless Gpredict engaged and the dish tracked (bounds below).
 # Exits 77 (ctest's SKIP_RETURN_CODE) when a needed Debian package is missing.
 set -euo pipefail
@@ -21,14 +27,16 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${BIRDCAGE_BUILD_DIR:-$root/build}
 out=""
 thresholds="5 0.5"
+limit_settings="dish"
 preload=""
 check=0
-usage() { sed -n '8p' "${BASH_SOURCE[0]}" | sed 's/^# *//'; }
+usage() { grep -m1 '^#   scripts/gpredict-loop.sh' "${BASH_SOURCE[0]}" | sed 's/^# *//'; }
 while (($#)); do
     case "$1" in
     --build) build=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --thresholds) thresholds=$2; shift 2 ;;
+    --limits) limit_settings=$2; shift 2 ;;
     --preload) preload=$2; shift 2 ;;
     --check) check=1; shift ;;
     -h | --help) echo "usage: $(usage)"; exit 0 ;;
@@ -36,6 +44,14 @@ while (($#)); do
     esac
 done
 out=${out:-$build/gpredict-loop}
+for setting in $limit_settings; do
+    case "$setting" in
+    dish | wide) ;;
+    *) echo "gpredict-loop.sh: unknown --limits setting '$setting' (dish or wide)" >&2; exit 2 ;;
+    esac
+done
+# Gpredict's MinEl/MaxEl per setting: the G2's elevation range, or the whole sky.
+declare -A min_el=([dish]=18 [wide]=0) max_el=([dish]=65 [wide]=90)
 sim="$build/sim/birdcage-sim"
 backend="$build/src/hamlib/libhamlib-winegard.so"
 preload=${preload:-$backend}
@@ -103,7 +119,7 @@ free_port() { # sets $port; never hands out the same port twice (a lane's server
 }
 
 # Gpredict's configuration, as a user would set it up (docs/gpredict.md lists the same settings).
-write_gpredict_config() { # DIR PROXY_PORT THRESHOLD
+write_gpredict_config() { # DIR PROXY_PORT THRESHOLD MIN_EL MAX_EL
     local c="$1/home/.config/Gpredict"
     mkdir -p "$c/modules" "$c/satdata" "$c/hwconf"
     cat >"$c/birdcage.qth" <<EOF
@@ -137,8 +153,8 @@ Port=$2
 AzType=0
 MinAz=0
 MaxAz=360
-MinEl=18
-MaxEl=65
+MinEl=$4
+MaxEl=$5
 AzStopPos=0
 Cycle=1000
 Threshold=$3
@@ -184,15 +200,27 @@ engage() { # DISPLAY LANE_DIR
     fi
 }
 
-declare -A lane_dir lane_display
-i=0
+declare -A lane_dir lane_display lane_threshold lane_limits
+lanes=()
 for thr in $thresholds; do
-    dir="$out/threshold-$thr"
+    for setting in $limit_settings; do
+        # The dish's limits keep the lane directory readers of earlier runs expect.
+        lane="$thr"; [[ $setting == dish ]] || lane="$thr-$setting"
+        lanes+=("$lane")
+        lane_threshold[$lane]=$thr
+        lane_limits[$lane]=$setting
+    done
+done
+i=0
+for lane in "${lanes[@]}"; do
+    thr=${lane_threshold[$lane]}
+    setting=${lane_limits[$lane]}
+    dir="$out/threshold-$lane"
     rm -rf "$dir"; mkdir -p "$dir"
-    lane_dir[$thr]=$dir
+    lane_dir[$lane]=$dir
     free_port; rot_port=$port
     free_port; proxy_port=$port
-    write_gpredict_config "$work/$i" "$proxy_port" "$thr"
+    write_gpredict_config "$work/$i" "$proxy_port" "$thr" "${min_el[$setting]}" "${max_el[$setting]}"
     "$sim" --variant g2 --link "$work/$i.dish" --az 300 --el 20 >"$dir/sim.log" 2>&1 &
     pids+=($!)
     wait_for 10 test -e "$work/$i.dish"
@@ -209,21 +237,22 @@ for thr in $thresholds; do
     pids+=($!)
     exec {fd}>&-
     wait_for 20 test -s "$work/$i.display"
-    lane_display[$thr]=":$(head -1 "$work/$i.display")"
-    env HOME="$work/$i/home" XDG_CONFIG_HOME="$work/$i/home/.config" DISPLAY="${lane_display[$thr]}" \
+    lane_display[$lane]=":$(head -1 "$work/$i.display")"
+    env HOME="$work/$i/home" XDG_CONFIG_HOME="$work/$i/home/.config" DISPLAY="${lane_display[$lane]}" \
         NO_AT_BRIDGE=1 LD_PRELOAD="$faketime_lib" FAKETIME="$offset" FAKETIME_DONT_FAKE_MONOTONIC=1 \
         gpredict >"$dir/gpredict.log" 2>&1 &
     pids+=($!)
     i=$((i + 1))
 done
-for thr in $thresholds; do
-    engage "${lane_display[$thr]}" "${lane_dir[$thr]}"
-    echo "gpredict-loop: threshold $thr deg: Gpredict engaged and tracking (display ${lane_display[$thr]})"
+for lane in "${lanes[@]}"; do
+    engage "${lane_display[$lane]}" "${lane_dir[$lane]}"
+    echo "gpredict-loop: threshold ${lane_threshold[$lane]} deg, ${lane_limits[$lane]} limits:" \
+        "Gpredict engaged and tracking (display ${lane_display[$lane]})"
 done
 
 wait_until_wall "$(wall_of $screenshot_s)"
-for thr in $thresholds; do
-    DISPLAY=${lane_display[$thr]} import -window root "${lane_dir[$thr]}/gpredict.png"
+for lane in "${lanes[@]}"; do
+    DISPLAY=${lane_display[$lane]} import -window root "${lane_dir[$lane]}/gpredict.png"
 done
 wait_until_wall "$(wall_of $stop_s)"
 cleanup
@@ -231,18 +260,22 @@ pids=()
 trap - EXIT
 
 status=0
-printf '\n%9s %8s %8s %8s %8s %10s %12s %18s\n' threshold "P sent" RMS max p95 "mean lead" "sat el" "AZ travel dish/sat"
-for thr in $thresholds; do
-    dir=${lane_dir[$thr]}
-    limits=()
+printf '\n%9s %-12s %8s %8s %8s %8s %10s %12s %18s\n' threshold "limits (el)" "P sent" RMS max p95 "mean lead" \
+    "sat el" "AZ travel dish/sat"
+for lane in "${lanes[@]}"; do
+    dir=${lane_dir[$lane]}
+    thr=${lane_threshold[$lane]}
+    setting=${lane_limits[$lane]}
+    bounds=()
     # Engaged and tracking: Gpredict kept sending targets through the pass, and the dish stayed on
     # the satellite within what the threshold allows: Gpredict moves the dish once it is a threshold
     # off and then aims up to a threshold ahead, so twice the threshold, plus 1 deg for a loaded
     # machine whose Gpredict runs late.
-    ((check)) && limits=(--min-p 4 --max-error "$("$python" -c "print(2 * $thr + 1.0)")")
+    ((check)) && bounds=(--min-p 4 --max-error "$("$python" -c "print(2 * $thr + 1.0)")")
     "$python" "$helper" analyse --tle "$tle" --offset "$offset" --log "$dir/proxy.log" \
         --poll-log "$dir/positions.log" --from $measure_from_s --to $measure_to_s --threshold "$thr" \
-        --out "$dir/summary.json" --series "$dir/error.csv" "${limits[@]}" || status=1
+        --limits "$setting" --min-el "${min_el[$setting]}" --max-el "${max_el[$setting]}" \
+        --out "$dir/summary.json" --series "$dir/error.csv" "${bounds[@]}" || status=1
 done
 echo "window: $measure_from_s–$measure_to_s s after the TLE epoch; files in $out"
 exit $status

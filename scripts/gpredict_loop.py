@@ -6,6 +6,7 @@
     gpredict_loop.py tle                                        the TLE of bench/passes/iss-45.csv
     gpredict_loop.py proxy --listen P --upstream P --log F --poll-log F
     gpredict_loop.py analyse --tle F --offset S --log F --poll-log F --from S --to S --threshold D
+                             [--limits dish|wide --min-el D --max-el D]
 
 `proxy` sits between Gpredict and rotctld: it forwards every byte unchanged and logs each line with
 the wall-clock time it passed (">" Gpredict to rotctld, "<" the answer). A second connection of
@@ -217,6 +218,8 @@ def cmd_analyse(args):
     ordered = sorted(errors)
     result = {
         "threshold_deg": args.threshold,
+        "limits": args.limits,
+        "limits_el_deg": [args.min_el, args.max_el],
         "window_s": [args.t_from, args.t_to],
         "window_sat_el_deg": [round(float(min(sat_el)), 1), round(float(max(sat_el)), 1)],
         "samples": len(errors),
@@ -232,7 +235,8 @@ def cmd_analyse(args):
     if args.out:
         with open(args.out, "w") as out:
             json.dump(result, out, indent=1)
-    print(f"{args.threshold:>8g}° {result['p_commands']:>8d} {result['rms_deg']:>7.2f}° "
+    limits = f"{args.limits} {args.min_el:g}–{args.max_el:g}°"
+    print(f"{args.threshold:>8g}° {limits:<12} {result['p_commands']:>8d} {result['rms_deg']:>7.2f}° "
           f"{result['max_deg']:>7.2f}° {result['p95_deg']:>7.2f}° {result['mean_lead_deg'] or 0:>9.2f}° "
           f"{result['window_sat_el_deg'][0]:>5.1f}–{result['window_sat_el_deg'][1]:.1f}° "
           f"{result['dish_az_travel_deg']:>7.1f}° / {result['sat_az_travel_deg']:.1f}°")
@@ -247,7 +251,8 @@ def cmd_analyse(args):
             for s, a, e, err in zip(samples, sat_az, sat_el, errors):
                 out.write(f"{since_epoch(s[0]):.2f},{s[1]:.2f},{s[2]:.2f},{a:.3f},{e:.3f},{err:.3f}\n")
     if problems:
-        print(f"analyse: threshold {args.threshold} deg: " + "; ".join(problems), file=sys.stderr)
+        print(f"analyse: threshold {args.threshold} deg, {args.limits} limits: " + "; ".join(problems),
+              file=sys.stderr)
         sys.exit(1)
 
 
@@ -269,6 +274,9 @@ def main():
     a.add_argument("--from", dest="t_from", type=float, required=True, help="s after the TLE epoch")
     a.add_argument("--to", dest="t_to", type=float, required=True)
     a.add_argument("--threshold", type=float, required=True)
+    a.add_argument("--limits", default="dish", help="the name of the rotator limits Gpredict was given")
+    a.add_argument("--min-el", type=float, default=18.0, help="Gpredict's MinEl (deg)")
+    a.add_argument("--max-el", type=float, default=65.0, help="Gpredict's MaxEl (deg)")
     a.add_argument("--out")
     a.add_argument("--series")
     a.add_argument("--min-p", type=int, help="fail with fewer P commands in the window")

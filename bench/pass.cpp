@@ -49,6 +49,10 @@ Pass Pass::load(const std::string& path) {
     pass.name_ = pass.name_.substr(0, pass.name_.rfind(".csv"));
     std::string line;
     while (std::getline(in, line)) {
+        if (line.rfind("# site lat", 0) == 0) {
+            pass.site_latitude_ = header_value(line + " ", "lat");
+            continue;
+        }
         if (line.rfind("# peak_el", 0) == 0) {
             const std::string padded = line + " ";
             pass.peak_el_ = header_value(padded, "peak_el");

@@ -28,6 +28,7 @@ public:
     double tca() const { return tca_; }
     double aos_az() const { return aos_az_; }
     double los_az() const { return los_az_; }
+    double site_latitude() const { return site_latitude_; }   // degrees north, from the header
     double first_time() const { return t_.front(); }
     double last_time() const { return t_.back(); }
 
@@ -41,6 +42,7 @@ public:
 private:
     std::string name_;
     bool crosses_north_ = false;
+    double site_latitude_ = 0.0;
     double peak_el_ = 0.0, aos_ = 0.0, los_ = 0.0, tca_ = 0.0, aos_az_ = 0.0, los_az_ = 0.0;
     std::vector<double> t_, az_, el_;
 };

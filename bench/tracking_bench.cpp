@@ -296,6 +296,11 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     char scale_text[48];
     std::snprintf(scale_text, sizeof scale_text, "time_scale=%g", options.scale);
     rotctld_args.insert(rotctld_args.end(), {"-C", scale_text});
+    // The site's latitude, as a user sets it up (docs/usage.md, conf latitude); --conf latitude=none
+    // (given later, so it wins) runs without.
+    char latitude_text[48];
+    std::snprintf(latitude_text, sizeof latitude_text, "latitude=%.4f", spec.pass->site_latitude());
+    rotctld_args.insert(rotctld_args.end(), {"-C", latitude_text});
     for (const std::string& conf : options.extra_conf) {
         rotctld_args.insert(rotctld_args.end(), {"-C", conf});
     }

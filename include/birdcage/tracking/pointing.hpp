@@ -119,7 +119,11 @@ public:
     std::optional<Prediction> predict(Clock::time_point t) const;
 
     // For logs and tests.
-    std::optional<double> lead_threshold_deg() const { return lead_threshold_; }
+    // The client's lead (its threshold, degrees): as learnt from the dish, else as the trusted
+    // orbit fitted it (a dish held on its floor while the client sends every cycle learns none).
+    std::optional<double> lead_threshold_deg() const {
+        return lead_threshold_ ? lead_threshold_ : pass_model_in_use() ? orbit_.lead_deg() : std::nullopt;
+    }
     bool pass_model_in_use() const { return settings_.use_pass_model && orbit_.trusted(); }
     const OrbitModel& orbit() const { return orbit_; }
     std::string describe() const;

@@ -269,7 +269,12 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at) {
                                                                       controller_->el_min()));
     }
     emit(options_.log, LogLevel::verbose, "predictive: " + predictor_.describe());
-    aim_.reset();
+    // On a track the aim is kept, and steering moves it only when the satellite is a deadband
+    // past it or the estimate jumped: a client that sends every cycle (its limits wider than the
+    // dish's, the dish waiting at its floor) would otherwise start a motor every second.
+    if (!predictor_.predict(now).value_or(Prediction{}).moving) {
+        aim_.reset();
+    }
     return steer();
 }
 

@@ -151,7 +151,7 @@ struct Evaluator {
         if (set.el == now.el) {
             auto moved = [&](double tau) {
                 const AzEl to = azel(t + tau);
-                return std::max(std::fabs(set.az - to.az), std::fabs(to.el - set.el));
+                return std::max(std::fabs(azimuth_difference(set.az, to.az)), std::fabs(to.el - set.el));
             };
             const double per_second = moved(1.0);
             double tau = per_second > 1e-9 ? std::min(threshold / per_second, remaining) : remaining;
@@ -161,6 +161,16 @@ struct Evaluator {
                     break;
                 }
                 tau = std::clamp(tau * threshold / d, 0.0, remaining);
+            }
+            // Gpredict compares azimuths as plain numbers: where the satellite crosses north
+            // (359 to 1) its box ends, however little it moved.
+            if (std::fabs(set.az - azel(t + tau).az) > 180.0) {
+                double lo = 0.0, hi = tau;
+                for (int i = 0; i < 30; ++i) {
+                    const double mid = 0.5 * (lo + hi);
+                    (std::fabs(set.az - azel(t + mid).az) > 180.0 ? hi : lo) = mid;
+                }
+                tau = lo;
             }
             const double offset = bisection_end(remaining, tau) - tau;
             if (new_search_offset) {

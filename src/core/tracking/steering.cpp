@@ -34,6 +34,12 @@ constexpr double direction_only_rate = 1e-3;
 // The dish counts as waiting at its lowest elevation (where Gpredict parks it before AOS) within
 // this many degrees of it.
 constexpr double waiting_low_deg = 1.0;
+// The longest the aim runs ahead of the satellite (seconds): a deadband ahead of an axis that has
+// nearly stopped (a culmination) is not where the satellite is going.
+constexpr double max_aim_ahead_s = 20.0;
+// The azimuth deadband (degrees) while the dish waits at its floor for the satellite to rise.
+constexpr double waiting_deadband_deg = 2.0;
+constexpr int extent_samples = 8;
 // Weight of the newest measurement in the leg-overhead average (an EMA over about five steps).
 constexpr double overhead_smoothing = 0.2;
 
@@ -90,6 +96,12 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         deadband_az *= widen_factor;
         deadband_el *= widen_factor;
     }
+    // While the satellite is still below the dish's floor the dish waits there, and only needs to
+    // be near where the satellite will come up: a client that sends every cycle meanwhile (its
+    // limits wider than the dish's) would otherwise start the azimuth motor every second.
+    if (current->position.el < in.el_min - deadband_el) {
+        deadband_az = std::max(deadband_az, waiting_deadband_deg);
+    }
     const auto az_at = in.predictor.predict(in.now + seconds(step_time(Axis::azimuth, 2 * deadband_az)));
     const auto el_at = in.predictor.predict(in.now + seconds(step_time(Axis::elevation, 2 * deadband_el)));
     if (!az_at || !el_at) {
@@ -108,12 +120,31 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
     // The aim runs a deadband ahead of the estimate, but never past where the estimate stops (the
     // client's last target on a young track, the end of the extrapolation once its horizon has
     // passed): manual pointing ends exactly where it was sent (docs/tracking.md §7).
+    // How long the axis takes to run a deadband past the aim, bounded: near a culmination the
+    // elevation's rate falls to nothing, and a deadband ahead is then hours away (past the pass's
+    // end, where the estimate stops below the horizon).
+    auto time_to_cover = [&](double deadband, double rate) { return std::min(deadband / rate, max_aim_ahead_s); };
     auto stop_within_deadband = [&](Axis axis, double deadband, double rate) -> std::optional<Prediction> {
         if (rate < still_rate_dps) {
             return std::nullopt;
         }
-        const auto beyond = in.predictor.predict(in.now + seconds(step_time(axis, 2 * deadband) + deadband / rate));
+        const auto beyond =
+            in.predictor.predict(in.now + seconds(step_time(axis, 2 * deadband) + time_to_cover(deadband, rate)));
         return beyond && !beyond->moving ? beyond : std::nullopt;
+    };
+    // The elevation the satellite reaches while the aim holds: the aim goes no higher than a
+    // culmination and no lower than a low point, so the dish waits there instead of overshooting.
+    auto el_reached = [&](double deadband, double rate) {
+        const double from = step_time(Axis::elevation, 2 * deadband);
+        const double span = time_to_cover(deadband, std::max(rate, still_rate_dps));
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (int k = 0; k <= extent_samples; ++k) {
+            if (const auto p = in.predictor.predict(in.now + seconds(from + span * k / extent_samples))) {
+                lo = std::min(lo, p->position.el);
+                hi = std::max(hi, p->position.el);
+            }
+        }
+        return std::pair{lo, hi};
     };
     const double az_sign = current->az_rate >= 0 ? 1.0 : -1.0;
     const double az_past = azimuth_difference(next.az, az_at->position.az) * az_sign;
@@ -130,13 +161,17 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
     const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
     const double el_wanted = above_cap ? in.el_max : clamp_el(el_at->position.el);
     const double el_past = (el_wanted - next.el) * el_sign;
-    if (changed || re_aim(el_past, el_rate, deadband_el)) {
+    if (!in.aim || re_aim(el_past, el_rate, deadband_el)) {
         if (el_rate < still_rate_dps) {
             next.el = el_wanted;
         } else if (const auto stop = stop_within_deadband(Axis::elevation, deadband_el, el_rate)) {
             next.el = clamp_el(stop->position.el);
-        } else {
+        } else if (above_cap) {
             next.el = clamp_el(el_wanted + el_sign * deadband_el);
+        } else {
+            const auto [lowest, highest] = el_reached(deadband_el, el_rate);
+            next.el = clamp_el(std::clamp(el_wanted + el_sign * deadband_el, std::min(lowest, el_wanted),
+                                          std::max(highest, el_wanted)));
         }
         changed = true;
     }

@@ -116,3 +116,44 @@ TEST_CASE("motor dynamics: a 60 deg pass on a motor that starts 2 s late stays o
         CHECK(client.rms < 11.0);
     }
 }
+
+namespace {
+
+// A HAL 2.05 left at its default pointing (none: the variant's first guess) on `motor`, through a
+// Gpredict-like client at 0.5 deg for the first 100 s of the window: the log, for what the backend
+// made of the dish's motors.
+std::string pointing_log(const bench::Pass& pass, const birdcage::sim::MotorDynamics& motor) {
+    const double start = pass.tca() - window_s / 2.0, end = start + 100.0;
+    birdcage::sim::Options dish = e2e::dish_options(birdcage::sim::Variant::travler_hal205, pass.at(start).az,
+                                                    std::clamp(pass.at(start).el, el_min, el_max), time_scale);
+    dish.motor = motor;
+    char scale_conf[48];
+    std::snprintf(scale_conf, sizeof scale_conf, "time_scale=%g", time_scale);
+    e2e::Rig rig(dish, hal205_model, {"-C", scale_conf});
+    bench::ClientSettings settings;
+    settings.threshold_deg = 0.5;
+    settings.min_el = el_min;
+    settings.max_el = el_max;
+    bench::GpredictClient client(pass, settings, rig.dish(), time_scale, rig.port(), start);
+    client.run_until(end);
+    return rig.rotctld_log_text();
+}
+
+}  // namespace
+
+TEST_CASE("motor dynamics: the pointing mode follows the dish's own motors, not its firmware",
+          "[motor_dynamics]") {
+    const bench::Pass pass = bench::Pass::load(std::string(BIRDCAGE_BENCH_PASSES_DIR) + "/iss-60.csv");
+    SECTION("a HAL 2.05 console on motors as fast as the G2's steers ahead") {
+        birdcage::sim::MotorDynamics fast;   // the G2's (sim variants.cpp): 65 deg/s, 400 deg/s^2
+        fast.az_velocity = 65.0;
+        fast.el_velocity = 65.0;
+        fast.accel = 400.0;
+        const std::string log = pointing_log(pass, fast);
+        CHECK(log.find("predictive from now on") != std::string::npos);
+    }
+    SECTION("the emulator's documented Trav'ler motor keeps each target as sent") {
+        const std::string log = pointing_log(pass, {});
+        CHECK(log.find("predictive from now on") == std::string::npos);
+    }
+}

@@ -101,6 +101,10 @@ private:
     ServiceTiming timing_;
     TransportFactory reopen_;
     PointingOptions pointing_;
+    // The pointing mode was not set: the variant's default is a first guess, and the dish's own
+    // timing of a small step decides (choose_mode_from_dish()).
+    bool mode_from_dish_ = false;
+    void choose_mode_from_dish();
 
     // Steering: the estimator and what was last handed to the controller.
     TargetPredictor predictor_;

@@ -66,8 +66,11 @@ struct OrbitModelSettings {
     // (RMS over the scatter a target's timing gives it at the satellite's rate, and in degrees).
     double max_normalised_residual = 3.0;
     double max_residual_deg = 1.5;
-    // ... and, when the caller does not know the client's lead, with the fitted one this certain.
+    // ... and, when the caller does not know the client's lead, with the fitted one this certain
+    // and from this many unclamped targets (a few targets fit a wrong lead and a wrong altitude
+    // together and claim to be sure of both).
     double max_lead_sigma_deg = 0.3;
+    std::size_t min_exact_targets_fitted_lead = 8;
     // A new target farther than this (degrees, or gate_residuals × the fit's RMS if larger) from
     // where the trusted model expected it means the model is wrong or the client changed its mind.
     double innovation_gate_deg = 2.0;

@@ -43,6 +43,7 @@ std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion
 class AxisPaces {
 public:
     double pace(Axis axis, double distance) const;   // 1 until a leg of that length was timed
+    bool learnt(Axis axis, double distance) const;
     void learn(Axis axis, double distance, double observed);
 
 private:

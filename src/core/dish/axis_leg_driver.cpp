@@ -351,6 +351,10 @@ Status AxisLegDriver::follow() {
     };
     if (error(seen, goal) <= c_.profile.arrival_tolerance) {
         settling_ = leg;
+        const LegMotion motion = motion_of(leg);
+        if (std::fabs(motion.to - motion.start) <= small_step_max_deg) {
+            step_times_.learn(leg.axis, std::chrono::duration<double>(c_.now() - leg.sent_at).count());
+        }
         end_leg("arrived");
         return Status::ok();
     }
@@ -485,6 +489,13 @@ MovingAxes AxisLegDriver::moving_axes() const {
         put(*in_flight_);
     }
     return moving;
+}
+
+std::optional<double> AxisLegDriver::learnt_step_seconds(Axis axis) const {
+    if (!step_times_.learnt(axis)) {
+        return std::nullopt;
+    }
+    return step_times_.delay(axis);
 }
 
 }  // namespace birdcage

@@ -430,4 +430,8 @@ std::string Controller::describe() const {
     return text;
 }
 
+std::optional<double> Controller::learnt_step_seconds(Axis axis) const {
+    return driver_->learnt_step_seconds(axis);
+}
+
 }  // namespace birdcage

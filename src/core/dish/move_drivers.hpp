@@ -26,6 +26,7 @@ public:
     bool leg_in_flight() const override { return in_flight_.has_value(); }
     MovingAxes moving_axes() const override;
     bool sync_lost() const override { return false; }
+    std::optional<double> learnt_step_seconds(Axis axis) const override;
 
 private:
     static constexpr int max_waypoint_legs = 4;   // bounds the waypoint legs per target (3 span any window)
@@ -76,6 +77,10 @@ private:
     std::optional<Leg> settling_;
     AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
     StartupDelays startup_;   // how long each motor took to start on earlier legs: likewise
+    // How long small legs took from the command to the reading that showed them there: what a
+    // step costs on this dish, start-up, motion and polling together (an average over legs).
+    static constexpr double small_step_max_deg = 2.0;
+    StartupDelays step_times_;
     std::optional<Axis> unstarted_stop_;   // the axis whose last leg was declared stopped before it moved
     std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
     Clock::time_point last_poll_{};

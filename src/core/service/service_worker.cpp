@@ -10,6 +10,14 @@
 #include <utility>
 
 namespace birdcage {
+namespace {
+
+// A dish counts as fast enough to steer ahead (choose_mode_from_dish) when a small step takes it at
+// most this long from command to arrival: the G2 about 0.15 s, the emulated Trav'ler over 1 s.
+constexpr double fast_step_s = 0.6;
+
+}  // namespace
+
 
 ServiceWorker::ServiceWorker(ServiceMailbox& mailbox, std::unique_ptr<Transport> transport, ControllerOptions options,
                              ServiceTiming timing, TransportFactory reopen)
@@ -50,6 +58,7 @@ Status ServiceWorker::start() {
     profile_ = &controller_->profile();
     if (!pointing_.mode) {
         pointing_.mode = profile_->predictive_by_default ? PointingMode::predictive : PointingMode::none;
+        mode_from_dish_ = true;
     }
     if (Status st = controller_->initialize(); !st) {
         return st;
@@ -256,8 +265,36 @@ Status ServiceWorker::resume(AzEl target) {
     return controller_->set_target(target);
 }
 
+// Predictive steering aims ahead of the satellite and moves in small steps; a dish that needs a
+// second or more for one only trails each aim, and the client's corrections then fight it
+// (docs/tracking.md §4). Which kind of dish this is, is a fact about its motors, not its firmware:
+// the same HAL 2.05 console drives fast and slow mounts.
+void ServiceWorker::choose_mode_from_dish() {
+    if (!mode_from_dish_) {
+        return;
+    }
+    const auto az = controller_->learnt_step_seconds(Axis::azimuth);
+    const auto el = controller_->learnt_step_seconds(Axis::elevation);
+    if (!az || !el) {
+        return;
+    }
+    const double step_s = std::max(*az, *el);
+    const PointingMode chosen = step_s <= fast_step_s ? PointingMode::predictive : PointingMode::none;
+    if (chosen != pointing_.mode) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "pointing: a small step (up to 2 deg) takes this dish %.2f s from command to arrival: %s "
+                      "from now on (set -C pointing=... to choose)",
+                      step_s, chosen == PointingMode::predictive ? "predictive" : "none");
+        emit(options_.log, LogLevel::verbose, text);
+        pointing_.mode = chosen;
+        aim_.reset();
+    }
+}
+
 Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at) {
     const auto now = options_.clock.now();
+    choose_mode_from_dish();
     // Every mode feeds the estimator: its azimuth rate tells the controller which way a pass
     // turns, so it can choose a cable-wrap branch with room for the whole pass.
     predictor_.observe(std::min(sent_at, now), target, controller_->last_position());

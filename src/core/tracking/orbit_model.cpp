@@ -772,6 +772,7 @@ double OrbitModel::sharpest_turn_deg() const {
 }
 
 void OrbitModel::judge() {
+    static const char* const off_orbit = "targets off the orbit";
     trusted_ = false;
     if (!orbit_) {
         if (targets_.size() < 2) {
@@ -808,15 +809,21 @@ void OrbitModel::judge() {
         why = "targets too close together";
     } else if (sharpest_turn_deg() > settings_.max_turn_deg) {
         why = "the targets turn as no pass does (manual pointing, a scan)";
-    } else if (orbit_->lead_sigma_deg > settings_.max_lead_sigma_deg && !lead_hint_deg_) {
+    } else if (!lead_hint_deg_ &&
+               (orbit_->lead_sigma_deg > settings_.max_lead_sigma_deg || exact < settings_.min_exact_targets_fitted_lead)) {
         why = "the client's lead not yet known";
     } else if (residual_.normalised > settings_.max_normalised_residual || residual_.rms_deg > settings_.max_residual_deg) {
-        why = "targets off the orbit";
+        why = off_orbit;
     } else if (orbit_->altitude_km < settings_.min_altitude_km || orbit_->altitude_km > settings_.max_altitude_km) {
         why = "no LEO altitude";
     }
     if (why) {
         description_ += std::string("; not trusted: ") + why;
+        // Targets that are not one pass (an earlier pass, manual pointing before it) are let go
+        // from the oldest, so the fit can settle on the pass that follows.
+        if (why == off_orbit && exact > settings_.min_exact_targets) {
+            targets_.pop_front();
+        }
         return;
     }
     trusted_ = true;

@@ -251,7 +251,10 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // the local estimate below forgets.
     const bool orbit_trusted = settings_.use_pass_model && orbit_.trusted();
     const bool orbit_expected = settings_.use_pass_model && orbit_.add(t, target, lead_threshold_);
-    const bool keep_orbit = orbit_trusted && orbit_expected;
+    // A restart of the local estimate (a north crossing's jump in azimuth, a target it did not
+    // expect) forgets the orbit only when a trusted orbit did not expect the target either: an orbit
+    // still gathering targets sorts out on its own what is not one pass (OrbitModel::judge()).
+    const bool keep_orbit = !(orbit_trusted && !orbit_expected);
     if (samples_.empty()) {
         restart(t, target, true);
         return;
@@ -280,8 +283,9 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         const double expected_az = expected->position.az + az_rate_ * lead_s;
         const double expected_el = expected->position.el + el_rate_ * lead_s;
         const double innovation = std::max(std::fabs(azimuth_difference(expected_az, target.az)), std::fabs(target.el - expected_el));
-        if (innovation > settings_.restart_gate_deg && !keep_orbit) {
-            restart(t, target, false);
+        // A trusted orbit that expected the target vouches for it: the local estimate is what erred.
+        if (innovation > settings_.restart_gate_deg && !(orbit_trusted && orbit_expected)) {
+            restart(t, target, keep_orbit);
             return;
         }
     }

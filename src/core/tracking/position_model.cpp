@@ -134,6 +134,10 @@ double AxisPaces::pace(Axis axis, double distance) const {
     return paces_[static_cast<std::size_t>(axis)][static_cast<std::size_t>(length_class(distance))].value_or(1.0);
 }
 
+bool AxisPaces::learnt(Axis axis, double distance) const {
+    return paces_[static_cast<std::size_t>(axis)][static_cast<std::size_t>(length_class(distance))].has_value();
+}
+
 void AxisPaces::learn(Axis axis, double distance, double observed) {
     auto& pace = paces_[static_cast<std::size_t>(axis)][static_cast<std::size_t>(length_class(distance))];
     pace = pace ? (1.0 - pace_smoothing) * *pace + pace_smoothing * observed : observed;

@@ -31,8 +31,8 @@ TRACE_PLOTS = [("iss-85", "hal205"), ("iss-85", "g2"), ("iss-45", "g2"), ("sso-7
 TRACE_LINES = [("none", "0.5", "-"), ("leapfrog", "0.5", "--"), ("predictive", "0.5", "-"),
                ("none", "5", ":"), ("predictive", "5", "-."), ("oracle", "0", "-")]
 VARIANT_LABEL = {"g2": "Carryout G2", "hal205": "Trav'ler HAL 2.05"}
-MODE_ORDER = ["none", "leapfrog", "predictive", "oracle"]
-MODE_COLOUR = {"none": "tab:blue", "leapfrog": "tab:orange", "predictive": "tab:green", "oracle": "black"}
+MODE_ORDER = ["none", "leapfrog", "predictive", "auto", "oracle"]
+MODE_COLOUR = {"none": "tab:blue", "leapfrog": "tab:orange", "predictive": "tab:green", "auto": "tab:purple", "oracle": "black"}
 # The oracle (the client posts the true position every cycle) runs at threshold 0: the floor of
 # every threshold's panel.
 ORACLE_THRESHOLD = "0"

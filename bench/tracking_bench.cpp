@@ -98,6 +98,7 @@ const std::vector<ModeRow> mode_rows = {
     {"none", "no compensation", {"-C", "pointing=none"}},
     {"leapfrog", "leapfrog (upstream thresholds, EL bug fixed)", {"-C", "pointing=leapfrog"}},
     {"predictive", "predictive (target motion from the P stream)", {"-C", "pointing=predictive"}},
+    {"auto", "pointing unset: the variant's first guess, then what the dish's own step times say", {}},
     {"oracle", "oracle: predictive fed the true position every second", {"-C", "pointing=predictive"}, true},
 };
 

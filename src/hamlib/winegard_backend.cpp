@@ -360,8 +360,8 @@ const ConfParam kConfParams[] = {
      [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(ControllerOptions::az_range.max)); }},
     {9, "pointing", "Pointing mode",
      "predictive (aim where the satellite will be, inferred from the targets), leapfrog (upstream "
-     "overshoot of a lagging axis) or none (each target as sent); default: predictive on the G2, none on "
-     "the slower Trav'ler/Carryout mounts",
+     "overshoot of a lagging axis) or none (each target as sent); unset: predictive or none by how fast this "
+     "dish's small steps turn out to be (first guess: predictive on the G2, none on the others)",
      RIG_CONF_STRING, {},
      [](const birdcage::FirmwareProfile& p) { return std::string(p.predictive_by_default ? "predictive" : "none"); },
      [](const char* text, WinegardPriv& priv) {

@@ -100,10 +100,10 @@ struct FirmwareProfile {
     // NVS index of "Disable Tracker Proc?" (read-only check at init); -1 = none.
     int tracker_disable_nvs_index;
 
-    // Default pointing mode: predictive where the motors step fast enough to follow an aim a
-    // deadband ahead (G2: the tracking benchmark, docs/benchmarks.md); elsewhere each target as
-    // sent, because a dish that needs ~1 s per small move (Trav'ler, docs/firmware.md 3.4) only
-    // trails an extrapolated aim and the client's corrections then fight it.
+    // First guess of the pointing mode, until the dish's own small steps are timed (ServiceWorker::
+    // choose_mode_from_dish): predictive where the motors usually step fast enough to follow an aim
+    // a deadband ahead (G2); elsewhere each target as sent, because a dish that needs ~1 s per small
+    // move (the documented Trav'ler timings, docs/firmware.md 3.4) only trails an extrapolated aim.
     bool predictive_by_default;
 
     // The submenu holding the satellite tuner (G2 `dvb`, docs/firmware.md 6.3), entered from the root

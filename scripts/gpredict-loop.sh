@@ -225,7 +225,7 @@ for lane in "${lanes[@]}"; do
     pids+=($!)
     wait_for 10 test -e "$work/$i.dish"
     env LD_PRELOAD="$preload" ASAN_OPTIONS=detect_leaks=0 \
-        rotctld -m 90105 -C latitude=45.0 -r "$work/$i.dish" -T 127.0.0.1 -t "$rot_port" >"$dir/rotctld.log" 2>&1 &
+        rotctld -vvvv -m 90105 -C latitude=45.0 -r "$work/$i.dish" -T 127.0.0.1 -t "$rot_port" >"$dir/rotctld.log" 2>&1 &
     pids+=($!)
     wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$rot_port" ||
         { echo "gpredict-loop: rotctld did not start:"; cat "$dir/rotctld.log"; exit 1; }

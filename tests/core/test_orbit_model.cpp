@@ -15,6 +15,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <iterator>
 #include <vector>
 
 #include "birdcage/base/azel.hpp"
@@ -212,7 +213,13 @@ TEST_CASE("orbit model: a Gpredict-like client's look-ahead targets give the sat
     for (const Setting s : {Setting{5.0, 18, 65, 5.0}, Setting{5.0, 0, 90, 5.0}, Setting{0.5, 18, 65, 0.5},
                             Setting{0.5, 0, 90, 0.5}, Setting{5.0, 18, 65, std::nullopt}}) {
         double sum_rms = 0.0;
-        for (const char* name : pass_names) {
+        // Wide limits send a target every cycle below the floor, hundreds per pass, each refitting
+        // the orbit: four passes (a low and a zenith pass of each orbit) keep the sanitizer build's
+        // run of this test within a couple of minutes.
+        const bool wide = s.client_min_el < 18.0;
+        const std::vector<const char*> names = wide ? std::vector<const char*>{"iss-20", "iss-85", "sso-20", "sso-85"}
+                                                    : std::vector<const char*>(std::begin(pass_names), std::end(pass_names));
+        for (const char* name : names) {
             const TruePass pass = TruePass::load(name);
             const ClientRun run = run_client(pass, s.threshold, s.client_min_el, s.client_max_el, 18.0, 65.0, s.lead);
             std::printf("thr %.1f limits %2.0f-%2.0f lead %-4s %-7s targets %3d untrusted %3d s, trusted from el %4.1f, RMS %.3f max %.3f\n",
@@ -235,7 +242,7 @@ TEST_CASE("orbit model: a Gpredict-like client's look-ahead targets give the sat
             sum_rms += run.now_error.rms();
         }
         if (s.lead) {
-            CHECK(sum_rms / 9.0 < 0.35);
+            CHECK(sum_rms / static_cast<double>(names.size()) < 0.35);
         }
     }
 }

@@ -327,8 +327,16 @@ bool OrbitModel::add(double t, AzEl target, std::optional<double> lead_hint_deg)
                                                                           : Kind::exact;
     bool expected = true;
     if (trusted_ && kind == Kind::exact) {
-        const auto where = expected_target(t - settings_.client_send_delay_s);
-        const double miss = where ? angle_deg(unit_vector(*where), unit_vector(target)) : 0.0;
+        // Within a second of the client's timing: near north the client's plain comparison of
+        // azimuths makes its target jump by a whole threshold between one side and the other, and
+        // which side the orbit puts the satellite on at the dated time is a matter of tenths of a
+        // second (Gpredict at north, docs/gpredict.md).
+        double miss = HUGE_VAL;
+        for (const double shift : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
+            if (const auto where = expected_target(t - settings_.client_send_delay_s + shift)) {
+                miss = std::min(miss, angle_deg(unit_vector(*where), unit_vector(target)));
+            }
+        }
         expected = miss <= std::max(settings_.innovation_gate_deg, settings_.gate_residuals * residual_.rms_deg);
     }
     if (kind == Kind::before_rise) {

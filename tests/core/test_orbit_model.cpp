@@ -139,6 +139,56 @@ TEST_CASE("orbit model: three directions a minute after rise predict the rest of
 
 namespace {
 
+// A Gpredict-like client (docs/tracking.md §5): its timer at `now` and what it sends, if anything.
+// Its target is the satellite clamped to its limits [min_el, max_el] (before AOS: the AOS azimuth
+// at its lowest elevation); it is sent when the dish is more than `threshold` off on either axis
+// (plain differences), leading the satellite (bisection to a quarter cycle), with two decimals,
+// 0-0.8 s after the tick (its I/O loop; `jitter_state` draws the delay).
+struct SentTarget {
+    double arrival;
+    AzEl target;
+};
+
+class GpredictLikeClient {
+public:
+    GpredictLikeClient(const TruePass& pass, double threshold, double min_el, double max_el)
+        : pass_(pass), threshold_(threshold), min_el_(min_el), max_el_(max_el),
+          aos_az_(pass.at(pass.rise()).az), end_(pass.t.back() - 1.0) {}
+
+    double aos_az() const { return aos_az_; }
+    double end() const { return end_; }
+
+    std::optional<SentTarget> tick(double now, AzEl dish) {
+        const AzEl sat = pass_.at(now);
+        AzEl set = sat.el < 0.0 ? AzEl{aos_az_, clamp_el(0.0)} : AzEl{sat.az, clamp_el(sat.el)};
+        if (std::fabs(set.az - dish.az) <= threshold_ && std::fabs(set.el - dish.el) <= threshold_) {
+            return std::nullopt;
+        }
+        if (sat.el > 0.0) {
+            double delta = end_ - now, step = std::max(delta / 2.0, 1.0);
+            AzEl future = set;
+            while (step > 0.25) {
+                future = pass_.at(now + delta);
+                const bool too_far = future.el < 0.0 || std::fabs(set.az - future.az) > threshold_ ||
+                                     std::fabs(set.el - future.el) > threshold_;
+                delta += too_far ? -step : step;
+                step /= 2.0;
+            }
+            set = {future.az, clamp_el(future.el)};
+        }
+        jitter_state_ = jitter_state_ * 1103515245u + 12345u;
+        const double send_delay = 0.8 * static_cast<double>((jitter_state_ >> 8) % 1000u) / 1000.0;
+        return SentTarget{now + send_delay, {two_decimals(set.az), two_decimals(set.el)}};
+    }
+
+private:
+    double clamp_el(double el) const { return std::clamp(el, min_el_, max_el_); }
+
+    const TruePass& pass_;
+    double threshold_, min_el_, max_el_, aos_az_, end_;
+    std::uint32_t jitter_state_ = 1;
+};
+
 struct ClientRun {
     int targets = 0;
     Errors now_error;        // the model's satellite now against the truth, while trusted
@@ -146,10 +196,8 @@ struct ClientRun {
     int seconds_untrusted = 0;       // above the floor
 };
 
-// Gpredict's timer every second (docs/tracking.md §5) against a dish that goes to each target
-// clamped to [floor, cap] at once: targets clamped to the client's limits (before AOS: the AOS
-// azimuth at its lowest elevation), sent when the dish is off by more than `threshold` on either
-// axis, leading the satellite (bisection to a quarter cycle), two decimals.
+// The Gpredict-like client with its limits against a dish that goes to each target clamped to
+// [floor, cap] at once; the orbit alone, as the target stream shapes it.
 ClientRun run_client(const TruePass& pass, double threshold, double client_min_el, double client_max_el,
                      double floor, double cap, std::optional<double> lead_known) {
     OrbitModelSettings settings;
@@ -158,35 +206,13 @@ ClientRun run_client(const TruePass& pass, double threshold, double client_min_e
     settings.el_cap = cap;
     OrbitModel model(settings);
     ClientRun run;
-    std::uint32_t jitter_state = 1;
-    const double rise = pass.rise();
-    AzEl aos{pass.at(rise).az, 0.0};
-    AzEl dish{aos.az + 40.0, floor};
-    const double end = pass.t.back() - 1.0;
-    auto clamp_el = [&](double el) { return std::clamp(el, client_min_el, client_max_el); };
-    for (double now = rise - 60.0; now < end; now += 1.0) {
+    GpredictLikeClient client(pass, threshold, client_min_el, client_max_el);
+    AzEl dish{client.aos_az() + 40.0, floor};
+    for (double now = pass.rise() - 60.0; now < client.end(); now += 1.0) {
         const AzEl sat = pass.at(now);
-        AzEl set = sat.el < 0.0 ? AzEl{aos.az, clamp_el(0.0)} : AzEl{sat.az, clamp_el(sat.el)};
-        const bool off = std::fabs(set.az - dish.az) > threshold || std::fabs(set.el - dish.el) > threshold;
-        if (off) {
-            if (sat.el > 0.0) {
-                double delta = end - now, step = std::max(delta / 2.0, 1.0);
-                AzEl future = set;
-                while (step > 0.25) {
-                    future = pass.at(now + delta);
-                    const bool too_far = future.el < 0.0 || std::fabs(set.az - future.az) > threshold ||
-                                         std::fabs(set.el - future.el) > threshold;
-                    delta += too_far ? -step : step;
-                    step /= 2.0;
-                }
-                set = {future.az, clamp_el(future.el)};
-            }
-            const AzEl target{two_decimals(set.az), two_decimals(set.el)};
-            // Gpredict's I/O loop sends it 0-0.8 s after the tick (docs/tracking.md §5).
-            jitter_state = jitter_state * 1103515245u + 12345u;
-            const double send_delay = 0.8 * static_cast<double>((jitter_state >> 8) % 1000u) / 1000.0;
-            model.add(now + send_delay, target, lead_known);
-            dish = {target.az, std::clamp(target.el, floor, cap)};
+        if (const auto sent = client.tick(now, dish)) {
+            model.add(sent->arrival, sent->target, lead_known);
+            dish = {sent->target.az, std::clamp(sent->target.el, floor, cap)};
             ++run.targets;
         }
         if (sat.el < floor) {
@@ -313,33 +339,15 @@ PredictorRun run_predictor(const TruePass& pass, double threshold, bool use_orbi
     TargetPredictor predictor(settings);
     predictor.set_dish_limits(18.0, 65.0);
     PredictorRun run;
-    std::uint32_t jitter_state = 1;
-    const double rise = pass.rise();
-    const AzEl aos{pass.at(rise).az, 18.0};
-    AzEl dish{aos.az + 40.0, 18.0};
-    const double end = pass.t.back() - 1.0;
+    GpredictLikeClient client(pass, threshold, 18.0, 65.0);
+    AzEl dish{client.aos_az() + 40.0, 18.0};
+    const double end = client.end();
     int targets = 0;
-    for (double now = rise - 60.0; now < end; now += 1.0) {
+    for (double now = pass.rise() - 60.0; now < end; now += 1.0) {
         const AzEl sat = pass.at(now);
-        AzEl set = sat.el < 0.0 ? aos : AzEl{sat.az, std::clamp(sat.el, 18.0, 65.0)};
-        if (std::fabs(set.az - dish.az) > threshold || std::fabs(set.el - dish.el) > threshold) {
-            if (sat.el > 0.0) {
-                double delta = end - now, step = std::max(delta / 2.0, 1.0);
-                AzEl future = set;
-                while (step > 0.25) {
-                    future = pass.at(now + delta);
-                    const bool too_far = future.el < 0.0 || std::fabs(set.az - future.az) > threshold ||
-                                         std::fabs(set.el - future.el) > threshold;
-                    delta += too_far ? -step : step;
-                    step /= 2.0;
-                }
-                set = {future.az, std::clamp(future.el, 18.0, 65.0)};
-            }
-            const AzEl target{two_decimals(set.az), two_decimals(set.el)};
-            jitter_state = jitter_state * 1103515245u + 12345u;
-            const double send_delay = 0.8 * static_cast<double>((jitter_state >> 8) % 1000u) / 1000.0;
-            predictor.observe(at(now + send_delay), target, dish);
-            dish = target;
+        if (const auto sent = client.tick(now, dish)) {
+            predictor.observe(at(sent->arrival), sent->target, dish);
+            dish = sent->target;
             ++targets;
         }
         if (sat.el < 18.0 || sat.el > 65.0 || targets < 3) {

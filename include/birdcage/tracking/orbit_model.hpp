@@ -38,6 +38,7 @@
 #include <deque>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "birdcage/base/azel.hpp"
 #include "birdcage/base/option_range.hpp"
@@ -147,7 +148,7 @@ private:
     FitResidual refine(Orbit& orbit, int iterations) const;
     FitResidual refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const;
     void judge();
-    double sharpest_turn_deg() const;
+    std::vector<AzEl> exact_directions() const;
 
     OrbitModelSettings settings_;
     std::deque<Target> targets_;

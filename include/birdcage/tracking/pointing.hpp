@@ -32,6 +32,7 @@
 #include <deque>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "birdcage/base/azel.hpp"
 #include "birdcage/tracking/orbit_model.hpp"
@@ -139,6 +140,7 @@ private:
     // checked against: a client that went quiet may resume along the same track).
     std::optional<Prediction> estimate(Clock::time_point t, bool hold_at_last_target) const;
     void fit();
+    std::vector<AzEl> sample_directions() const;
     // keep_orbit: the orbit model expected this target (a new pointing for the local estimate only).
     void restart(double t, AzEl target, bool keep_orbit);
 

@@ -753,30 +753,14 @@ void OrbitModel::refit(bool from_scratch) {
     judge();
 }
 
-double OrbitModel::sharpest_turn_deg() const {
-    const double min_chord = 2.0 * std::sin(turn_min_step_deg * deg / 2.0);
-    double sharpest = 0.0;
-    std::optional<Vec> previous_point, previous_step;
+std::vector<AzEl> OrbitModel::exact_directions() const {
+    std::vector<AzEl> directions;
     for (const auto& target : targets_) {
-        if (target.kind != Kind::exact) {
-            continue;
+        if (target.kind == Kind::exact) {
+            directions.push_back(target.direction);
         }
-        const Vec point = unit_vector(target.direction);
-        if (!previous_point) {
-            previous_point = point;
-            continue;
-        }
-        const Vec step = minus(point, *previous_point);
-        if (std::sqrt(dot(step, step)) < min_chord) {
-            continue;   // measured from the last point kept, so slow steps still add up
-        }
-        if (previous_step) {
-            sharpest = std::max(sharpest, angle_deg(*previous_step, step));
-        }
-        previous_step = step;
-        previous_point = point;
     }
-    return sharpest;
+    return directions;
 }
 
 void OrbitModel::judge() {
@@ -815,7 +799,7 @@ void OrbitModel::judge() {
         why = "too few targets";
     } else if (arc < settings_.min_arc_deg || span < settings_.min_span_s) {
         why = "targets too close together";
-    } else if (sharpest_turn_deg() > settings_.max_turn_deg) {
+    } else if (sharpest_turn_deg(exact_directions(), turn_min_step_deg) > settings_.max_turn_deg) {
         why = "the targets turn as no pass does (manual pointing, a scan)";
     } else if (!lead_hint_deg_ &&
                (orbit_->lead_sigma_deg > settings_.max_lead_sigma_deg || exact < settings_.min_exact_targets_fitted_lead)) {

@@ -43,43 +43,6 @@ struct Fit {
     bool ok = false;
 };
 
-// The largest turn (degrees) between successive steps of the targets, on the sphere (so the
-// azimuth's own swing near the zenith is no turn). Steps shorter than `min_step_deg` carry only a
-// client's rounding and lead quantisation and are left out. A satellite's track turns gently; a
-// sky scan's serpentine turns by 90 and 180 degrees, a jogging user wherever they like.
-template <typename Samples>
-double sharpest_turn_deg(const Samples& samples, double min_step_deg) {
-    using Vec = std::array<double, 3>;
-    auto unit = [](double az, double el) {
-        const double a = az * M_PI / 180.0, e = el * M_PI / 180.0;
-        return Vec{std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
-    };
-    const double min_chord = 2.0 * std::sin(min_step_deg * M_PI / 360.0);
-    double sharpest = 0.0;
-    std::optional<Vec> previous_point, previous_step;
-    for (const auto& s : samples) {
-        const Vec point = unit(s.az, s.el);
-        if (!previous_point) {
-            previous_point = point;
-            continue;
-        }
-        const Vec step{point[0] - (*previous_point)[0], point[1] - (*previous_point)[1], point[2] - (*previous_point)[2]};
-        const double length = std::sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2]);
-        if (length < min_chord) {
-            continue;  // measured from the last point kept, so slow steps still add up
-        }
-        if (previous_step) {
-            const Vec& p = *previous_step;
-            const double cos_turn = (p[0] * step[0] + p[1] * step[1] + p[2] * step[2]) /
-                                    (length * std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
-            sharpest = std::max(sharpest, std::acos(std::clamp(cos_turn, -1.0, 1.0)) * 180.0 / M_PI);
-        }
-        previous_step = step;
-        previous_point = point;
-    }
-    return sharpest;
-}
-
 // Mean square of the samples off a fitted curve (its offset the best one for the given rate and
 // curvature), each scaled by `scale` (cos(el) turns an azimuth into an angle on the sky).
 template <typename Samples, typename Get>
@@ -210,6 +173,15 @@ void TargetPredictor::restart(double t, AzEl target, bool keep_orbit) {
     }
 }
 
+std::vector<AzEl> TargetPredictor::sample_directions() const {
+    std::vector<AzEl> directions;
+    directions.reserve(samples_.size());
+    for (const Sample& s : samples_) {
+        directions.push_back({s.az, s.el});
+    }
+    return directions;
+}
+
 void TargetPredictor::fit() {
     // Keep at least fit_window of history: two targets sent a cycle apart (Gpredict re-sends
     // before the dish has moved) carry mostly the lead's quantisation, not the rate.
@@ -230,7 +202,7 @@ void TargetPredictor::fit() {
                       mean_square_off(samples_, [](const Sample& s) { return s.el; }, el, 1.0));
         have_rate_ = track_targets_ >= settings_.min_track_targets && sky_rate <= settings_.max_satellite_sky_rate_dps &&
                      residual <= settings_.max_track_residual_deg &&
-                     sharpest_turn_deg(samples_, settings_.min_turn_step_deg) <= settings_.max_track_turn_deg;
+                     sharpest_turn_deg(sample_directions(), settings_.min_turn_step_deg) <= settings_.max_track_turn_deg;
     }
     az_rate_ = have_rate_ ? az.rate : 0.0;
     el_rate_ = have_rate_ ? el.rate : 0.0;

@@ -289,3 +289,80 @@ TEST_CASE("wrap tracker: a reading taken back restores the previous estimate") {
     CHECK(*tracker.mechanical() == Approx(*kept));
     CHECK(tracker.describe().find("mechanical az") != std::string::npos);
 }
+
+TEST_CASE("wrap: the travel a pass needs from a branch, and the branch that holds it") {
+    const wrap::Window travel = wrap::usable_window({0.0, 455.0});   // the Trav'ler's, 2..453
+    // Rising at 100, turning 150 deg clockwise; the target before the rise waits at 100 too.
+    const wrap::PassAhead low_pass{100.0, 150.0, 60.0, 300.0};
+    const auto [lowest, highest] = wrap::pass_travel(100.0, 100.0, low_pass);
+    CHECK(lowest == Approx(100.0));
+    CHECK(highest == Approx(250.0));
+    CHECK(wrap::pass_overflow(100.0, 100.0, low_pass, travel) == Approx(0.0));
+    // From 350, 120 deg clockwise: 470 on the branch at 350 (17 past 453); the branch at -10 does
+    // not exist, so none holds it: the least overflow, the branch at 350.
+    const wrap::PassAhead across_north{350.0, 120.0, 0.0, 100.0};
+    CHECK(wrap::pass_overflow(350.0, 350.0, across_north, travel) == Approx(17.0));
+    REQUIRE(wrap::branch_for_pass(350.0, 350.0, across_north, travel));
+    CHECK(*wrap::branch_for_pass(350.0, 350.0, across_north, travel) == Approx(350.0));
+    // From 20, 90 deg anticlockwise: the branch at 20 reaches -70; the one at 380 holds it (290..380).
+    const wrap::PassAhead back_across{20.0, -90.0, 30.0, 200.0};
+    CHECK(wrap::pass_overflow(20.0, 20.0, back_across, travel) == Approx(72.0));
+    CHECK(*wrap::branch_for_pass(20.0, 20.0, back_across, travel) == Approx(380.0));
+    // A target a client's lead ahead of the satellite: the pass still starts where the satellite is.
+    const auto [from, to] = wrap::pass_travel(25.0, 385.0, back_across);
+    CHECK(from == Approx(290.0));
+    CHECK(to == Approx(385.0));
+}
+
+TEST_CASE("wrap tracker: with the orbit's view of the pass, its branch is chosen before it rises") {
+    // The Trav'ler waits at 20 (mechanical 20) for a pass that turns 90 deg anticlockwise through
+    // north. The rule of thumb (180 deg of room ahead) would also move it, but only for a target
+    // inside the pass-start band; the orbit says how much is needed, whatever the target.
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(20.0, t0);
+    const wrap::PassAhead ahead{20.0, -90.0, 40.0, 240.0};
+    CHECK(tracker.choose_branch({20.0, 15.0}, std::nullopt, 0.0, 15.0, std::nullopt, std::nullopt, ahead) ==
+          Approx(380.0));
+    // Later targets of the pass stay on that branch.
+    const wrap::PassAhead later{20.0, -90.0, 10.0, 210.0};
+    CHECK(tracker.choose_branch({19.0, 15.0}, AzEl{20.0, 15.0}, -0.2, 15.0, std::nullopt, std::nullopt, later) ==
+          Approx(379.0));
+    // A pass the branch holds with room to spare keeps it: no unwind for nothing.
+    WrapTracker fits(travler_travel, std::nullopt, {});
+    fits.note_reading(200.0, t0);
+    const wrap::PassAhead short_pass{200.0, -100.0, 30.0, 200.0};
+    CHECK(fits.choose_branch({200.0, 15.0}, std::nullopt, 0.0, 15.0, std::nullopt, std::nullopt, short_pass) ==
+          Approx(200.0));
+}
+
+TEST_CASE("wrap tracker: with the orbit, a pass joined after its rise unwinds at its culmination, not before") {
+    // Clockwise through north on the Trav'ler from mechanical 300: 170 deg to go, 153 of room.
+    WrapTracker tracker(travler_travel, std::nullopt, {});
+    tracker.note_reading(300.0, t0);
+    const wrap::PassAhead rising{300.0, 170.0, 0.0, 60.0};
+    CHECK(tracker.choose_branch({300.0, 40.0}, std::nullopt, 0.5, 15.0, std::nullopt, std::nullopt, rising) ==
+          Approx(300.0));
+    const wrap::PassAhead still_rising{330.0, 140.0, 0.0, 5.0};
+    CHECK(tracker.choose_branch({330.0, 70.0}, AzEl{300.0, 40.0}, 0.5, 15.0, std::nullopt, std::nullopt,
+                                still_rising) == Approx(330.0));
+    // Just past the top, 130 deg still to come from 340: the branch at 340 has 113; the one at -20
+    // does not exist; no branch holds it, so it stays (and holds or unwinds at the limit later).
+    const wrap::PassAhead past_top{340.0, 130.0, 0.0, -1.0};
+    CHECK(tracker.choose_branch({340.0, 80.0}, AzEl{330.0, 70.0}, 0.5, 15.0, std::nullopt, std::nullopt,
+                                past_top) == Approx(340.0));
+
+    // Anticlockwise from 60 through north to 270: 150 deg to go past the top; the branch at 60 has
+    // 58 of room, the one at 420 holds it: the unwind happens now, once.
+    WrapTracker high(travler_travel, std::nullopt, {});
+    high.note_reading(80.0, t0);
+    const wrap::PassAhead before_top{80.0, -170.0, 0.0, 10.0};
+    CHECK(high.choose_branch({80.0, 60.0}, std::nullopt, -0.5, 15.0, std::nullopt, std::nullopt, before_top) ==
+          Approx(80.0));
+    const wrap::PassAhead after_top{60.0, -150.0, 0.0, -0.5};
+    CHECK(high.choose_branch({60.0, 84.0}, AzEl{80.0, 60.0}, -2.0, 15.0, std::nullopt, std::nullopt, after_top) ==
+          Approx(420.0));
+    // Checked once per pass: the next target continues on the new branch.
+    const wrap::PassAhead further{40.0, -130.0, 0.0, -3.0};
+    CHECK(high.choose_branch({40.0, 80.0}, AzEl{60.0, 84.0}, -2.0, 15.0, std::nullopt, std::nullopt, further) ==
+          Approx(400.0));
+}

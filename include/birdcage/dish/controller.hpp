@@ -90,8 +90,9 @@ public:
     // `target.az` may be 0..360 or -180..180 (any finite value is taken modulo 360); the backend
     // chooses the mechanical branch (WrapTracker::choose_branch()). `az_rate_dps` is the caller's
     // estimate of the target's azimuth rate (deg/s, sign = direction of motion; 0 = unknown or
-    // stationary): it lets a pass start on the branch with room for the whole pass.
-    Status set_target(AzEl target, double az_rate_dps = 0.0);
+    // stationary): it lets a pass start on the branch with room for the whole pass. `ahead`: the
+    // rest of the pass as a trusted orbit foresees it (exact room, and when to unwind).
+    Status set_target(AzEl target, double az_rate_dps = 0.0, const std::optional<wrap::PassAhead>& ahead = std::nullopt);
     Status service();                 // one pump step (~every 50 ms)
     void cancel_pending();            // drops legs not yet sent; aborts a running `g` where input aborts it
     // Homing (Hamlib reset) without blocking: start_home() queues the variant's home commands

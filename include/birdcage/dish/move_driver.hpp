@@ -44,9 +44,10 @@ class MoveDriver {
 public:
     virtual ~MoveDriver() = default;
     // Queues what takes the dish to `wanted` (clamped; DishState::target), commanding `command`
-    // (wanted plus any leapfrog lead). `previous`: the target before; `az_rate_dps`: see
+    // (wanted plus any leapfrog lead). `previous`: the target before; `az_rate_dps`, `ahead`: see
     // Controller::set_target(). Replaces whatever was queued. No I/O.
-    virtual void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps) = 0;
+    virtual void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps,
+                      const std::optional<wrap::PassAhead>& ahead) = 0;
     // One pump step: follows the leg in flight, sends the next one.
     virtual Status service() = 0;
     // Drops what is not sent yet; stops the leg in flight where the firmware lets input stop it.

@@ -112,6 +112,17 @@ public:
     std::optional<double> lead_deg() const;
     // When the satellite sets below `el` after time t (within `within_s`), for the caller's horizon.
     std::optional<double> time_below(double t, double el, double within_s) const;
+    // The part of the current (or next, within `within_s`) pass above elevation `el` from time t
+    // on: where and when it starts (t itself if the satellite is above `el` then), its culmination,
+    // when it ends, and the azimuth it turns on the way (signed, + clockwise; unwrapped along the
+    // track, so a pass across north is one sweep). For the cable-wrap branch of a whole pass.
+    struct PassSpan {
+        double start_t = 0.0, start_az = 0.0;
+        double top_t = 0.0, top_el = 0.0;
+        double end_t = 0.0;
+        double sweep_deg = 0.0;
+    };
+    std::optional<PassSpan> pass_above(double t, double el, double within_s) const;
     // For logs: the fit's parameters and residual, or why it is not trusted.
     const std::string& describe() const { return description_; }
 

@@ -36,6 +36,7 @@
 
 #include "birdcage/base/azel.hpp"
 #include "birdcage/tracking/orbit_model.hpp"
+#include "birdcage/tracking/wrap.hpp"
 #include "birdcage/base/plain_types.hpp"
 
 namespace birdcage {
@@ -118,6 +119,9 @@ public:
 
     // The estimated satellite direction at time `t` (t may lie ahead of now).
     std::optional<Prediction> predict(Clock::time_point t) const;
+    // The rest of the pass above the dish's elevation floor from `t` on, as the trusted orbit
+    // foresees it, for the cable-wrap branch; none without a trusted orbit.
+    std::optional<wrap::PassAhead> pass_ahead(Clock::time_point t) const;
 
     // For logs and tests.
     // The client's lead (its threshold, degrees): as learnt from the dish, else as the trusted

@@ -13,6 +13,7 @@
 
 #include <optional>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace birdcage::wrap {
@@ -69,6 +70,7 @@ enum class Reason {
     forced_unwind,   // the continuous branch is beyond the usable window
     no_branch,       // no branch inside the window at all: the nearest window edge
     culmination,     // past its culmination the pass needs more room than its branch has left
+    orbit_pass,      // before the pass rises, its orbit shows it needs more room than this branch has
 };
 std::string_view reason_text(Reason reason);
 
@@ -77,6 +79,27 @@ struct Choice {
     Reason reason;
     double continuous;   // the branch nearest the reference (what continuity alone would pick)
 };
+
+// The rest of the pass being followed, as a trusted orbit foresees it (TargetPredictor::pass_ahead()):
+// the satellite is above the dish's elevation floor from display azimuth `from_az` on and turns
+// `sweep_deg` more azimuth (signed, + clockwise) before it sets below it. `rises_in_s` > 0: it is
+// still below the floor and rises there that much later; `culminates_in_s` <= 0: past its culmination.
+struct PassAhead {
+    double from_az = 0.0;
+    double sweep_deg = 0.0;
+    double rises_in_s = 0.0;
+    double culminates_in_s = 0.0;
+};
+
+// The mechanical travel the rest of the pass `ahead` covers if the target `display` goes to branch
+// `mechanical` (the target may lie ahead of the satellite by a client's lead, or at the rise
+// azimuth before the pass): [lowest, highest].
+std::pair<double, double> pass_travel(double display, double mechanical, const PassAhead& ahead);
+// How far (degrees) that travel reaches beyond `usable` at either end; 0 when the branch holds it.
+double pass_overflow(double display, double mechanical, const PassAhead& ahead, Window usable);
+// Among the branches of `display` inside `usable`: the nearest to `reference` that holds the whole
+// rest of the pass, else the one it overflows least; nullopt if no branch is inside.
+std::optional<double> branch_for_pass(double display, double reference, const PassAhead& ahead, Window usable);
 
 // The mechanical azimuth for `display`:
 //  - normally the branch nearest `reference` (continuity) if it lies inside `usable`;

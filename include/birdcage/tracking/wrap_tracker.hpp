@@ -50,8 +50,10 @@ public:
     // The mechanical azimuth for `wanted` (see wrap_tracker.cpp for the rule); remembered as
     // target_mechanical(). `leg_end`: where an azimuth leg in flight ends; `commanded`: the
     // mechanical azimuth last commanded.
+    // `ahead`: the rest of the pass as a trusted orbit foresees it, if one does.
     double choose_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps, double el_min,
-                         std::optional<double> leg_end, std::optional<double> commanded);
+                         std::optional<double> leg_end, std::optional<double> commanded,
+                         const std::optional<wrap::PassAhead>& ahead = std::nullopt);
     std::optional<double> target_mechanical() const { return target_mechanical_; }
     void set_target_mechanical(std::optional<double> mechanical) { target_mechanical_ = mechanical; }
     void forget_target();
@@ -67,6 +69,9 @@ public:
     std::string describe() const;
 
 private:
+    std::optional<double> pass_branch_from_orbit(AzEl wanted, double continuous, const wrap::PassAhead& ahead,
+                                                 const wrap::Window& plan);
+
     azmap::Travel travel_;
     wrap::Window usable_;   // the travel less the limit margins: never commanded outside
     azmap::Learner learner_;

@@ -60,12 +60,13 @@ void AxisLegDriver::forget_commands() {
     commanded_el_.reset();
 }
 
-void AxisLegDriver::plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps) {
+void AxisLegDriver::plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps,
+                         const std::optional<wrap::PassAhead>& ahead) {
     pending_.clear();
     // The mechanical azimuth: the target's branch, plus the leapfrog lead, inside the usable window.
     const std::optional<double> leg_end =
         in_flight_ && in_flight_->axis == Axis::azimuth ? std::optional<double>(in_flight_->final_mech_az) : std::nullopt;
-    const double target_mech = c_.wrap.choose_branch(wanted, previous, az_rate_dps, c_.el_min, leg_end, commanded_az_);
+    const double target_mech = c_.wrap.choose_branch(wanted, previous, az_rate_dps, c_.el_min, leg_end, commanded_az_, ahead);
     const wrap::Window plan = c_.wrap.plan_window();
     const double command_mech =
         std::clamp(target_mech + azimuth_difference(wanted.az, command.az), plan.min, plan.max);

@@ -29,7 +29,8 @@ std::string degrees_text(double value) { return format_degrees(value); }
 
 }  // namespace
 
-void CombinedMoveDriver::plan(AzEl, AzEl command, const std::optional<AzEl>&, double) {
+void CombinedMoveDriver::plan(AzEl, AzEl command, const std::optional<AzEl>&, double,
+                              const std::optional<wrap::PassAhead>&) {
     // `g az el` takes 0..360 only (the 2003 Carryout's travel is 0..360): no branch to choose.
     pending_ = Move{command};
 }

@@ -314,7 +314,7 @@ Result<AzEl> Controller::query_position() {
     return position;
 }
 
-Status Controller::set_target(AzEl target, double az_rate_dps) {
+Status Controller::set_target(AzEl target, double az_rate_dps, const std::optional<wrap::PassAhead>& ahead) {
     if (!std::isfinite(target.az) || !std::isfinite(target.el)) {
         return Status{Errc::invalid_argument, "target must be finite"};
     }
@@ -350,7 +350,7 @@ Status Controller::set_target(AzEl target, double az_rate_dps) {
         command = apply_leapfrog(wanted, *state_.last_position);
         command.el = std::clamp(command.el, el_min_, el_max_);
     }
-    driver_->plan(wanted, command, previous, az_rate_dps);
+    driver_->plan(wanted, command, previous, az_rate_dps, ahead);
     return Status::ok();
 }
 

@@ -18,7 +18,8 @@ namespace birdcage {
 class AxisLegDriver final : public MoveDriver {
 public:
     explicit AxisLegDriver(const MoveContext& context) : c_(context) {}
-    void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps) override;
+    void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps,
+              const std::optional<wrap::PassAhead>& ahead) override;
     Status service() override;
     void cancel() override { pending_.clear(); }
     void reset() override;
@@ -93,7 +94,8 @@ private:
 class CombinedMoveDriver final : public MoveDriver {
 public:
     explicit CombinedMoveDriver(const MoveContext& context) : c_(context) {}
-    void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps) override;
+    void plan(AzEl wanted, AzEl command, const std::optional<AzEl>& previous, double az_rate_dps,
+              const std::optional<wrap::PassAhead>& ahead) override;
     Status service() override;
     void cancel() override;
     void reset() override;

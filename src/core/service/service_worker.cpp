@@ -300,10 +300,10 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at) {
     predictor_.observe(std::min(sent_at, now), target, controller_->last_position());
     previous_client_target_ = std::exchange(client_target_, target);
     if (pointing_.mode != PointingMode::predictive) {
-        return controller_->set_target(target, azimuth_direction_hint(predictor_.predict(now),
-                                                                      controller_->last_position(),
-                                                                      previous_client_target_, target,
-                                                                      controller_->el_min()));
+        return controller_->set_target(target,
+                                       azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
+                                                              previous_client_target_, target, controller_->el_min()),
+                                       predictor_.pass_ahead(now));
     }
     emit(options_.log, LogLevel::verbose, "predictive: " + predictor_.describe());
     // On a track the aim is kept, and steering moves it only when the satellite is a deadband
@@ -347,7 +347,7 @@ Status ServiceWorker::steer() {
                                                                          previous_client_target_, *client_target_,
                                                                          controller_->el_min())
                                                 : 0.0;
-    return controller_->set_target(decision->aim, az_rate);
+    return controller_->set_target(decision->aim, az_rate, predictor_.pass_ahead(now));
 }
 
 void ServiceWorker::forget_the_pass() {

@@ -420,6 +420,40 @@ std::optional<double> OrbitModel::time_below(double t, double el, double within_
     return std::nullopt;
 }
 
+std::optional<OrbitModel::PassSpan> OrbitModel::pass_above(double t, double el, double within_s) const {
+    if (!orbit_) {
+        return std::nullopt;
+    }
+    const Evaluator model(*orbit_, earth_at(settings_.latitude_deg));
+    // One-second steps: near the zenith a LEO satellite's azimuth turns up to ~20 deg/s, still
+    // far from the 180 deg a step may turn before its direction is ambiguous.
+    constexpr double step_s = 1.0;
+    std::optional<PassSpan> span;
+    AzEl previous{};
+    for (double s = t; s <= t + within_s; s += step_s) {
+        const AzEl here = model.azel(s);
+        if (!span) {
+            if (here.el >= el) {
+                span = PassSpan{s, here.az, s, here.el, s, 0.0};
+                previous = here;
+            }
+            continue;
+        }
+        if (here.el < el) {
+            return span;
+        }
+        span->sweep_deg += azimuth_difference(previous.az, here.az);
+        span->end_t = s;
+        if (here.el > span->top_el) {
+            span->top_t = s;
+            span->top_el = here.el;
+        }
+        previous = here;
+    }
+    // Still above `el` at the end of the look: the pass's end is not known, nor its room.
+    return std::nullopt;
+}
+
 namespace {
 
 struct Residuals {

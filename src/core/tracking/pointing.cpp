@@ -342,6 +342,20 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
 
 std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const { return estimate(when, true); }
 
+std::optional<wrap::PassAhead> TargetPredictor::pass_ahead(Clock::time_point when) const {
+    if (!pass_model_in_use()) {
+        return std::nullopt;
+    }
+    // Longer than any LEO pass above a dish's floor, plus a wait for its rise.
+    constexpr double look_ahead_s = 1800.0;
+    const double t = seconds(when);
+    const auto span = orbit_.pass_above(t, dish_el_min_, look_ahead_s);
+    if (!span) {
+        return std::nullopt;
+    }
+    return wrap::PassAhead{span->start_az, span->sweep_deg, span->start_t - t, span->top_t - t};
+}
+
 std::optional<Prediction> TargetPredictor::estimate(Clock::time_point when, bool hold_at_last_target) const {
     if (samples_.empty()) {
         return std::nullopt;

@@ -75,6 +75,9 @@ std::string_view reason_text(Reason reason) {
         case Reason::pass_start: return "a pass is starting and the current branch has too little room ahead for it";
         case Reason::forced_unwind: return "continuing would pass the wrap limit (less the margin): unwinding";
         case Reason::no_branch: return "no branch inside the wrap window: the nearest edge";
+        case Reason::orbit_pass:
+            return "the orbit shows the coming pass needs more room than this branch has: moving to the branch "
+                   "that holds it before it rises";
         case Reason::culmination:
             return "past its culmination the pass needs more room than this branch has left: unwinding now, "
                    "where it costs least";
@@ -118,6 +121,33 @@ Choice choose_branch(double display, double reference, int direction, bool pass_
         return {continuous, Reason::continuous, continuous};
     }
     return choice(direction != 0 ? pick(roomier) : pick(nearer), Reason::forced_unwind);
+}
+
+std::pair<double, double> pass_travel(double display, double mechanical, const PassAhead& ahead) {
+    const double start = mechanical + azimuth_difference(display, ahead.from_az);
+    const double end = start + ahead.sweep_deg;
+    return {std::min({mechanical, start, end}), std::max({mechanical, start, end})};
+}
+
+double pass_overflow(double display, double mechanical, const PassAhead& ahead, Window usable) {
+    const auto [lowest, highest] = pass_travel(display, mechanical, ahead);
+    return std::max({0.0, usable.min - lowest, highest - usable.max});
+}
+
+std::optional<double> branch_for_pass(double display, double reference, const PassAhead& ahead, Window usable) {
+    std::optional<double> best;
+    double best_overflow = 0.0;
+    for (double candidate : branches(display, usable)) {
+        const double overflow = pass_overflow(display, candidate, ahead, usable);
+        const bool better = !best || overflow < best_overflow - 1e-6 ||
+                            (same(overflow, best_overflow) &&
+                             std::fabs(candidate - reference) < std::fabs(*best - reference));
+        if (better) {
+            best = candidate;
+            best_overflow = overflow;
+        }
+    }
+    return best;
 }
 
 std::optional<double> culmination_branch(double display, double continuous, int direction, double remaining_deg,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "birdcage/base/least_squares.hpp"
 #include "birdcage/firmware/protocol.hpp"
@@ -147,7 +148,8 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
 // position, which may be half-way through a long slew to it), else where the azimuth leg in
 // flight ends, else the estimated mechanical azimuth, else the last command.
 double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps,
-                                  double el_min, std::optional<double> leg_end, std::optional<double> commanded) {
+                                  double el_min, std::optional<double> leg_end, std::optional<double> commanded,
+                                  const std::optional<wrap::PassAhead>& ahead) {
     int direction = az_rate_dps > 0.0 ? 1 : (az_rate_dps < 0.0 ? -1 : 0);
     const bool jumped = previous && std::fabs(azimuth_difference(previous->az, wanted.az)) > new_pass_jump_degrees;
     if (jumped) {
@@ -162,7 +164,9 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
     }
     const bool new_pass = direction != 0 && pass_direction_ != direction;
     const bool falling = previous && !jumped && wanted.el < previous->el - same_angle_degrees;
-    const bool pass_starting = new_pass && !falling && wanted.el <= el_min + wrap::pass_start_band_deg;
+    // With the orbit's view of the pass, its room is known (pass_branch_from_orbit()); the rule of thumb
+    // (room for pass_span_deg) would undo that choice.
+    const bool pass_starting = new_pass && !falling && wanted.el <= el_min + wrap::pass_start_band_deg && !ahead;
     const double progress = direction != 0 ? azimuth_difference(pass_furthest_az_, wanted.az) * direction : 0.0;
     if (new_pass) {
         pass_furthest_az_ = wanted.az;
@@ -198,8 +202,13 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
     // Nothing read or commanded yet: continuity from the start assumption (wrap::start_branch()).
     const double from = reference.value_or(std::clamp(0.0, plan.min, plan.max));
     const double continuous = wrap::nearest_branch(wanted.az, from);
-    if (pass_direction_ && pass_.seen_from_start && !pass_.culmination_checked &&
-        wanted.el <= pass_.top_el - culmination_drop_degrees) {
+    if (ahead) {
+        if (const auto branch = pass_branch_from_orbit(wanted, continuous, *ahead, plan)) {
+            target_mechanical_ = *branch;
+            return *branch;
+        }
+    } else if (pass_direction_ && pass_.seen_from_start && !pass_.culmination_checked &&
+               wanted.el <= pass_.top_el - culmination_drop_degrees) {
         // Once per pass, just past its culmination: the azimuth still to come after the culmination
         // is about what came before it.
         pass_.culmination_checked = true;
@@ -252,6 +261,39 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
     }
     target_mechanical_ = choice.mechanical;
     return choice.mechanical;
+}
+
+// With the orbit, what the rest of the pass needs is known instead of guessed from its start and
+// symmetry. Its one unwind, if the current branch cannot hold it, happens where it costs least:
+// before the pass rises (the dish only waits then), else just past the culmination (docs/tracking.md
+// §2.3: an azimuth error costs least on the sky there). Between the two, the branch is kept, and
+// a branch that lacks only a client's lead at the end (culmination_slack_degrees) is kept too.
+std::optional<double> WrapTracker::pass_branch_from_orbit(AzEl wanted, double continuous, const wrap::PassAhead& ahead,
+                                                          const wrap::Window& plan) {
+    const bool before_rise = ahead.rises_in_s > 0.0;
+    const bool past_top = !before_rise && ahead.culminates_in_s <= 0.0;
+    if (!before_rise && !(past_top && !pass_.culmination_checked)) {
+        return std::nullopt;
+    }
+    if (past_top) {
+        pass_.culmination_checked = true;
+    }
+    const double overflow_here = plan.contains(continuous) ? wrap::pass_overflow(wanted.az, continuous, ahead, plan)
+                                                           : std::numeric_limits<double>::infinity();
+    if (overflow_here <= culmination_slack_degrees) {
+        return std::nullopt;
+    }
+    const auto branch = wrap::branch_for_pass(wanted.az, continuous, ahead, plan);
+    if (!branch || wrap::pass_overflow(wanted.az, *branch, ahead, plan) >= overflow_here - culmination_slack_degrees) {
+        return std::nullopt;
+    }
+    const auto reason = before_rise ? wrap::Reason::orbit_pass : wrap::Reason::culmination;
+    emit(log_, LogLevel::verbose,
+         "azimuth " + degrees_text(wanted.az) + ": mechanical " + degrees_text(*branch) + " instead of " +
+             degrees_text(continuous) + " (" + std::string(wrap::reason_text(reason)) + "; the orbit's pass turns " +
+             degrees_text(ahead.sweep_deg) + " deg from azimuth " + degrees_text(ahead.from_az) + "; window " +
+             degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")");
+    return branch;
 }
 
 void WrapTracker::forget_target() {

@@ -160,6 +160,8 @@ private:
     FitResidual refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const;
     void judge();
     std::vector<AzEl> exact_directions() const;
+    // The same, ordered by where the fitted track passes nearest each (not by when it was sent).
+    std::vector<AzEl> exact_directions_along_track() const;
 
     OrbitModelSettings settings_;
     std::deque<Target> targets_;

@@ -797,6 +797,43 @@ std::vector<AzEl> OrbitModel::exact_directions() const {
     return directions;
 }
 
+std::vector<AzEl> OrbitModel::exact_directions_along_track() const {
+    // Longer than any look-ahead a client reaches for a target to be worth sending.
+    constexpr double longest_look_ahead_s = 300.0;
+    const Evaluator model(*orbit_, earth_at(settings_.latitude_deg));
+    std::vector<std::pair<double, AzEl>> placed;
+    for (const auto& target : targets_) {
+        if (target.kind != Kind::exact) {
+            continue;
+        }
+        const Vec wanted = unit_vector(target.direction);
+        auto miss = [&](double s) { return angle_deg(model.direction(s), wanted); };
+        const double earliest = target.t - settings_.client_send_delay_s - 2.0;
+        double best = earliest;
+        for (double s = earliest; s <= target.t + longest_look_ahead_s; s += 1.0) {
+            if (miss(s) < miss(best)) {
+                best = s;
+            }
+        }
+        double lo = best - 1.0, hi = best + 1.0;
+        for (int i = 0; i < 20; ++i) {
+            const double a = lo + (hi - lo) / 3.0, b = hi - (hi - lo) / 3.0;
+            if (miss(a) < miss(b)) {
+                hi = b;
+            } else {
+                lo = a;
+            }
+        }
+        placed.emplace_back(0.5 * (lo + hi), target.direction);
+    }
+    std::stable_sort(placed.begin(), placed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<AzEl> directions;
+    for (const auto& [t, direction] : placed) {
+        directions.push_back(direction);
+    }
+    return directions;
+}
+
 void OrbitModel::judge() {
     static const char* const off_orbit = "targets off the orbit";
     trusted_ = false;
@@ -833,7 +870,12 @@ void OrbitModel::judge() {
         why = "too few targets";
     } else if (arc < settings_.min_arc_deg || span < settings_.min_span_s) {
         why = "targets too close together";
-    } else if (sharpest_turn_deg(exact_directions(), turn_min_step_deg) > settings_.max_turn_deg) {
+    } else if (sharpest_turn_deg(exact_directions(), turn_min_step_deg) > settings_.max_turn_deg &&
+               sharpest_turn_deg(exact_directions_along_track(), turn_min_step_deg) > settings_.max_turn_deg) {
+        // In the order sent, a pass's targets can step back along it where a client's look-ahead
+        // shrinks (Gpredict's azimuth box towards the zenith: iss-85 at 5 deg was never trusted);
+        // in their order along the fitted track they turn as gently as the pass. A scan's
+        // serpentine or a user's jogging turns in either order.
         why = "the targets turn as no pass does (manual pointing, a scan)";
     } else if (!lead_hint_deg_ &&
                (orbit_->lead_sigma_deg > settings_.max_lead_sigma_deg || exact < settings_.min_exact_targets_fitted_lead)) {

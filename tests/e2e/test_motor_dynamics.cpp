@@ -152,8 +152,9 @@ TEST_CASE("motor dynamics: the pointing mode follows the dish's own motors, not 
         const std::string log = pointing_log(pass, fast);
         CHECK(log.find("predictive from now on") != std::string::npos);
     }
-    SECTION("the emulator's documented Trav'ler motor keeps each target as sent") {
+    SECTION("the emulator's documented Trav'ler motor stays at none, steered by the orbit once it is trusted") {
         const std::string log = pointing_log(pass, {});
         CHECK(log.find("predictive from now on") == std::string::npos);
+        CHECK(log.find("pointing: the orbit is trusted") != std::string::npos);
     }
 }

@@ -59,7 +59,7 @@ public:
     virtual MovingAxes moving_axes() const = 0;
     // The console showed it is not where the controller left it: initialise again.
     virtual bool sync_lost() const = 0;
-    // How long a small step (up to 2 degrees) on `axis` takes this dish, from the command to the
+    // How long a small step (0.4 to 2 degrees) on `axis` takes this dish, from the command to the
     // reading that shows it there, once its own legs have timed it; nullopt before (or where the
     // driver cannot time legs).
     virtual std::optional<double> learnt_step_seconds(Axis) const { return std::nullopt; }

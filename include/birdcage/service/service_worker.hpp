@@ -105,6 +105,8 @@ private:
     // timing of a small step decides (choose_mode_from_dish()).
     bool mode_from_dish_ = false;
     void choose_mode_from_dish();
+    bool steering_predictively() const;
+    bool steered_predictively_ = false;   // what the last target was steered by (to log a switch)
 
     // Steering: the estimator and what was last handed to the controller.
     TargetPredictor predictor_;

@@ -353,7 +353,8 @@ Status AxisLegDriver::follow() {
     if (error(seen, goal) <= c_.profile.arrival_tolerance) {
         settling_ = leg;
         const LegMotion motion = motion_of(leg);
-        if (std::fabs(motion.to - motion.start) <= small_step_max_deg) {
+        if (const double step = std::fabs(motion.to - motion.start);
+            step >= small_step_min_deg && step <= small_step_max_deg) {
             step_times_.learn(leg.axis, std::chrono::duration<double>(c_.now() - leg.sent_at).count());
         }
         end_leg("arrived");

@@ -79,8 +79,12 @@ private:
     AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
     StartupDelays startup_;   // how long each motor took to start on earlier legs: likewise
     // How long small legs took from the command to the reading that showed them there: what a
-    // step costs on this dish, start-up, motion and polling together (an average over legs).
-    static constexpr double small_step_max_deg = 2.0;
+    // step costs on this dish, start-up, motion and polling together (an average over legs). Only
+    // legs of a comparable size count: on an acceleration-limited motor the time grows with the
+    // root of the distance, and the emulated Trav'ler's 0.1-0.3 deg aims (about 0.5 s) passed for
+    // fast beside its 0.5-1 deg client steps (about 1 s), so the pointing mode chosen from them
+    // flipped with every change of mode (docs/tracking.md §6).
+    static constexpr double small_step_min_deg = 0.4, small_step_max_deg = 2.0;
     StartupDelays step_times_;
     std::optional<Axis> unstarted_stop_;   // the axis whose last leg was declared stopped before it moved
     std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical

@@ -12,6 +12,8 @@
 #   BIRDCAGE_BENCH_SCALE        matrix time scale (default 5)
 #   BIRDCAGE_BENCH_JOBS         matrix runs in parallel (default 8)
 #   BIRDCAGE_BENCH_BUILD        build directory (default build-bench)
+#   BIRDCAGE_BENCH_MODES        pointing modes of the matrix (default none,predictive,auto,oracle: auto is
+#                               what a user gets with `pointing` unset; leapfrog can be added)
 #   BIRDCAGE_BENCH_ARGS         extra tracking_bench arguments for the matrix, e.g.
 #                               "--passes iss-85 --variants g2 --modes none,predictive --thresholds 0.5"
 #   BIRDCAGE_BENCH_CLIENT_LIMITS the matrix's client rotator limits (tracking_bench --client-limits,
@@ -40,13 +42,14 @@ sweep_modes=${BIRDCAGE_BENCH_SWEEP_MODES:-none,predictive}
 # The matrix runs under both rotator limits a Gpredict user may set (docs/benchmarks.md, "What runs");
 # the other parts keep the dish's limits, as README sets Gpredict up.
 client_limits=${BIRDCAGE_BENCH_CLIENT_LIMITS:-dish,wide}
+matrix_modes=${BIRDCAGE_BENCH_MODES:-none,predictive,auto,oracle}
 # The north-crossing passes (both directions) and the forced-unwind ones, under the two other ways a
 # firmware may map an azimuth target onto its travel (the matrix runs the emulator's default).
 mapping_args=${BIRDCAGE_BENCH_MAPPING_ARGS-"--passes iss-45,iss-60,iss-85,sso-70 --modes none,predictive --thresholds 0.5 --mappings literal,wrap_manager"}
 # Real time (k = 1): does the k = 5 matrix hold? One pass of each kind that matters: a north
 # crossing both dishes can hold (iss-45), one only the Trav'ler can (iss-60), one only the G2 can
 # (sso-70). Real-time runs use little CPU (all 30 took 17 s of it), so they run at once.
-realtime_args=${BIRDCAGE_BENCH_REALTIME_ARGS-"--passes iss-45,iss-60,sso-70 --modes none,predictive,oracle --thresholds 0.5,5 --jobs 30"}
+realtime_args=${BIRDCAGE_BENCH_REALTIME_ARGS-"--passes iss-45,iss-60,sso-70 --modes none,predictive,auto,oracle --thresholds 0.5,5 --jobs 42"}
 images=${BIRDCAGE_BENCH_IMG:-docs/img}
 out=$build/bench/out
 
@@ -58,7 +61,7 @@ rm -rf "$out"
 # The matrix: every pass x variant x pointing mode x client threshold x client limits, at one time
 # scale.
 # shellcheck disable=SC2086
-"$bench" --scale "$scale" --jobs "$jobs" --out "$out/matrix" --client-limits "$client_limits" ${BIRDCAGE_BENCH_ARGS:-}
+"$bench" --scale "$scale" --jobs "$jobs" --out "$out/matrix" --client-limits "$client_limits" --modes "$matrix_modes" ${BIRDCAGE_BENCH_ARGS:-}
 
 if [ -n "$mapping_args" ]; then
     # shellcheck disable=SC2086

@@ -100,6 +100,16 @@ void GpredictClient::timer_tick() {
         new_target_ = true;
         return;
     }
+    if (!settings_.look_ahead) {
+        if (last_sent_ && std::fabs(std::remainder(set.az - last_sent_->az, 360.0)) <= settings_.threshold_deg &&
+            std::fabs(last_sent_->el - set.el) <= settings_.threshold_deg) {
+            return;
+        }
+        last_sent_ = set;
+        pending_ = set;
+        new_target_ = true;
+        return;
+    }
     Direction rot = read_back_;
     while (rot.az < 0.0) {
         rot.az += 360.0;

@@ -34,6 +34,11 @@ struct ClientSettings {
     // The benchmark's oracle: every cycle posts where the satellite is (no threshold, no lead), so
     // the backend's scheduler works from the true trajectory: the floor of what it can do.
     bool true_position_every_cycle = false;
+    // false: a simpler client than Gpredict, as a new user may meet one: it sends the satellite's
+    // direction as it is now (clamped to its limits) whenever that is more than the threshold from
+    // the last target it sent, on either axis, and never reads the dish back for it (no look-ahead,
+    // no lead). The backend must learn a lead of 0 from it (docs/tracking.md §6).
+    bool look_ahead = true;
     double cycle_s = 1.0;        // Gpredict default "Cycle" 1000 ms
     double io_sleep_s = 0.1;     // between P and p
     double io_min_period_s = 0.7;
@@ -97,6 +102,7 @@ private:
     std::mutex mutex_;  // between the timer and the I/O thread, like Gpredict's client mutex
     Direction read_back_{};
     Direction pending_{};
+    std::optional<Direction> last_sent_;   // the no-look-ahead client's last target
     bool new_target_ = false;
     bool io_error_ = false;       // the I/O thread's last loop failed (set by it, read by the timer)
     int error_count_ = 0;         // Gpredict's errcnt

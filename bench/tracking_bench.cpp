@@ -9,6 +9,7 @@
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
 //                  [--modes none,leapfrog,predictive,oracle] [--thresholds 0.5,5] [--window SECONDS]
 //                  [--mappings nearest,literal,wrap_manager] [--client-limits dish,wide] [--out DIR]
+//                  [--client gpredict|current]
 //                  [--passes-dir DIR]
 //                  [--conf KEY=VALUE]... [--motor-startup-delay S] [--motor-speed AZ,EL] [--motor-accel A]
 //
@@ -21,6 +22,10 @@
 // the backend clamps instead and the client, seeing the dish held at its floor more than a threshold
 // off the satellite, sends a fresh target every cycle from AOS (a wide run starts at AOS, a dish run
 // 6 deg below the floor). Azimuth stays 0-360 in both. The oracle runs once, with the dish's limits.
+//
+// --client current replaces the Gpredict-like client by one without look-ahead (bench/gpredict_client.hpp,
+// ClientSettings::look_ahead): it sends the satellite's direction as it is whenever that has moved a
+// threshold from its last target. The run names and the summary's `client` column say so.
 //
 // --mappings runs every pass under each way the emulated firmware may map an azimuth target onto
 // its travel (docs/firmware.md, "azimuth mapping"); the backend is not told which one it meets.
@@ -115,6 +120,7 @@ struct Options {
     std::vector<double> thresholds = {0.5, 5.0};
     std::vector<std::string> mappings = {"nearest"};
     std::vector<std::string> client_limits = {"dish"};
+    std::string client = "gpredict";   // or "current": see --client
     double window_s = 0.0;  // > 0: only this many seconds around the TCA
     std::string out = "bench-out";
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
@@ -224,6 +230,11 @@ Options parse(int argc, char** argv) {
                     throw std::runtime_error("--client-limits: unknown setting " + limits + " (dish or wide)");
                 }
             }
+        } else if (arg == "--client") {
+            o.client = value();
+            if (o.client != "gpredict" && o.client != "current") {
+                throw std::runtime_error("--client: unknown client " + o.client + " (gpredict or current)");
+            }
         } else if (arg == "--window") {
             o.window_s = std::stod(value());
         } else if (arg == "--out") {
@@ -311,6 +322,7 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     bench::ClientSettings settings;
     settings.threshold_deg = spec.threshold;
     settings.true_position_every_cycle = spec.mode->oracle;
+    settings.look_ahead = options.client == "gpredict";
     const bool wide = spec.client_limits == "wide";
     settings.min_el = wide ? 0.0 : v.el_min;
     settings.max_el = wide ? 90.0 : v.el_max;
@@ -628,6 +640,10 @@ int main(int argc, char** argv) {
                 "parallel%s\n",
                 specs.size(), options.scale, options.scale, options.jobs,
                 options.window_s > 0 ? (", window " + std::to_string(options.window_s) + " s around TCA").c_str() : "");
+    if (options.client != "gpredict") {
+        std::printf("client: no look-ahead: the satellite's current direction each time it moved a threshold from "
+                    "the last target (--client current)\n");
+    }
     if (options.motor.startup_delay > 0.0 || options.motor.az_velocity || options.motor.accel) {
         std::printf("motor: start-up delay %g s, speed %s, acceleration %s (emulator's motor switches)\n",
                     options.motor.startup_delay,
@@ -684,7 +700,7 @@ int main(int argc, char** argv) {
     summary << "pass,peak_el,crosses_north,variant,mode,az_mapping,threshold,client_limits,scale,window_s,tracked_s,rms,p95,max,motor_commands,"
                "set_commands,prepass_az_travel,extra_az_travel,unwound,one_branch,above_cap_s,cap_excess_p95,"
                "cap_excess_max,reacquire_s,p_median_ms,p_p95_ms,p_p99_ms,p_max_ms,P_median_ms,P_p95_ms,P_p99_ms,"
-               "P_max_ms,p_error_p95_deg,p_error_p99_deg,p_error_max_deg,wire_floor_ms,failed_replies,wall_s\n";
+               "P_max_ms,p_error_p95_deg,p_error_p99_deg,p_error_max_deg,wire_floor_ms,failed_replies,wall_s,client\n";
     for (const RunResult& r : results) {
         if (!r.error_text.empty()) {
             continue;
@@ -702,14 +718,15 @@ int main(int argc, char** argv) {
         char line[768];
         std::snprintf(line, sizeof line,
                       "%s,%.2f,%d,%s,%s,%s,%g,%s,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%.1f,%d,%d,%.1f,%s,%s,%s,%.4f,%.4f,"
-                      "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%u,%.1f\n",
+                      "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%u,%.1f,%s\n",
                       r.spec.pass->name().c_str(), r.spec.pass->peak_el(), r.spec.pass->crosses_north() ? 1 : 0,
                       r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(), r.spec.threshold,
                       r.spec.client_limits.c_str(), options.scale, options.window_s,
                       r.tracked_s, r.error.rms, r.error.p95, r.error.max, r.motor_commands, r.set_commands,
                       r.prepass_az_travel, r.extra_az_travel, r.unwound ? 1 : 0, r.one_branch ? 1 : 0, r.above_cap_s,
                       cap_p95, cap_max, reacquire, p.median, p.p95, p.p99, p.max, set.median, set.p95, set.p99,
-                      set.max, pe.p95, pe.p99, pe.max, wire_floor_ms(*r.spec.variant), r.failed_replies, r.wall_s);
+                      set.max, pe.p95, pe.p99, pe.max, wire_floor_ms(*r.spec.variant), r.failed_replies, r.wall_s,
+                      r.spec.mode->oracle ? "oracle" : options.client.c_str());
         summary << line;
     }
 

@@ -110,6 +110,8 @@ public:
     // Altitude (km) of the current fit, and the client's lead it fitted (or was given).
     std::optional<double> altitude_km() const;
     std::optional<double> lead_deg() const;
+    // The targets themselves showed the client's lead to be other than the caller's hint.
+    bool lead_from_targets() const { return orbit_ && lead_hint_deg_ && orbit_->lead_sigma_deg > 0.0; }
     // When the satellite sets below `el` after time t (within `within_s`), for the caller's horizon.
     std::optional<double> time_below(double t, double el, double within_s) const;
     // The part of the current (or next, within `within_s`) pass above elevation `el` from time t
@@ -155,6 +157,7 @@ private:
     struct FitResidual {
         double rms_deg = 0.0;      // of the unclamped targets
         double normalised = 0.0;   // the same over the scatter expected of each (1: as expected)
+        std::size_t exact_count = 0;
     };
     FitResidual refine(Orbit& orbit, int iterations) const;
     FitResidual refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const;

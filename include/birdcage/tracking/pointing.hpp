@@ -125,9 +125,13 @@ public:
 
     // For logs and tests.
     // The client's lead (its threshold, degrees): as learnt from the dish, else as the trusted
-    // orbit fitted it (a dish held on its floor while the client sends every cycle learns none).
+    // orbit fitted it (a dish held on its floor while the client sends every cycle learns none),
+    // or where the orbit's targets show the dish's gaps misled (a client without look-ahead).
     std::optional<double> lead_threshold_deg() const {
-        return lead_threshold_ ? lead_threshold_ : pass_model_in_use() ? orbit_.lead_deg() : std::nullopt;
+        if (pass_model_in_use() && (!lead_threshold_ || orbit_.lead_from_targets())) {
+            return orbit_.lead_deg();
+        }
+        return lead_threshold_;
     }
     bool pass_model_in_use() const { return settings_.use_pass_model && orbit_.trusted(); }
     const OrbitModel& orbit() const { return orbit_; }

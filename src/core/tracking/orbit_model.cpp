@@ -39,6 +39,12 @@ constexpr double max_fitted_lead_deg = 10.0;
 // Penalty (degrees) for a before-rise target when the model's track never rises in the search.
 constexpr double no_rise_penalty_deg = 10.0;
 constexpr double rise_search_s = 1800.0;
+// The learnt lead is questioned only when the fit holding it misses the targets by more than this
+// (times the scatter expected of them), and replaced by the fitted one only when that misses them
+// by less than this share of it.
+constexpr double lead_refit_min_normalised = 0.0;
+constexpr std::size_t lead_refit_min_targets = 4;
+constexpr double lead_refit_gain = 0.8;
 
 double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec cross(const Vec& a, const Vec& b) {
@@ -528,7 +534,26 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations) const {
     // The lead the caller learnt from the dish (the gap between a target and the dish it passed)
     // is held; fitted with the orbit, the lead wanders with the targets' timing scatter by more
     // than that learning errs. Without one the targets are all there is.
-    return refine(orbit, iterations, lead_hint_deg_);
+    //
+    // But the dish's gaps cannot tell a client that leads by L from one that sends the satellite
+    // as it is each time it moved 2L (both leave a gap of 2L): a client without look-ahead was
+    // learnt as leading by half its threshold, and followed that far ahead of the satellite
+    // (tests/core/test_orbit_model.cpp: 2.3-2.6 deg at 5 deg). The targets can: a lead is a time
+    // that changes with the satellite's rate, which no phase absorbs. So once the targets are
+    // many, the lead is also fitted, and taken where it fits them clearly better.
+    const FitResidual held = refine(orbit, iterations, lead_hint_deg_);
+    if (!lead_hint_deg_ || held.exact_count < lead_refit_min_targets ||
+        held.normalised <= lead_refit_min_normalised) {
+        return held;
+    }
+    Orbit fitted = orbit;
+    const FitResidual free = refine(fitted, iterations, std::nullopt);
+    if (free.normalised < lead_refit_gain * held.normalised && fitted.lead_sigma_deg <= settings_.max_lead_sigma_deg &&
+        std::fabs(fitted.lead_deg - *lead_hint_deg_) > 3.0 * fitted.lead_sigma_deg) {
+        orbit = fitted;
+        return free;
+    }
+    return held;
 }
 
 OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const {
@@ -670,7 +695,7 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::op
         return {};
     }
     const double count = static_cast<double>(current.exact_count);
-    return {std::sqrt(current.exact_sum / count), std::sqrt(current.normalised_sum / count)};
+    return {std::sqrt(current.exact_sum / count), std::sqrt(current.normalised_sum / count), current.exact_count};
 }
 
 bool OrbitModel::initialise() {
@@ -857,7 +882,12 @@ void OrbitModel::judge() {
     const double span = first ? last->t - first->t : 0.0;
     char sigma[48];
     std::snprintf(sigma, sizeof sigma, "fitted, +-%.2f", orbit_->lead_sigma_deg);
-    const std::string lead_source = lead_hint_deg_ ? "learnt from the dish" : sigma;
+    char overridden[96] = "";
+    if (lead_from_targets()) {
+        std::snprintf(overridden, sizeof overridden, "; the dish's gaps said %.2f", *lead_hint_deg_);
+    }
+    const std::string lead_source =
+        lead_hint_deg_ && !lead_from_targets() ? std::string("learnt from the dish") : std::string(sigma) + overridden;
     char text[256];
     std::snprintf(text, sizeof text,
                   "orbit %.0f km, client lead %.2f deg (%s), %zu targets (%zu exact over %.1f deg, %.0f s), RMS %.3f deg (%.1f of the expected scatter)%s",

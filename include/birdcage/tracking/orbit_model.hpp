@@ -111,7 +111,7 @@ public:
     std::optional<double> altitude_km() const;
     std::optional<double> lead_deg() const;
     // The targets themselves showed the client's lead to be other than the caller's hint.
-    bool lead_from_targets() const { return orbit_ && lead_hint_deg_ && orbit_->lead_sigma_deg > 0.0; }
+    bool lead_from_targets() const { return orbit_ && lead_hint_deg_ && lead_fitted_despite_hint_; }
     // When the satellite sets below `el` after time t (within `within_s`), for the caller's horizon.
     std::optional<double> time_below(double t, double el, double within_s) const;
     // The part of the current (or next, within `within_s`) pass above elevation `el` from time t
@@ -161,6 +161,7 @@ private:
     };
     FitResidual refine(Orbit& orbit, int iterations) const;
     FitResidual refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const;
+    void question_lead();
     void judge();
     std::vector<AzEl> exact_directions() const;
     // The same, ordered by where the fitted track passes nearest each (not by when it was sent).
@@ -169,6 +170,8 @@ private:
     OrbitModelSettings settings_;
     std::deque<Target> targets_;
     std::optional<double> lead_hint_deg_;
+    bool lead_fitted_despite_hint_ = false;   // question_lead() found the targets contradict the hint
+    std::size_t next_lead_question_ = 0;      // exact targets at which to question it next (when many)
     // The client's elevation limits as its targets show them: the dish's until one lies beyond.
     double client_min_el_ = 0.0, client_max_el_ = 90.0;
     std::optional<Orbit> orbit_;

@@ -39,12 +39,12 @@ constexpr double max_fitted_lead_deg = 10.0;
 // Penalty (degrees) for a before-rise target when the model's track never rises in the search.
 constexpr double no_rise_penalty_deg = 10.0;
 constexpr double rise_search_s = 1800.0;
-// The learnt lead is questioned only when the fit holding it misses the targets by more than this
-// (times the scatter expected of them), and replaced by the fitted one only when that misses them
-// by less than this share of it.
-constexpr double lead_refit_min_normalised = 0.0;
-constexpr std::size_t lead_refit_min_targets = 4;
-constexpr double lead_refit_gain = 0.8;
+// The learnt lead is questioned from this many exact targets on, and replaced by the fitted one
+// where that misses the targets by less than this share of what the learnt one does (the targets'
+// scatter is not all timing: Gpredict's quantised search leaves a systematic part, which a free
+// lead would fit as readily as a real difference).
+constexpr std::size_t lead_question_min_targets = 4, lead_question_every_target_below = 30;
+constexpr double lead_question_gain = 0.8;
 
 double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec cross(const Vec& a, const Vec& b) {
@@ -309,6 +309,8 @@ void OrbitModel::clear() {
     client_max_el_ = settings_.el_cap;
     trusted_ = false;
     residual_ = {};
+    lead_fitted_despite_hint_ = false;
+    next_lead_question_ = 0;
     description_ = "no targets";
 }
 
@@ -533,27 +535,36 @@ Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& ta
 OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations) const {
     // The lead the caller learnt from the dish (the gap between a target and the dish it passed)
     // is held; fitted with the orbit, the lead wanders with the targets' timing scatter by more
-    // than that learning errs. Without one the targets are all there is.
-    //
-    // But the dish's gaps cannot tell a client that leads by L from one that sends the satellite
-    // as it is each time it moved 2L (both leave a gap of 2L): a client without look-ahead was
-    // learnt as leading by half its threshold, and followed that far ahead of the satellite
-    // (tests/core/test_orbit_model.cpp: 2.3-2.6 deg at 5 deg). The targets can: a lead is a time
-    // that changes with the satellite's rate, which no phase absorbs. So once the targets are
-    // many, the lead is also fitted, and taken where it fits them clearly better.
-    const FitResidual held = refine(orbit, iterations, lead_hint_deg_);
-    if (!lead_hint_deg_ || held.exact_count < lead_refit_min_targets ||
-        held.normalised <= lead_refit_min_normalised) {
-        return held;
+    // than that learning errs. Without one the targets are all there is (and see question_lead()).
+    return refine(orbit, iterations, lead_fitted_despite_hint_ ? std::nullopt : lead_hint_deg_);
+}
+
+// The dish's gaps cannot tell a client that leads by L from one that sends the satellite as it is
+// each time it moved 2L (both leave a gap of 2L): a client without look-ahead was learnt as leading
+// by half its threshold and followed that far ahead of the satellite (tests/core/test_orbit_model.cpp:
+// 2.5 deg at 5 deg). The targets can tell: a lead is a time that changes with the satellite's rate,
+// which no phase absorbs. So at each new target (from 4 exact ones on; past 30, each time they grew
+// by a tenth) both are fitted, and the fitted lead is taken where it fits the targets clearly better.
+void OrbitModel::question_lead() {
+    if (!orbit_ || !lead_hint_deg_) {
+        lead_fitted_despite_hint_ = false;
+        return;
     }
-    Orbit fitted = orbit;
-    const FitResidual free = refine(fitted, iterations, std::nullopt);
-    if (free.normalised < lead_refit_gain * held.normalised && fitted.lead_sigma_deg <= settings_.max_lead_sigma_deg &&
-        std::fabs(fitted.lead_deg - *lead_hint_deg_) > 3.0 * fitted.lead_sigma_deg) {
-        orbit = fitted;
-        return free;
+    const std::size_t exact = residual_.exact_count;
+    if (exact < lead_question_min_targets || (exact >= lead_question_every_target_below && exact < next_lead_question_)) {
+        return;
     }
-    return held;
+    // With many targets one more changes little: a client that sends every cycle (wide limits)
+    // would otherwise double the cost of each of hundreds of refits.
+    next_lead_question_ = exact + exact / 10;
+    Orbit held = *orbit_, fitted = *orbit_;
+    const FitResidual with_hint = refine(held, warm_iterations, lead_hint_deg_);
+    const FitResidual free = refine(fitted, warm_iterations, std::nullopt);
+    lead_fitted_despite_hint_ = free.normalised < lead_question_gain * with_hint.normalised &&
+                                fitted.lead_sigma_deg <= settings_.max_lead_sigma_deg &&
+                                std::fabs(fitted.lead_deg - *lead_hint_deg_) > 3.0 * fitted.lead_sigma_deg;
+    orbit_ = lead_fitted_despite_hint_ ? fitted : held;
+    residual_ = lead_fitted_despite_hint_ ? free : with_hint;
 }
 
 OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const {
@@ -809,6 +820,7 @@ void OrbitModel::refit(bool from_scratch) {
             }
         }
     }
+    question_lead();
     judge();
 }
 

@@ -315,7 +315,7 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at) {
                         : "pointing: the orbit is no longer trusted: the client's targets as sent");
         aim_.reset();
     }
-    if (!steering_predictively()) {
+    if (!predictive) {
         return controller_->set_target(target,
                                        azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
                                                               previous_client_target_, target, controller_->el_min()),

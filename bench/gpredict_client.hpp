@@ -42,7 +42,7 @@ struct ClientSettings {
     double cycle_s = 1.0;        // Gpredict default "Cycle" 1000 ms
     double io_sleep_s = 0.1;     // between P and p
     double io_min_period_s = 0.7;
-    // Gpredict's rotator limits, set to the dish's (as the README tells users to).
+    // Gpredict's rotator limits (README now advises 0-90 for elevation; the dish's range was the advice before).
     double min_az = 0.0, max_az = 360.0, min_el = 0.0, max_el = 90.0;
     // Gpredict's MAX_ERROR_COUNT: erroring timer ticks tolerated in a row; 0 = never disengage.
     int max_error_count = 5;

@@ -53,13 +53,13 @@ P_P99_GOAL_MS = 1.0
 DEFAULT_MODE = {"g2": "auto", "hal205": "auto"}
 DEFAULT_MAPPING = "nearest"    # the emulator's default; the matrix runs under it
 # The client's rotator limits (tracking_bench --client-limits): "dish" = the dish's EL range, as
-# README tells Gpredict users, "wide" = EL 0-90. Goals, plots and the real-time comparison use the
+# README told Gpredict users before the orbit model, "wide" = EL 0-90 (its advice now). Goals, plots and the real-time comparison use the
 # dish rows; the per-pass and summary tables show both, apart.
 DEFAULT_LIMITS = "dish"
 
 PER_PASS_NOTES = """\
 Columns: *limits* = the rotator limits the Gpredict-like client clamps its targets to (*dish*: the
-dish's EL range, as README sets Gpredict up; *wide*: EL 0–90°, the backend clamps instead).
+dish's EL range, README's advice before the orbit model; *wide*: EL 0–90°, the backend clamps instead, README's advice now).
 *tracked s* = seconds the satellite is inside the dish's EL limits (the error figures
 *RMS*, *p95*, *max* count only those: great-circle angle between the satellite and the dish's true
 direction). *motor cmds* = `a <axis> <deg>` / `g` lines the emulator received during the run;

@@ -17,7 +17,7 @@
 // "motor"): e.g. a Trav'ler that meets the documented timings but starts seconds after each command.
 //
 // --client-limits sets the rotator limits the Gpredict-like client clamps its targets to (Gpredict's
-// MinEl/MaxEl, docs/gpredict.md): `dish` = the dish's elevation range, as README tells users, so the
+// MinEl/MaxEl, docs/gpredict.md): `dish` = the dish's elevation range (what README advised before the orbit model), so the
 // client sends (AOS azimuth, floor) before the pass and never asks beyond the cap; `wide` = 0-90, so
 // the backend clamps instead and the client, seeing the dish held at its floor more than a threshold
 // off the satellite, sends a fresh target every cycle from AOS (a wide run starts at AOS, a dish run

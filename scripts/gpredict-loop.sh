@@ -9,7 +9,7 @@
 #   scripts/gpredict-loop.sh [--build DIR] [--out DIR] [--thresholds "5 0.5"] [--limits "dish wide"] [--preload LIBS] [--check]
 #
 # --limits: the rotator limits in Gpredict's .rot file, which it clamps every target to: `dish` (the
-# default) = the G2's elevation range 18-65, as README sets Gpredict up; `wide` = 0-90, so the
+# default) = the G2's elevation range 18-65, README's advice before the orbit model; `wide` = 0-90 (its advice now), so the
 # backend clamps instead (docs/gpredict.md). One lane per threshold and setting.
 #
 # Per lane: birdcage-sim (g2) -> rotctld -m 90105 (backend preloaded) -> logging proxy

@@ -133,6 +133,14 @@ public:
         }
         return lead_threshold_;
     }
+    // How coarse the client's targets are, for the steering's deadband: half the gap the dish's lag
+    // shows (Gpredict: its threshold; a client without look-ahead: half its step), else the trusted
+    // orbit's lead. Not corrected by the orbit as the lead is: a client that sends a target every
+    // 5 deg without look-ahead leads by nothing, but its steps still ask for a coarse deadband
+    // (with the lead's 0, the G2 made 624 motor starts on iss-45 at 5 deg).
+    std::optional<double> client_coarseness_deg() const {
+        return lead_threshold_ ? lead_threshold_ : pass_model_in_use() ? orbit_.lead_deg() : std::nullopt;
+    }
     bool pass_model_in_use() const { return settings_.use_pass_model && orbit_.trusted(); }
     const OrbitModel& orbit() const { return orbit_; }
     std::string describe() const;

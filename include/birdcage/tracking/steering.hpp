@@ -34,7 +34,7 @@ struct PointingOptions {
     // How far the deadband may be widened for a slow mount.
     double max_deadband_deg = 0.5;
     // The client re-sends only when the dish is off by more than its threshold, and the estimator
-    // learns that threshold from the targets (TargetPredictor::lead_threshold_deg()). Holding the
+    // learns that threshold from the targets (TargetPredictor::client_coarseness_deg()). Holding the
     // dish much tighter than the client looks costs motor starts and buys nothing it asked for:
     // the deadband grows to this share of the learned threshold (0: never), at most
     // max_client_deadband_deg. At 0.5 it cut the G2's motor commands by 80% at Gpredict's 5 deg

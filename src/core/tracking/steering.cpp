@@ -70,7 +70,7 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
     auto step_time = [&](Axis axis, double degrees) { return move_time(axis, degrees) + overhead_s; };
     const double cos_el = std::max(std::cos(clamp_el(current->position.el) * M_PI / 180.0), min_cos_el);
     double base_deadband = in.pointing.deadband_deg;
-    if (const auto client_threshold = in.predictor.lead_threshold_deg()) {
+    if (const auto client_threshold = in.predictor.client_coarseness_deg()) {
         base_deadband = std::max(base_deadband, std::min(in.pointing.client_threshold_share * *client_threshold,
                                                          in.pointing.max_client_deadband_deg));
     }

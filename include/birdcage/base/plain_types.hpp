@@ -33,8 +33,8 @@ struct LegMotion {
     AxisReading latest;
     std::optional<AxisReading> previous, first_moving;
     double pace = 1.0;   // until its readings time it: the axis' pace on legs this long (AxisPaces)
-    // The axis' start-up delay (seconds from the command to the first motion; StartupDelays): 0 for
-    // a leg sent while the axis was still moving (a running motor takes a new target at once).
+    // Seconds from the command to the first motion: the axis' start-up delay (StartupDelays), plus
+    // what the firmware still ran before it (`a` queues behind a moving motor, docs/firmware.md §2).
     double startup_s = 0.0;
 };
 

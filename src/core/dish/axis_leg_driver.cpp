@@ -50,7 +50,8 @@ std::string axis_text(Axis axis) { return std::to_string(static_cast<int>(axis))
 void AxisLegDriver::reset() {
     pending_.clear();
     in_flight_.reset();
-    settling_.reset();
+    settling_ = {};
+    firmware_busy_ = {};
     unstarted_stop_.reset();
     forget_commands();
 }
@@ -156,17 +157,24 @@ double AxisLegDriver::distance(const Leg& leg) const {
 // Also for a leg sent while the axis may still have been settling: it may have come to rest since.
 std::chrono::milliseconds AxisLegDriver::start_allowance(const Leg& leg) const {
     if (!startup_.learnt(leg.axis)) {
-        return std::max(still_window, unlearnt_startup_allowance);
+        return std::max(still_window, unlearnt_startup_allowance) + leg.queued_at_most;
     }
     const auto delay = std::chrono::duration<double>(startup_margin * startup_.delay(leg.axis));
-    return std::chrono::duration_cast<std::chrono::milliseconds>(delay) + still_window;
+    return std::chrono::duration_cast<std::chrono::milliseconds>(delay) + still_window + leg.queued_at_most;
 }
 
 Status AxisLegDriver::send(Leg& leg) {
     const auto estimate = estimated_move_time(c_.profile, leg.axis, distance(leg));
-    // A running axis takes a new target without a fresh start-up delay, and one still inside the
-    // delay of a leg that ended before it started goes on waiting that one out: neither times it.
-    leg.from_rest = !(settling_ && settling_->axis == leg.axis) && unstarted_stop_ != leg.axis;
+    leg.estimate = estimate;
+    const auto until = [&](Clock::time_point end) {
+        return std::max(std::chrono::milliseconds{0}, std::chrono::duration_cast<std::chrono::milliseconds>(end - c_.now()));
+    };
+    leg.queued_behind = until(firmware_busy_.expected);
+    leg.queued_at_most = until(firmware_busy_.at_most);
+    // A running axis takes a new target without a fresh start-up delay, one still inside the delay
+    // of a leg that ended before it started goes on waiting that one out, and one queued behind the
+    // other axis starts when that is over: none of them times the start.
+    leg.from_rest = !settling(leg.axis) && unstarted_stop_ != leg.axis && leg.queued_at_most.count() == 0;
     if (unstarted_stop_ == leg.axis) {
         unstarted_stop_.reset();
     }
@@ -239,8 +247,8 @@ Status AxisLegDriver::send(Leg& leg) {
         const double goal = azimuth ? leg.mech_az : leg.target.el;
         leg.unmoved_ref = azimuth ? leg.from_mech : (last ? last->el : goal);
         leg.under_way_degrees = under_way_degrees;
-        if (settling_ && settling_->axis == leg.axis) {
-            const double previous_end = azimuth ? settling_->mech_az : settling_->target.el;
+        if (const auto& previous = settling(leg.axis)) {
+            const double previous_end = azimuth ? previous->mech_az : previous->target.el;
             if ((previous_end - leg.unmoved_ref) * (goal - leg.unmoved_ref) > 0.0 &&
                 std::fabs(previous_end - leg.unmoved_ref) < std::fabs(goal - leg.unmoved_ref)) {
                 leg.unmoved_ref = previous_end;
@@ -255,9 +263,7 @@ Status AxisLegDriver::send(Leg& leg) {
     leg.motion.to = leg.axis == Axis::azimuth ? normalize_azimuth(leg.target.az) : leg.target.el;
     leg.motion.sent_at = leg.sent_at;
     leg.motion.latest = AxisReading{leg.motion.start, c_.state.last_position_at.value_or(leg.sent_at)};
-    if (settling_ && settling_->axis == leg.axis) {
-        settling_.reset();   // this leg moves the axis from here on
-    }
+    settling(leg.axis).reset();   // this leg moves the axis from here on
     last_poll_ = leg.sent_at;
     emit(c_.log, LogLevel::verbose, "sent " + command + " (estimated " + std::to_string(estimate.count()) + " ms)");
     in_flight_ = leg;
@@ -321,6 +327,7 @@ Status AxisLegDriver::follow() {
             // The firmware dropped its queued moves (docs/firmware.md 6.3): so do we. The target is
             // forgotten, so the client sending the same P again retries the move.
             pending_.clear();
+            firmware_busy_ = {};
             c_.forget_target();
             forget_commands();
         }
@@ -350,8 +357,24 @@ Status AxisLegDriver::follow() {
             replan_after_surprise();
         }
     };
+    // Readings taken before the axis could have started are not a stall: an axis not yet under way
+    // is stopped only once the learnt start-up delay (with margin) is over; one under way, once it
+    // has been still for the still window.
+    if ((goal - leg.unmoved_ref) * (seen - leg.unmoved_ref) > 0.0 &&
+        std::fabs(seen - leg.unmoved_ref) >= leg.under_way_degrees) {
+        leg.under_way = true;
+    }
     if (error(seen, goal) <= c_.profile.arrival_tolerance) {
-        settling_ = leg;
+        if (!leg.under_way) {
+            // Arrived before it was seen to move (it was sent within the tolerance): the firmware
+            // still runs it, and the next leg waits behind it.
+            const auto expected_delay = std::chrono::duration_cast<std::chrono::milliseconds>(
+                std::chrono::duration<double>(startup_.delay(leg.axis)));
+            firmware_busy_.expected = std::max(firmware_busy_.expected, leg.sent_at + expected_delay + leg.estimate);
+            firmware_busy_.at_most =
+                std::max(firmware_busy_.at_most, leg.sent_at + (start_allowance(leg) - still_window) + leg.estimate);
+        }
+        settling(leg.axis) = leg;
         const LegMotion motion = motion_of(leg);
         if (const double step = std::fabs(motion.to - motion.start);
             step >= small_step_min_deg && step <= small_step_max_deg) {
@@ -359,13 +382,6 @@ Status AxisLegDriver::follow() {
         }
         end_leg("arrived");
         return Status::ok();
-    }
-    // Readings taken before the axis could have started are not a stall: an axis not yet under way
-    // is stopped only once the learnt start-up delay (with margin) is over; one under way, once it
-    // has been still for the still window.
-    if ((goal - leg.unmoved_ref) * (seen - leg.unmoved_ref) > 0.0 &&
-        std::fabs(seen - leg.unmoved_ref) >= leg.under_way_degrees) {
-        leg.under_way = true;
     }
     const auto unmoved_for = leg.under_way ? still_window : start_allowance(leg);
     if (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees) {
@@ -459,11 +475,14 @@ void AxisLegDriver::record_reading(AzEl position) {
             paces_.learn(motion.axis, axis_error(motion.axis, motion.start, motion.to), *pace);
         }
     }
-    if (settling_) {
-        LegMotion& motion = settling_->motion;
+    for (auto& settling : settling_) {
+        if (!settling) {
+            continue;
+        }
+        LegMotion& motion = settling->motion;
         const double value = axis_value(position, motion.axis);
         if (axis_error(motion.axis, motion.latest.value, value) < stillness_degrees) {
-            settling_.reset();   // at rest where read
+            settling.reset();   // at rest where read
         } else {
             add_reading(motion, AxisReading{value, at});
         }
@@ -473,7 +492,9 @@ void AxisLegDriver::record_reading(AzEl position) {
 LegMotion AxisLegDriver::motion_of(const Leg& leg) const {
     LegMotion motion = leg.motion;
     motion.pace = paces_.pace(motion.axis, axis_error(motion.axis, motion.start, motion.to));
-    motion.startup_s = leg.from_rest ? startup_.delay(motion.axis) : 0.0;
+    // `a` waits for the moving motor to finish (docs/firmware.md §2): a leg starts after whatever
+    // the firmware still runs, then waits out its own start-up delay.
+    motion.startup_s = std::chrono::duration<double>(leg.queued_behind).count() + startup_.delay(motion.axis);
     return motion;
 }
 
@@ -484,8 +505,10 @@ MovingAxes AxisLegDriver::moving_axes() const {
     }
     auto put = [&](const Leg& leg) { (leg.axis == Axis::azimuth ? moving.azimuth : moving.elevation) = motion_of(leg); };
     // A reading newer than the settling leg's own was taken while no leg polled: it is the truth.
-    if (settling_ && settling_->motion.latest.at == *c_.state.last_position_at) {
-        put(*settling_);
+    for (const auto& settling : settling_) {
+        if (settling && settling->motion.latest.at == *c_.state.last_position_at) {
+            put(*settling);
+        }
     }
     if (in_flight_) {
         put(*in_flight_);

@@ -4,6 +4,7 @@
 // The two move styles of the variant table (internal to the core; see move_driver.hpp).
 #pragma once
 
+#include <array>
 #include <deque>
 #include <optional>
 #include <string>
@@ -55,6 +56,11 @@ private:
         // that lies on the way; under_way once a poll shows it past that.
         double unmoved_ref = 0.0, under_way_degrees = 0.0;
         bool under_way = false;
+        // How long the firmware was still expected to run an earlier leg when this one was sent,
+        // and how long it may take at most: `a` queues a motor command behind the motor that is
+        // moving (docs/firmware.md §2, §3.4), so this axis cannot start before that is over.
+        std::chrono::milliseconds queued_behind{0}, queued_at_most{0};
+        std::chrono::milliseconds estimate{0};   // the move's estimated time once the axis runs
     };
 
     Status send(Leg& leg);
@@ -73,9 +79,17 @@ private:
     MoveContext c_;
     std::deque<Leg> pending_;
     std::optional<Leg> in_flight_;
-    // The leg that last arrived: within arrival_tolerance is not at rest, and the axis may still be
-    // covering the rest while the other axis' leg runs. Kept until a reading shows it still.
-    std::optional<Leg> settling_;
+    // Per axis, the leg that last arrived: within arrival_tolerance is not at rest, and the axis may
+    // still be covering the rest while the other axis' leg runs. Kept until a reading shows it still.
+    std::array<std::optional<Leg>, 2> settling_;
+    std::optional<Leg>& settling(Axis axis) { return settling_[static_cast<std::size_t>(axis)]; }
+    const std::optional<Leg>& settling(Axis axis) const { return settling_[static_cast<std::size_t>(axis)]; }
+    // A leg that arrived before its axis was seen to move (the reading was already within the
+    // arrival tolerance) is still run by the firmware: it waits out its start-up delay and covers
+    // the rest, and the next leg queues behind it. Until when that is expected to last, and at most.
+    struct FirmwareBusy {
+        Clock::time_point expected{}, at_most{};
+    } firmware_busy_;
     AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
     StartupDelays startup_;   // how long each motor took to start on earlier legs: likewise
     // How long small legs took from the command to the reading that showed them there: what a

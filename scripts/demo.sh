@@ -46,7 +46,7 @@ LD_PRELOAD="$lib" rotctl -l | awk 'NR==1 || /Winegard/'
 for v in "${variants[@]}"; do
     m=${model[$v]:?unknown variant $v}
     dev="$work/$v.tty"
-    port=$(free_port 45330 45400)
+    port=$(free_port 4540 4599)
     echo
     echo "== $v: emulated dish on $dev (time x$time_scale), rotctld -m $m -C time_scale=$time_scale on 127.0.0.1:$port"
     "$sim" --variant "$v" --link "$dev" --time-scale "$time_scale" --az 100 --el 30 >"$work/$v.sim.log" 2>&1 &
@@ -55,7 +55,7 @@ for v in "${variants[@]}"; do
     # The backend's clock and polling must run at the emulated dish's pace (conf time_scale).
     LD_PRELOAD="$lib" rotctld -m "$m" -r "$dev" -C "time_scale=$time_scale" -T 127.0.0.1 -t "$port" >"$work/$v.rotctld.log" 2>&1 &
     pids+=($!)
-    if ! wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$port"; then
+    if ! wait_for_listener 60 "$port" "${pids[-1]}"; then
         echo "rotctld did not start; its log:"; cat "$work/$v.rotctld.log"; exit 1
     fi
     rc() { rotctl -m 2 -r "127.0.0.1:$port" "$@"; }

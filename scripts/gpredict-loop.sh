@@ -109,9 +109,10 @@ wait_for() { # wait_for SECONDS COMMAND...
     done
 }
 wait_until_wall() { while (($(date +%s) < $1)); do sleep 0.5; done; }
-next_port=45430
+# Below the ephemeral range, as scripts/lib.sh's free_port() says why.
+next_port=4700
 free_port() { # sets $port; never hands out the same port twice (a lane's servers start later)
-    while ((next_port < 45600)); do
+    while ((next_port < 4900)); do
         port=$next_port; next_port=$((next_port + 1))
         (exec 3<>/dev/tcp/127.0.0.1/"$port") 2>/dev/null || return 0
     done

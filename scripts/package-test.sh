@@ -63,7 +63,7 @@ if [[ -d /run/systemd/system ]]; then
     port=4533
 else
     echo "== no systemd here (PID 1 is $(ps -p 1 -o comm=)): the units' ExecStart lines by hand"
-    port=$(free_port 45430 45500)
+    port=$(free_port 4650 4699)
     run_unit birdcage-sim@.service demo
     wait_for 20 test -e /run/birdcage/demo.tty || { echo "FAIL: the emulator made no pty" >&2; exit 1; }
     run_unit birdcage-rotctld@.service demo PORT="$port"

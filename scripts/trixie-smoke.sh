@@ -102,7 +102,7 @@ say "trixie's rotctld -l lists the 6 Winegard models"
 # ---- P / p against the emulated G2 ----------------------------------------------------------------
 time_scale=20
 dev=$work/g2.tty
-port=$(free_port 45410 45480)
+port=$(free_port 4600 4649)
 "$sim" --variant g2 --link "$dev" --time-scale "$time_scale" --az 100 --el 30 --trace >"$work/sim.log" 2>&1 &
 pids+=($!)
 wait_for 10 test -e "$dev" || { echo "trixie-smoke: FAIL: the emulator did not start" >&2; cat "$work/sim.log" >&2; exit 1; }
@@ -111,7 +111,7 @@ wait_for 10 test -e "$dev" || { echo "trixie-smoke: FAIL: the emulator did not s
 "$loader" --library-path "$libpath" --preload "$backend" "$rotctld" -m 90105 -r "$dev" -s 115200 -T 127.0.0.1 -t "$port" \
     -C "time_scale=$time_scale" -vvvv >"$work/rotctld.log" 2>&1 &
 pids+=($!)
-if ! wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$port"; then
+if ! wait_for_listener 60 "$port" "${pids[-1]}"; then
     echo "trixie-smoke: FAIL: trixie's rotctld did not listen; its log:" >&2
     tail -20 "$work/rotctld.log" >&2
     exit 1

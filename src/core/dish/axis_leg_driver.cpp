@@ -171,9 +171,9 @@ Status AxisLegDriver::send(Leg& leg) {
     };
     leg.queued_behind = until(firmware_busy_.expected);
     leg.queued_at_most = until(firmware_busy_.at_most);
-    // A running axis takes a new target without a fresh start-up delay, one still inside the delay
-    // of a leg that ended before it started goes on waiting that one out, and one queued behind the
-    // other axis starts when that is over: none of them times the start.
+    // A leg sent while its axis still covers the previous one, while it may still wait out the
+    // delay of a leg that ended before it started, or while the firmware still runs the other
+    // axis' leg, starts when that is over: the start it shows is not its own start-up delay.
     leg.from_rest = !settling(leg.axis) && unstarted_stop_ != leg.axis && leg.queued_at_most.count() == 0;
     if (unstarted_stop_ == leg.axis) {
         unstarted_stop_.reset();
@@ -357,9 +357,8 @@ Status AxisLegDriver::follow() {
             replan_after_surprise();
         }
     };
-    // Readings taken before the axis could have started are not a stall: an axis not yet under way
-    // is stopped only once the learnt start-up delay (with margin) is over; one under way, once it
-    // has been still for the still window.
+    // Under way: moved from where it stood towards the leg's end (decided before arrival, which
+    // needs to know whether the axis was ever seen to move).
     if ((goal - leg.unmoved_ref) * (seen - leg.unmoved_ref) > 0.0 &&
         std::fabs(seen - leg.unmoved_ref) >= leg.under_way_degrees) {
         leg.under_way = true;
@@ -383,6 +382,9 @@ Status AxisLegDriver::follow() {
         end_leg("arrived");
         return Status::ok();
     }
+    // Readings taken before the axis could have started are not a stall: an axis not yet under way
+    // is stopped only once the learnt start-up delay (with margin) is over; one under way, once it
+    // has been still for the still window.
     const auto unmoved_for = leg.under_way ? still_window : start_allowance(leg);
     if (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees) {
         leg.last_seen = seen;

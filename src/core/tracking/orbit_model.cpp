@@ -552,20 +552,14 @@ void OrbitModel::question_lead() {
     // With many targets one more changes little: a client that sends every cycle (wide limits)
     // would otherwise double the cost of each of hundreds of refits.
     next_lead_question_ = exact + exact / 10;
-    // refit() has just fitted the orbit under the current answer; only the other one is fitted here.
-    const bool was_free = lead_fitted_despite_hint_;
-    Orbit other = *orbit_;
-    const FitResidual other_fit = refine(other, warm_iterations, was_free ? lead_hint_deg_ : std::nullopt);
-    const Orbit& fitted = was_free ? *orbit_ : other;
-    const FitResidual& free = was_free ? residual_ : other_fit;
-    const FitResidual& with_hint = was_free ? other_fit : residual_;
+    Orbit held = *orbit_, fitted = *orbit_;
+    const FitResidual with_hint = refine(held, warm_iterations, lead_hint_deg_);
+    const FitResidual free = refine(fitted, warm_iterations, std::nullopt);
     lead_fitted_despite_hint_ = free.normalised < lead_question_gain * with_hint.normalised &&
                                 fitted.lead_sigma_deg <= settings_.max_lead_sigma_deg &&
                                 std::fabs(fitted.lead_deg - *lead_hint_deg_) > 3.0 * fitted.lead_sigma_deg;
-    if (lead_fitted_despite_hint_ != was_free) {
-        orbit_ = other;
-        residual_ = other_fit;
-    }
+    orbit_ = lead_fitted_despite_hint_ ? fitted : held;
+    residual_ = lead_fitted_despite_hint_ ? free : with_hint;
 }
 
 OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const {

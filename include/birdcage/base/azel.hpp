@@ -4,7 +4,6 @@
 // Pointing direction and the angle arithmetic every layer shares.
 #pragma once
 
-#include <array>
 #include <vector>
 
 namespace birdcage {
@@ -25,9 +24,6 @@ double normalize_azimuth(double az);
 
 // Signed shortest rotation from `from` to `to`, in (-180, 180].
 double azimuth_difference(double from, double to);
-
-// A direction as a unit vector in the site's frame: east, north, up.
-std::array<double, 3> unit_vector(AzEl direction);
 
 // The largest turn (degrees) between successive steps of a track, on the sphere (so the azimuth's
 // own swing near the zenith is no turn). Steps shorter than `min_step_deg` carry only a client's

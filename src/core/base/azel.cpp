@@ -32,18 +32,17 @@ double azimuth_difference(double from, double to) {
     return delta;
 }
 
-std::array<double, 3> unit_vector(AzEl direction) {
-    const double a = direction.az * M_PI / 180.0, e = direction.el * M_PI / 180.0;
-    return {std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
-}
-
 double sharpest_turn_deg(const std::vector<AzEl>& track, double min_step_deg) {
     using Vec = std::array<double, 3>;
+    auto unit = [](AzEl p) {
+        const double a = p.az * M_PI / 180.0, e = p.el * M_PI / 180.0;
+        return Vec{std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
+    };
     const double min_chord = 2.0 * std::sin(min_step_deg * M_PI / 360.0);
     double sharpest = 0.0;
     std::optional<Vec> previous_point, previous_step;
     for (const AzEl& direction : track) {
-        const Vec point = unit_vector(direction);
+        const Vec point = unit(direction);
         if (!previous_point) {
             previous_point = point;
             continue;

@@ -55,6 +55,11 @@ Vec plus(const Vec& a, const Vec& b) { return {a[0] + b[0], a[1] + b[1], a[2] + 
 Vec minus(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 Vec unit(const Vec& a) { return scaled(a, 1.0 / std::sqrt(dot(a, a))); }
 
+Vec unit_vector(AzEl p) {
+    const double az = p.az * deg, el = p.el * deg;
+    return {std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el)};
+}
+
 AzEl direction_of(const Vec& v) {
     return {normalize_azimuth(std::atan2(v[0], v[1]) / deg), std::atan2(v[2], std::hypot(v[0], v[1])) / deg};
 }

@@ -280,20 +280,6 @@ TEST_CASE("wrap tracker: a single target just outside the usable travel goes to 
           Approx(360.0));
 }
 
-TEST_CASE("wrap tracker: a pass's first target just past the end of the travel takes the branch with room") {
-    // sso-45 on the G2 (travel -423.33..23.33) through a client without look-ahead at 5 deg: the
-    // dish waits at 19.4 when the first target, (27.63, floor) a minute before the rise, lies 6 deg
-    // past the usable end. Held there, the dish turned the 349 deg to the other branch only once
-    // the orbit showed the pass, as it rose, up to 143 deg off for 6 s.
-    WrapTracker tracker(g2_travel, std::nullopt, {});
-    tracker.note_reading(19.4, t0);
-    const double first = tracker.choose_branch({27.63, 18.0}, std::nullopt, 0.5, 18.0, std::nullopt, std::nullopt);
-    CHECK(first == Approx(27.63 - 360.0));
-    // Mid-pass, the same 6 deg past the end is a client's lead: held (the test above).
-    CHECK(tracker.choose_branch({32.69, 18.0}, AzEl{27.63, 18.0}, 0.5, 18.0, std::nullopt, std::nullopt) ==
-          Approx(32.69 - 360.0));
-}
-
 TEST_CASE("wrap tracker: a reading taken back restores the previous estimate") {
     WrapTracker tracker(g2_travel, std::nullopt, {});
     tracker.note_reading(90.0, t0);

@@ -233,12 +233,8 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         const double beyond = std::max(continuous - plan.max, plan.min - continuous);
         const bool set_below_range = wanted.el <= el_min + same_angle_degrees && pass_.top_el > el_min + 1.0;
         // Only while following a pass: a single target (a park at AZ 0 on the Trav'ler, whose
-        // usable travel starts at 2) goes to its branch inside the travel, however it turns, and so
-        // does the first target of a pass the client holds at the floor until it rises: the unwind
-        // costs nothing yet, and the pass's start rule below finds it room (held, the G2 waited at
-        // its end and turned the 349 deg as sso-45 rose). A new pass's target in the sky is held.
-        const bool waiting_for_rise = pass_starting && wanted.el <= el_min + same_angle_degrees;
-        if (pass_direction_ && !waiting_for_rise && beyond > 0.0 && (beyond <= hold_at_end_degrees || set_below_range)) {
+        // usable travel starts at 2) goes to its branch inside the travel, however it turns.
+        if (pass_direction_ && beyond > 0.0 && (beyond <= hold_at_end_degrees || set_below_range)) {
             const double held = std::clamp(continuous, plan.min, plan.max);
             if (!target_mechanical_ || std::fabs(*target_mechanical_ - held) > same_angle_degrees) {
                 emit(log_, LogLevel::verbose,

@@ -16,6 +16,7 @@
 #include "error_stats.hpp"
 
 using namespace birdcage;
+using namespace std::chrono_literals;
 
 namespace {
 
@@ -153,9 +154,37 @@ TEST_CASE("steering: a dish led past the client's target does not read as a pass
 }
 
 TEST_CASE("steering: the measured leg overhead is what a step took beyond its motion, smoothed") {
-    CHECK(updated_leg_overhead(std::nullopt, 5.0, 3.0, 2) == Approx(1.0));
-    CHECK(updated_leg_overhead(1.0, 3.0, 3.0, 1) == Approx(0.8));    // faster than the motion: 0 overhead
-    CHECK(updated_leg_overhead(0.5, 9.0, 1.0, 0) == Approx(0.5));    // no leg: nothing learnt
+    const Clock::time_point t0 = Clock::time_point{} + std::chrono::hours(1);
+    LegOverheadMeter meter;
+    CHECK_FALSE(meter.overhead_s());
+    meter.start(t0, 2, 3.0);
+    meter.finished(t0 + 5s);
+    CHECK(*meter.overhead_s() == Approx(1.0));
+    meter.start(t0 + 10s, 1, 3.0);
+    meter.finished(t0 + 13s);   // no slower than the motion: 0 overhead, smoothed in
+    CHECK(*meter.overhead_s() == Approx(0.8));
+    meter.start(t0 + 20s, 0, 1.0);   // no leg: nothing to learn
+    meter.finished(t0 + 29s);
+    CHECK(*meter.overhead_s() == Approx(0.8));
+    meter.finished(t0 + 40s);   // no step in progress
+    CHECK(*meter.overhead_s() == Approx(0.8));
+}
+
+TEST_CASE("steering: a step the controller did not run alone is not timed") {
+    // The az-mapping e2e test on the G2: a steered step began, the orbit lost trust, and 19 s of the
+    // client's targets as sent followed before the dish was idle. Timed, that was 19 s of overhead
+    // per leg, and the aims ran 16 deg ahead of the satellite.
+    const Clock::time_point t0 = Clock::time_point{} + std::chrono::hours(1);
+    LegOverheadMeter meter;
+    meter.start(t0, 1, 0.1);
+    meter.finished(t0 + 600ms);
+    REQUIRE(*meter.overhead_s() == Approx(0.5));
+    meter.start(t0 + 1s, 1, 0.09);
+    CHECK(meter.timing());
+    meter.interrupt();
+    CHECK_FALSE(meter.timing());
+    meter.finished(t0 + 20s);
+    CHECK(*meter.overhead_s() == Approx(0.5));
 }
 
 namespace {

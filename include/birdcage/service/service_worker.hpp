@@ -89,7 +89,6 @@ private:
     Status accept_target(AzEl target, Clock::time_point sent_at);
     Status steer();
     void forget_the_pass();
-    void note_step_finished();
     Clock::duration next_period(bool entered_recovery) const;
     void publish(const Status& step, bool talked);
 
@@ -113,13 +112,7 @@ private:
     std::optional<AzEl> aim_;
     std::optional<AzEl> client_target_;   // the last target the client sent, as sent
     std::optional<AzEl> previous_client_target_;   // the one before it (the client's last step)
-    struct TimedStep {
-        Clock::time_point started;
-        int legs = 0;
-        double motion_s = 0.0;   // estimated motor time of those legs
-    };
-    std::optional<TimedStep> timed_step_;
-    std::optional<double> measured_overhead_s_;   // per leg, beyond the motion
+    LegOverheadMeter leg_overhead_;
 
     // Polling and recovery.
     Clock::time_point last_poll_{};

@@ -83,8 +83,32 @@ namespace birdcage {
 double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
                               const std::optional<AzEl>& previous_target, AzEl target, double el_min);
 
-// What one leg costs beyond its motion (exchange, polling), from a timed step: `busy_s` from the
-// aim to the dish idle again, `motion_s` the motor time of its `legs`. Smoothed with `previous`.
-double updated_leg_overhead(std::optional<double> previous, double busy_s, double motion_s, int legs);
+// What one leg costs beyond its motion (exchange, polling, the firmware's start-up delay), timed on
+// steered steps from the aim to the dish idle again, and smoothed. next_aim() aims that much
+// further ahead. Only a step the controller ran alone is timed: whatever else it was given
+// meanwhile (the client's targets as sent once the orbit lost trust, a re-aim before the dish was
+// idle, a receiver job, a stop, a recovery) would be counted as this step's overhead. An
+// untimed G2 step spanned 19 s of such legs and made the aims run 16 deg ahead of the satellite.
+class LegOverheadMeter {
+public:
+    // A steered step of `legs` legs and `motion_s` of motor time starts from an idle dish.
+    void start(Clock::time_point now, int legs, double motion_s);
+    // The controller was given something else: the step in progress proves nothing.
+    void interrupt() { step_.reset(); }
+    // The dish is idle again: the step in progress, if any, is measured.
+    void finished(Clock::time_point now);
+    bool timing() const { return step_.has_value(); }
+    // Per leg, beyond the motion; none before the first step.
+    std::optional<double> overhead_s() const { return overhead_s_; }
+
+private:
+    struct Step {
+        Clock::time_point started;
+        int legs = 0;
+        double motion_s = 0.0;
+    };
+    std::optional<Step> step_;
+    std::optional<double> overhead_s_;
+};
 
 }  // namespace birdcage

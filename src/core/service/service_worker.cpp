@@ -140,6 +140,7 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
     bool ran_job = false;
     if (out.status && mail.job && !mail.home && !controller_->leg_in_flight() && mailbox_.job_started(mail.job)) {
         ran_job = true;
+        leg_overhead_.interrupt();
         out.status = mail.job->work(*controller_);
         mailbox_.job_finished(*mail.job, out.status);
     }
@@ -150,7 +151,9 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
     if (out.status) {
         out.status = controller_->service();
     }
-    note_step_finished();
+    if (controller_->idle()) {
+        leg_overhead_.finished(options_.clock.now());
+    }
     const auto now = options_.clock.now();
     if (!controller_->idle()) {
         // Read the position again shortly after the last leg ends (ServiceTiming).
@@ -253,6 +256,7 @@ Status ServiceWorker::read_position_afresh() {
 
 Status ServiceWorker::resume(AzEl target) {
     aim_.reset();   // the moves in flight were lost: steer again from the estimate
+    leg_overhead_.interrupt();
     // A target posted while the worker was stuck in the failing step or recovering never reached
     // the estimator: take it as new, or the dish would return to the one before it.
     const bool unseen = !client_target_ || client_target_->az != target.az || client_target_->el != target.el;
@@ -289,6 +293,7 @@ void ServiceWorker::choose_mode_from_dish() {
         emit(options_.log, LogLevel::verbose, text);
         pointing_.mode = chosen;
         aim_.reset();
+        leg_overhead_.interrupt();
     }
 }
 
@@ -314,8 +319,10 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at) {
              predictive ? "pointing: the orbit is trusted: predictive steering while it holds"
                         : "pointing: the orbit is no longer trusted: the client's targets as sent");
         aim_.reset();
+        leg_overhead_.interrupt();
     }
     if (!predictive) {
+        leg_overhead_.interrupt();
         return controller_->set_target(target,
                                        azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
                                                               previous_client_target_, target, controller_->el_min()),
@@ -343,7 +350,7 @@ Status ServiceWorker::steer() {
                               controller_->el_min(),
                               controller_->el_max(),
                               pointing_,
-                              measured_overhead_s_.value_or(0.0),
+                              leg_overhead_.overhead_s().value_or(0.0),
                               aim_,
                               client_target_,
                               controller_->last_position()};
@@ -351,9 +358,12 @@ Status ServiceWorker::steer() {
     if (!decision) {
         return Status::ok();
     }
+    // Time this step: what a leg costs beyond its motion (exchange, polling) is measured, not
+    // assumed. A re-aim while the dish still runs the last one ends that measurement unmeasured.
     if (!decision->holding && controller_->idle() && aim_) {
-        // Time this step: what a leg costs beyond its motion (exchange, polling) is measured, not assumed.
-        timed_step_ = TimedStep{now, decision->legs, decision->motion_s};
+        leg_overhead_.start(now, decision->legs, decision->motion_s);
+    } else {
+        leg_overhead_.interrupt();
     }
     aim_ = decision->aim;
     const double az_rate = decision->az_rate != 0.0
@@ -371,18 +381,7 @@ void ServiceWorker::forget_the_pass() {
     aim_.reset();
     client_target_.reset();
     previous_client_target_.reset();
-    timed_step_.reset();
-}
-
-void ServiceWorker::note_step_finished() {
-    if (!timed_step_ || !controller_->idle()) {
-        return;
-    }
-    const TimedStep step = *std::exchange(timed_step_, std::nullopt);
-    const double busy_s = std::chrono::duration<double>(options_.clock.now() - step.started).count();
-    if (step.legs > 0) {
-        measured_overhead_s_ = updated_leg_overhead(measured_overhead_s_, busy_s, step.motion_s, step.legs);
-    }
+    leg_overhead_.interrupt();
 }
 
 Clock::duration ServiceWorker::next_period(bool entered_recovery) const {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 namespace birdcage {
 namespace {
@@ -211,12 +212,18 @@ double azimuth_direction_hint(const std::optional<Prediction>& estimate, const s
     return along_track ? std::copysign(direction_only_rate, step) : 0.0;
 }
 
-double updated_leg_overhead(std::optional<double> previous, double busy_s, double motion_s, int legs) {
-    if (legs <= 0) {
-        return previous.value_or(0.0);
+void LegOverheadMeter::start(Clock::time_point now, int legs, double motion_s) {
+    step_ = legs > 0 ? std::optional<Step>(Step{now, legs, motion_s}) : std::nullopt;
+}
+
+void LegOverheadMeter::finished(Clock::time_point now) {
+    if (!step_) {
+        return;
     }
-    const double overhead = std::max(0.0, (busy_s - motion_s) / legs);
-    return previous ? (1.0 - overhead_smoothing) * *previous + overhead_smoothing * overhead : overhead;
+    const Step step = *std::exchange(step_, std::nullopt);
+    const double busy_s = std::chrono::duration<double>(now - step.started).count();
+    const double overhead = std::max(0.0, (busy_s - step.motion_s) / step.legs);
+    overhead_s_ = overhead_s_ ? (1.0 - overhead_smoothing) * *overhead_s_ + overhead_smoothing * overhead : overhead;
 }
 
 }  // namespace birdcage

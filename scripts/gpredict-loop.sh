@@ -24,6 +24,8 @@
 # Exits 77 (ctest's SKIP_RETURN_CODE) when a needed Debian package is missing.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# shellcheck source=scripts/lib.sh
+. "$root/scripts/lib.sh"
 build=${BIRDCAGE_BUILD_DIR:-$root/build}
 out=""
 thresholds="5 0.5"
@@ -101,17 +103,10 @@ cleanup() {
 }
 trap cleanup EXIT
 
-wait_for() { # wait_for SECONDS COMMAND...
-    local deadline=$((SECONDS + $1)); shift
-    until "$@" 2>/dev/null; do
-        ((SECONDS < deadline)) || return 1
-        sleep 0.2
-    done
-}
 wait_until_wall() { while (($(date +%s) < $1)); do sleep 0.5; done; }
 # Below the ephemeral range, as scripts/lib.sh's free_port() says why.
 next_port=4700
-free_port() { # sets $port; never hands out the same port twice (a lane's servers start later)
+take_port() { # sets $port; never hands out the same port twice (a lane's servers start later)
     while ((next_port < 4900)); do
         port=$next_port; next_port=$((next_port + 1))
         (exec 3<>/dev/tcp/127.0.0.1/"$port") 2>/dev/null || return 0
@@ -219,8 +214,8 @@ for lane in "${lanes[@]}"; do
     dir="$out/threshold-$lane"
     rm -rf "$dir"; mkdir -p "$dir"
     lane_dir[$lane]=$dir
-    free_port; rot_port=$port
-    free_port; proxy_port=$port
+    take_port; rot_port=$port
+    take_port; proxy_port=$port
     write_gpredict_config "$work/$i" "$proxy_port" "$thr" "${min_el[$setting]}" "${max_el[$setting]}"
     "$sim" --variant g2 --link "$work/$i.dish" --az 300 --el 20 >"$dir/sim.log" 2>&1 &
     pids+=($!)
@@ -228,7 +223,7 @@ for lane in "${lanes[@]}"; do
     env LD_PRELOAD="$preload" ASAN_OPTIONS=detect_leaks=0 \
         rotctld -vvvv -m 90105 -C latitude=45.0 -r "$work/$i.dish" -T 127.0.0.1 -t "$rot_port" >"$dir/rotctld.log" 2>&1 &
     pids+=($!)
-    wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$rot_port" ||
+    wait_for_listener 60 "$rot_port" "$!" ||
         { echo "gpredict-loop: rotctld did not start:"; cat "$dir/rotctld.log"; exit 1; }
     "$python" "$helper" proxy --listen "$proxy_port" --upstream "$rot_port" \
         --log "$dir/proxy.log" --poll-log "$dir/positions.log" >"$dir/proxy.err" 2>&1 &

@@ -67,6 +67,7 @@ else
     run_unit birdcage-sim@.service demo
     wait_for 20 test -e /run/birdcage/demo.tty || { echo "FAIL: the emulator made no pty" >&2; exit 1; }
     run_unit birdcage-rotctld@.service demo PORT="$port"
+    wait_for_listener 60 "$port" "${pids[-1]}" || { echo "FAIL: rotctld does not listen on $port" >&2; exit 1; }
 fi
 wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$port" || { echo "FAIL: rotctld does not listen on $port" >&2; exit 1; }
 

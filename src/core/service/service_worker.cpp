@@ -151,14 +151,14 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
     if (out.status) {
         out.status = controller_->service();
     }
-    if (controller_->idle()) {
-        leg_overhead_.finished(options_.clock.now());
-    }
     const auto now = options_.clock.now();
     if (!controller_->idle()) {
         // Read the position again shortly after the last leg ends (ServiceTiming).
         last_poll_ = now - timing_.idle_poll_period + timing_.settle_polls_after_move * timing_.busy_period;
-    } else if (out.status && now - last_poll_ >= timing_.idle_poll_period) {
+        return out;
+    }
+    leg_overhead_.finished(now);
+    if (out.status && now - last_poll_ >= timing_.idle_poll_period) {
         out.talked = true;
         out.status = controller_->query_position().status;
         last_poll_ = now;

@@ -107,11 +107,8 @@ wait_until_wall() { while (($(date +%s) < $1)); do sleep 0.5; done; }
 # Below the ephemeral range, as scripts/lib.sh's free_port() says why.
 next_port=4700
 take_port() { # sets $port; never hands out the same port twice (a lane's servers start later)
-    while ((next_port < 4900)); do
-        port=$next_port; next_port=$((next_port + 1))
-        (exec 3<>/dev/tcp/127.0.0.1/"$port") 2>/dev/null || return 0
-    done
-    echo "gpredict-loop: no free port" >&2; return 1
+    port=$(free_port "$next_port" 4899) || return 1
+    next_port=$((port + 1))
 }
 
 # Gpredict's configuration, as a user would set it up (docs/gpredict.md lists the same settings).

@@ -61,6 +61,7 @@ if [[ -d /run/systemd/system ]]; then
     echo "== systemctl start birdcage-sim@demo birdcage-rotctld@demo"
     systemctl start birdcage-sim@demo birdcage-rotctld@demo
     port=4533
+    wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$port" || { echo "FAIL: rotctld does not listen on $port" >&2; exit 1; }
 else
     echo "== no systemd here (PID 1 is $(ps -p 1 -o comm=)): the units' ExecStart lines by hand"
     port=$(free_port 4650 4699)
@@ -69,7 +70,6 @@ else
     run_unit birdcage-rotctld@.service demo PORT="$port"
     wait_for_listener 60 "$port" "${pids[-1]}" || { echo "FAIL: rotctld does not listen on $port" >&2; exit 1; }
 fi
-wait_for 60 bash -c "exec 3<>/dev/tcp/127.0.0.1/$port" || { echo "FAIL: rotctld does not listen on $port" >&2; exit 1; }
 
 echo "== rotctl -m 2 -r 127.0.0.1:$port P 180 40, then p"
 rotctl -m 2 -r "127.0.0.1:$port" P 180 40

@@ -352,6 +352,10 @@ double documented_boot_seconds(Variant variant, const Options& o)
     az.startup_delay = el.startup_delay = o.motor.startup_delay;
     switch (variant) {
     case Variant::carryout_g2:
+        // The captured boot does not home and takes g2_boot_seconds (§6.2), plus a line gap for
+        // each of the at most 8 extra lines drawn below.
+        if (o.g2_console == G2Console::captured)
+            return std::max(o.g2_boot_seconds, 0.1 + 24 * o.boot_line_gap + o.late_boot_line_delay) + 8 * o.boot_line_gap;
         return 0.5 + Axis::move_time(el, 65.0) + Axis::move_time(az, 446.66) + Axis::move_time(az, 23.33) +
                12 * o.boot_line_gap + o.late_boot_line_delay;
     case Variant::carryout2003: return 2.0 + Axis::move_time(el, 70.0) + Axis::move_time(az, 360.0);
@@ -359,10 +363,13 @@ double documented_boot_seconds(Variant variant, const Options& o)
     }
 }
 
-std::size_t documented_boot_lines(Variant variant)
+std::size_t documented_boot_lines(Variant variant, const Options& o)
 {
     switch (variant) {
-    case Variant::carryout_g2: return 12;   // §6.2, as variants.cpp prints them with boot homing
+    case Variant::carryout_g2:
+        // §6.2, as variants.cpp prints them: the captured boot's 25 lines (no homing), or the
+        // reconstruction's 12 with boot homing.
+        return o.g2_console == G2Console::captured ? 25 : 12;
     case Variant::carryout2003: return 0;   // a blank screen (§8.1)
     case Variant::travler_pro: return 0;    // nothing documented; variants.cpp prints none
     default: return 1;                      // NoGPS / No LNB Voltage (§3.2, §4.2)
@@ -371,7 +378,7 @@ std::size_t documented_boot_lines(Variant variant)
 
 std::vector<ExtraBootLine> draw_boot(Draw& draw, Variant variant, const Options& o, std::ostringstream& said)
 {
-    const std::size_t documented = documented_boot_lines(variant);
+    const std::size_t documented = documented_boot_lines(variant, o);
     std::vector<ExtraBootLine> extras;
     if (documented > 0) {
         const int banners = draw.integer(0, 3);
@@ -494,20 +501,27 @@ Dialect draw_dialect(Variant variant, std::uint32_t seed)
     }
     // The G2 prints no space after its prompts (`TRK>nvs`, §6.1).
     if (variant != Variant::carryout_g2) o.prompt_space = draw.chance(0.4);
-    o.unknown_command_reply = draw.pick<const char*>({"Unknown command", "", "?", "Invalid command",
-                                                      "Bad command: type ? for help", "ERR", "Command not found"});
-    o.position_decimals = draw.weighted<int>({{2, 7}, {1, 1}, {3, 2}});
-    o.position_indent = draw.chance(0.2) ? draw.integer(1, 4) : 0;
+    // The G2 is mostly the captured console, whose error text, decimals and indentation are known
+    // (§6.3); one in four draws is the reconstruction, where they stay open.
+    const bool captured_g2 = variant == Variant::carryout_g2 && draw.chance(0.75);
+    if (variant == Variant::carryout_g2) o.g2_console = captured_g2 ? G2Console::captured : G2Console::reconstructed;
+    if (!captured_g2) {
+        o.unknown_command_reply = draw.pick<const char*>({"Unknown command", "", "?", "Invalid command",
+                                                          "Bad command: type ? for help", "ERR", "Command not found"});
+        o.position_decimals = draw.weighted<int>({{2, 7}, {1, 1}, {3, 2}});
+        o.position_indent = draw.chance(0.2) ? draw.integer(1, 4) : 0;
+    }
     if (is_travler(variant) && draw.chance(0.2)) o.travler_position_layout = TravlerPositionLayout::line_per_axis;
     if (variant == Variant::travler_hal205) {
         o.hal205_boot_marker = draw.chance(0.5) ? BootMarker::no_gps : BootMarker::no_lnb_voltage;
         o.hal205_accepts_mot = draw.chance(0.3);
     }
+    if (variant == Variant::carryout_g2) said << "g2_console: " << (captured_g2 ? "captured" : "reconstructed") << "\n";
     said << "echo: " << (o.echo ? "yes" : "no") << "\nline_ending: " << line_ending_name(o.line_ending)
          << "\nprompt: " << (o.prompt_style == PromptStyle::named || variant == Variant::carryout_g2 ? "named" : "bare")
          << ", prefix \"" << o.prompt_prefix << "\", space " << (o.prompt_space ? "yes" : "no")
-         << "\nunknown_command_reply: \"" << o.unknown_command_reply << "\"\nposition: " << o.position_decimals
-         << " decimals, indent " << o.position_indent << ", "
+         << "\nunknown_command_reply: \"" << o.unknown_command_reply.value_or(captured_g2 ? "Invalid command" : "Unknown command")
+         << "\"\nposition: " << o.position_decimals << " decimals, indent " << o.position_indent.value_or(captured_g2 ? 4 : 0) << ", "
          << (o.travler_position_layout == TravlerPositionLayout::one_line ? "one line" : "line per axis") << "\n";
     if (variant == Variant::travler_hal205)
         said << "hal205: marker " << (o.hal205_boot_marker == BootMarker::no_gps ? "NoGPS" : "No LNB Voltage")
@@ -518,7 +532,8 @@ Dialect draw_dialect(Variant variant, std::uint32_t seed)
         o.help_layout = HelpLayout::generated;
         o.help_grammar = draw_help(draw, said);
     } else {
-        said << "help: documented (`Enter <cmd> - ...`, §6.3)\n";
+        said << (captured_g2 ? "help: captured (`Available commands:`, §6.3)\n"
+                             : "help: reconstructed (`Enter <cmd> - ...`, §6.3)\n");
     }
 
     draw_motor(draw, variant, o, said);

@@ -160,7 +160,28 @@ void Engine::print_prompt()
 
 void Engine::unknown_command()
 {
-    if (!options.unknown_command_reply.empty()) print_line(options.unknown_command_reply);
+    // The captured G2's text (§6.3); every other console's is unknown (§14 HAL0.4: INVENTED).
+    const std::string reply = options.unknown_command_reply.value_or(captured_g2() ? "Invalid command" : "Unknown command");
+    if (!reply.empty()) print_line(reply);
+}
+
+void Engine::invalid_params()
+{
+    if (captured_g2() && !options.unknown_command_reply) {
+        print_line("Invalid params");  // §6.3: a setter without its arguments
+        return;
+    }
+    unknown_command();
+}
+
+std::size_t Engine::reply_indent() const
+{
+    return static_cast<std::size_t>(std::clamp(options.position_indent.value_or(captured_g2() ? 4 : 0), 0, 16));
+}
+
+HelpLayout Engine::help_layout() const
+{
+    return options.help_layout.value_or(captured_g2() ? HelpLayout::available : HelpLayout::described);
 }
 
 double Engine::displayed_az() const { return normalize_360(motors.axis(axis_az).position()); }
@@ -212,7 +233,15 @@ void Engine::feed(std::string_view bytes)
 // The shell is single-threaded: typed bytes wait while a command is still running (§6.1).
 void Engine::process_pending()
 {
-    while (busy.kind == Busy::Kind::none && shell_alive && !booting_ && !pending_.empty()) {
+    while (shell_alive && !booting_ && !pending_.empty()) {
+        if (busy.kind == Busy::Kind::stream) {
+            // A streaming command reads the UART itself: the next byte ends it and is consumed
+            // (§6.3: "run until CR interrupts"); an endless one (PEAK `ts`) swallows everything.
+            pending_.erase(0, 1);
+            if (!busy.endless) end_stream();
+            continue;
+        }
+        if (busy.kind != Busy::Kind::none) break;
         const char byte = pending_.front();
         pending_.erase(0, 1);
         if (byte == '\r' || byte == '\n') {
@@ -235,7 +264,7 @@ void Engine::execute(const std::string& line)
     }
     const Menu& menu = *menus.back();
     const std::string_view word = args.front();
-    if (word == "q") {
+    if (word == "q" || (word == "Q" && captured_g2())) {  // the captured root answers `Q` too (§6.3)
         quit();
         return;
     }
@@ -277,10 +306,14 @@ void Engine::quit()
     }
     if (menus.size() == 1 && profile.root_q_kills_shell) {
         count_hazard();
-        if (options.g2_root_q_kills_shell) {
-            // birdcage's console probe looks for this text after a root `q` (§14 G2.2); not a capture.
-            kill_shell("Terminating shell");
-            return;
+        // `Terminating shell.` is what the captured G2 prints when interrupting DVB `ls` ends a
+        // shell (§6.5); the reconstruction's text, without the dot, is what the predecessor's
+        // probe looked for (§14 G2.2).
+        const char* last_words = captured_g2() ? "Terminating shell." : "Terminating shell";
+        switch (options.g2_root_q) {
+        case G2RootQ::kill: kill_shell(last_words); return;
+        case G2RootQ::restart: print_line(last_words); break;
+        case G2RootQ::harmless: break;
         }
     }
     print_prompt();
@@ -297,7 +330,21 @@ void Engine::help()
         if (!command.listed || (command.available != nullptr && !command.available(options))) continue;
         entries.push_back({std::string(command.word), command.help});
     }
-    if (options.help_layout == HelpLayout::generated) {
+    const HelpLayout layout = help_layout();
+    if (layout == HelpLayout::available) {
+        // The captured MOT> listing (§6.3): a title, then each word in a 14-column field after
+        // three spaces, then its description; no `q` or `?` entry.
+        print_line("Available commands:");
+        for (Entry& entry : entries) {
+            if (options.help_upper_case)
+                for (char& c : entry.word) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+            std::string row = "   " + entry.word;
+            row.append(entry.word.size() < 14 ? 14 - entry.word.size() : 1, ' ');
+            print_line(row + std::string(entry.text));
+        }
+        return;
+    }
+    if (layout == HelpLayout::generated) {
         std::vector<HelpEntry> generated;
         for (const Entry& entry : entries) generated.push_back({entry.word, std::string(entry.text)});
         for (const std::string& line : render_help(options.help_grammar, menus.back()->prompt_name, generated))
@@ -305,7 +352,7 @@ void Engine::help()
         return;
     }
     entries.push_back({"q", "Quit this menu"});  // INVENTED description
-    if (options.help_layout != HelpLayout::described) entries.push_back({"?", "Help"});  // INVENTED
+    if (layout != HelpLayout::described) entries.push_back({"?", "Help"});  // INVENTED
     std::size_t width = 0;
     for (Entry& entry : entries) {
         if (options.help_upper_case)
@@ -314,7 +361,7 @@ void Engine::help()
     }
     std::string joined;
     for (const Entry& entry : entries) {
-        switch (options.help_layout) {
+        switch (layout) {
         case HelpLayout::described:
             print_line("Enter <" + entry.word + "> - " + std::string(entry.text));
             break;
@@ -322,19 +369,20 @@ void Engine::help()
         case HelpLayout::one_line:
         case HelpLayout::comma_line:
         case HelpLayout::labelled_line:
-            if (joined.empty() && options.help_layout == HelpLayout::labelled_line) joined = "Commands:";
-            if (!joined.empty()) joined += options.help_layout == HelpLayout::comma_line ? ", " : " ";
+            if (joined.empty() && layout == HelpLayout::labelled_line) joined = "Commands:";
+            if (!joined.empty()) joined += layout == HelpLayout::comma_line ? ", " : " ";
             joined += entry.word;
             break;
         case HelpLayout::colon_table:
             print_line(entry.word + std::string(width - entry.word.size(), ' ') + " : " + std::string(entry.text));
             break;
         case HelpLayout::tab_table: print_line(entry.word + "\t" + std::string(entry.text)); break;
+        case HelpLayout::available:
         case HelpLayout::generated: break;  // rendered above
         }
     }
     if (!joined.empty()) print_line(joined);
-    if (options.help_layout == HelpLayout::described) print_line("help [<command>]");  // §6.3
+    if (layout == HelpLayout::described) print_line("help [<command>]");  // the predecessor's, §6.3
 }
 
 void Engine::kill_shell(std::string_view last_words)
@@ -363,6 +411,22 @@ void Engine::start_goto(std::function<void(Engine&)> finish)
     busy = {Busy::Kind::goto_move, 0.0, now, std::move(finish)};
 }
 
+void Engine::start_stream(double period, bool drop_to_root, std::function<void(Engine&)> line, bool endless)
+{
+    busy = {Busy::Kind::stream, now + period, 0.0, std::move(line), period, drop_to_root, endless};
+}
+
+void Engine::end_stream()
+{
+    const bool drop = busy.drop_to_root;
+    busy = {};
+    if (drop) {
+        print_line("Terminating shell.");  // §6.5: DVB `ls`, PEAK `rssits`
+        menus.resize(1);
+    }
+    print_prompt();
+}
+
 void Engine::finish_busy()
 {
     auto finish = std::move(busy.finish);
@@ -377,6 +441,12 @@ void Engine::run_busy()
     case Busy::Kind::none: return;
     case Busy::Kind::until_time:
         if (now >= busy.until - 1e-9) finish_busy();
+        return;
+    case Busy::Kind::stream:
+        if (now >= busy.until - 1e-9) {
+            busy.until += busy.period;
+            if (busy.finish) busy.finish(*this);
+        }
         return;
     case Busy::Kind::goto_move:
     case Busy::Kind::until_idle:
@@ -408,7 +478,8 @@ void Engine::start_boot()
     nvs_cursor = -1;
     lnb_supply = LnbSupply::stb_18v;
     stall_arms_ = {};  // an injected stall meant for the interrupted move does not hit homing
-    if (profile.needs_homing) homed = {false, false};
+    const bool keeps_calibration = options.g2_boot_calibrated.value_or(options.g2_console == G2Console::captured);
+    if (profile.needs_homing && !keeps_calibration) homed = {false, false};
     boot_steps_ = with_extra_boot_lines(profile.boot_script(*this), options.boot_extra);
     boot_index_ = 0;
     boot_resume_at_ = now;
@@ -429,9 +500,10 @@ void Engine::run_boot()
             print_line(step.text);
             // The gap separates one line from the next; a pause or a move sets its own time, and
             // the last line ends the boot at once: a client may answer it straight away (§3.6).
-            if (boot_index_ < boot_steps_.size() && boot_steps_[boot_index_].kind == BootStep::Kind::line)
+            if (!step.burst && boot_index_ < boot_steps_.size() && boot_steps_[boot_index_].kind == BootStep::Kind::line)
                 boot_resume_at_ = now + options.boot_line_gap;
             break;
+        case BootStep::Kind::raw: print(step.text); break;
         case BootStep::Kind::move: motors.enqueue(step.axis, step.target); break;
         case BootStep::Kind::home: homed[step.axis] = true; break;
         case BootStep::Kind::pause: boot_resume_at_ = now + step.seconds; break;

@@ -56,12 +56,14 @@ enum class SearchStop {
 
 struct BootStep {
     // ready: the completion line is out; from here input is kept for the shell (late lines follow).
-    enum class Kind { line, move, home, pause, ready };
+    // raw: bytes with no line ending (the captured G2's binary bursts).
+    enum class Kind { line, raw, move, home, pause, ready };
     Kind kind;
-    std::string text;         // line
+    std::string text;         // line, raw
     std::size_t axis = 0;     // move, home
     double target = 0.0;      // move (mechanical degrees)
     double seconds = 0.0;     // pause
+    bool burst = false;       // line: the next step follows at once (no boot_line_gap)
 };
 
 struct VariantProfile {
@@ -103,11 +105,16 @@ std::vector<std::string> render_help(const HelpGrammar& grammar, std::string_vie
                                      std::vector<HelpEntry> entries);
 
 struct Busy {
-    enum class Kind { none, until_idle, until_time, goto_move };
+    // stream: `finish` prints one line every `period` seconds until any byte arrives; then the
+    // stream ends at the prompt, or (drop_to_root) with `Terminating shell.` at the root.
+    enum class Kind { none, until_idle, until_time, goto_move, stream };
     Kind kind = Kind::none;
     double until = 0.0;
     double next_live_line = 0.0;
     std::function<void(Engine&)> finish;  // prints the rest of the reply and the prompt
+    double period = 0.0;        // stream
+    bool drop_to_root = false;  // stream
+    bool endless = false;       // stream: input does not end it (only a power cycle does)
 };
 
 struct Engine {
@@ -125,6 +132,15 @@ struct Engine {
 
     // --- shared behaviour used by handlers ----------------------------------------------
     void unknown_command();
+    // A known command with missing or bad arguments: the captured G2's `Invalid params`; elsewhere
+    // the unknown-command reply (no other console's text is known).
+    void invalid_params();
+    bool captured_g2() const
+    {
+        return profile.variant == Variant::carryout_g2 && options.g2_console == G2Console::captured;
+    }
+    std::size_t reply_indent() const;  // Options::position_indent, or the console's
+    HelpLayout help_layout() const;    // Options::help_layout, or the console's
     void count_hazard() { ++hazards; }
     void kill_shell(std::string_view last_words);  // console dead until power cycle
     void reboot();
@@ -134,6 +150,8 @@ struct Engine {
     void wait_until_idle(std::function<void(Engine&)> finish);
     void wait_for(double seconds, std::function<void(Engine&)> finish);
     void start_goto(std::function<void(Engine&)> finish);
+    // A streaming command (`line` every `period` seconds until input, see Busy::Kind::stream).
+    void start_stream(double period, bool drop_to_root, std::function<void(Engine&)> line, bool endless = false);
     // Fault injection: the move of `axis` (AZ or EL) in progress, or its next one, stalls
     // halfway: the axis stops dead, queued moves are dropped, `AZ/EL MOTOR STALLED` (§6.3).
     void inject_motor_stall(std::size_t axis);
@@ -180,6 +198,7 @@ private:
     void finish_boot();
     void apply_nvs_limits();
     void finish_busy();
+    void end_stream();
     void run_stalls();
     void run_idle_line();
     void run_line(double dt);

@@ -10,7 +10,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
+#include <memory>
 #include <string>
+#include <utility>
 
 namespace birdcage::sim::handlers {
 namespace {
@@ -54,7 +56,7 @@ std::string field(Engine& e, const char* label, double value)
 void print_position(Engine& e)
 {
     const double el = e.motors.axis(axis_el).position();
-    const std::string indent(static_cast<std::size_t>(std::clamp(e.options.position_indent, 0, 16)), ' ');
+    const std::string indent(e.reply_indent(), ' ');
     if (e.profile.position_format == PositionFormat::travler) {
         // §3.3: `AZ = ` / `EL = ` with one space before '='.
         const std::string az = field(e, "AZ = ", e.reported_az());
@@ -137,6 +139,16 @@ std::optional<double> resolve_target(Engine& e, std::size_t axis, double value, 
     return relative ? base + value : value;
 }
 
+// Options::g2_overshoot: the captured settling error (§6.4), AZ +0.01 / -0.02 and EL +0.05 / -0.06
+// for moves up / down, applied to where the motor stops (the acknowledgement shows the target).
+double with_overshoot(const Engine& e, std::size_t axis, double target)
+{
+    if (!e.options.g2_overshoot || e.profile.variant != Variant::carryout_g2 || axis > axis_el) return target;
+    const bool upward = target >= e.motors.axis(axis).target();
+    const double error = axis == axis_az ? (upward ? 0.01 : -0.02) : (upward ? 0.05 : -0.06);
+    return target + error;
+}
+
 std::optional<std::size_t> parse_axis(Engine& e, std::string_view text)
 {
     const auto id = parse_int(text);
@@ -164,21 +176,33 @@ void angle(Engine& e, const Args& args)
         }
         return;
     }
+    if (args.size() == 2 && e.captured_g2()) {
+        // `a [[[motor] [[+|-]angle]]]` (the captured listing): one motor's line (INF).
+        const auto axis = parse_axis(e, args[1]);
+        if (!axis) {
+            e.invalid_params();
+            return;
+        }
+        const double value = *axis == axis_az ? e.reported_az() : e.motors.axis(axis_el).position();
+        e.print_line(std::string(e.reply_indent(), ' ') +
+                     field(e, *axis == axis_az ? "Angle[0] = " : "Angle[1] = ", e.homed[*axis] ? value : unhomed_angle));
+        return;
+    }
     const auto axis = args.size() == 3 ? parse_axis(e, args[1]) : std::nullopt;
     const auto value = args.size() == 3 ? parse_number(args[2]) : std::nullopt;
     if (!axis || !value) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
     if (refuse_if_unhomed(e, *axis)) return;
     const bool relative = e.profile.relative_moves && (args[2].front() == '+' || args[2].front() == '-');
     const auto target = resolve_target(e, *axis, *value, relative);
     if (!target) return;
-    e.motors.enqueue(*axis, *target);
+    e.motors.enqueue(*axis, with_overshoot(e, *axis, *target));
     if (e.profile.move_ack_angle) {
         double shown = *target;
         if (*axis == axis_az && e.options.az_report == AzReport::displayed) shown = normalize_360(shown);
-        e.print_line(field(e, "Angle = ", shown));
+        e.print_line(std::string(e.reply_indent(), ' ') + field(e, "Angle = ", shown));
     }
     if (e.options.move_ack == MoveAck::after_motion) e.wait_until_idle(nullptr);
 }
@@ -187,14 +211,14 @@ void go_to(Engine& e, const Args& args)
 {
     const bool with_skew = e.profile.position_format == PositionFormat::travler && args.size() == 4;
     if (args.size() != 3 && !with_skew) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
     const auto az = parse_number(args[1]);
     const auto el = parse_number(args[2]);
     const auto skew = with_skew ? parse_number(args[3]) : std::optional<double>(0.0);
     if (!az || !el || !skew) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
     if (refuse_if_unhomed(e, axis_az) || refuse_if_unhomed(e, axis_el)) return;
@@ -208,14 +232,68 @@ void go_to(Engine& e, const Args& args)
     e.start_goto(e.profile.live_goto_output ? print_live_position : nullptr);
 }
 
+namespace {
+
+// The captured homing output (§6.3, `h *`): each axis announces itself, runs to its stop and
+// reports; AZ runs to the top of its travel, then back to its zero.
+void print_az_home_report(Engine& e)
+{
+    if (e.options.home_report == HomeReport::g2plus_status) {
+        e.print_line("AZ - Angle: 1 Wrap: 0");  // §7.1: shape inferred from mjlangan's regex
+    } else {
+        e.print_line(format("home:0  wrap_pos:0  wrap_min:%ld  wrap_max:%ld", centi(e.profile.az.min), centi(e.profile.az.max)));
+    }
+}
+
+void home_az_captured(Engine& e)
+{
+    e.print_line("MotorHome:0 timeout:8000");
+    e.print_line("Home TwelInch Az");
+    e.motors.enqueue(axis_az, e.profile.az.max);
+    e.homed[axis_az] = true;
+    e.wait_until_idle([](Engine& engine) {
+        engine.print_line("End MotorAzStall:part1");
+        engine.motors.enqueue(axis_az, engine.profile.home_az);
+        engine.wait_until_idle([](Engine& done) {
+            done.print_line("Antenna Facing Front");
+            print_az_home_report(done);
+        });
+    });
+}
+
+void home_captured(Engine& e, bool home_el, bool home_az)
+{
+    if (!home_el) {
+        home_az_captured(e);
+        return;
+    }
+    e.print_line("MotorHome:1 timeout:2000");
+    e.print_line(format("Home TwelInch El   Velocity: %ld", centi(e.motors.axis(axis_el).params().max_velocity)));
+    e.motors.enqueue(axis_el, e.profile.home_el);
+    e.homed[axis_el] = true;
+    e.wait_until_idle([home_az](Engine& engine) {
+        engine.print_line("EL Stall Timeout");
+        engine.print_line(format("El Home Angle: %ld", centi(engine.profile.home_el)));
+        if (!home_az) return;
+        engine.print_line("");
+        home_az_captured(engine);
+    });
+}
+
+}  // namespace
+
 void home(Engine& e, const Args& args)
 {
     if (args.size() != 2 || !(args[1] == "0" || args[1] == "1" || args[1] == "*")) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
     const bool home_el = args[1] != "0";
     const bool home_az = args[1] != "1";
+    if (e.captured_g2()) {
+        home_captured(e, home_el, home_az);
+        return;
+    }
     if (home_el) {
         e.motors.enqueue(axis_el, e.profile.home_el);
         e.homed[axis_el] = true;
@@ -237,18 +315,49 @@ void home(Engine& e, const Args& args)
     });
 }
 
-void step_positions(Engine& e, const Args&)
+namespace {
+
+// The step counter of the angle `a` shows: the capture's `p` reads 19998 where `a` reads 179.98
+// (§6.3), although 179.98 lies outside the travel the homing report gives (§6.4).
+long motor_steps(const Engine& e, std::size_t axis)
 {
-    const auto steps = [&](std::size_t axis) {
-        const Axis& motor = e.motors.axis(axis);
-        return std::lround(motor.position() / 360.0 * motor.params().steps_per_rev);
-    };
-    e.print_line(format("Position[0] = %ld  Position[1] = %ld", steps(axis_az), steps(axis_el)));
+    const Axis& motor = e.motors.axis(axis);
+    const double angle = axis == axis_az ? e.reported_az() : motor.position();
+    return std::lround(angle / 360.0 * motor.params().steps_per_rev);
+}
+
+}  // namespace
+
+// MOT `p`: the step counters; `p <motor> <pos>` goes to a step position (the captured listing's
+// "Go To Position [motor] [pos]"). The reply's text is the capture's paraphrase (§6.3), its
+// indentation that of the captured one-line MOT replies (INF).
+void step_positions(Engine& e, const Args& args)
+{
+    if (args.size() > 1 && e.captured_g2()) {
+        const auto axis = args.size() == 3 ? parse_axis(e, args[1]) : std::nullopt;
+        const auto steps = args.size() == 3 ? parse_number(args[2]) : std::nullopt;
+        if (!axis || !steps) {
+            e.invalid_params();
+            return;
+        }
+        if (refuse_if_unhomed(e, *axis)) return;
+        const auto target = resolve_target(e, *axis, *steps * 360.0 / e.motors.axis(*axis).params().steps_per_rev, false);
+        if (target) e.motors.enqueue(*axis, *target);
+        return;
+    }
+    e.print_line(std::string(e.reply_indent(), ' ') +
+                 format("Position[0] = %ld  Position[1] = %ld", motor_steps(e, axis_az), motor_steps(e, axis_el)));
 }
 
 void max_velocity(Engine& e, const Args& args)
 {
     if (args.size() > 1) return;  // setting is accepted but not modelled
+    if (e.captured_g2()) {  // §6.3, the capture's paraphrase: one line, one decimal
+        e.print_line(std::string(e.reply_indent(), ' ') +
+                     format("Max Vel[0] = %.1f  Max Vel[1] = %.1f", e.motors.axis(axis_az).params().max_velocity,
+                            e.motors.axis(axis_el).params().max_velocity));
+        return;
+    }
     e.print_line(format("Max Vel [0] = %.2f", e.motors.axis(axis_az).params().max_velocity));
     e.print_line(format("Max Vel [1] = %.2f", e.motors.axis(axis_el).params().max_velocity));
 }
@@ -256,21 +365,74 @@ void max_velocity(Engine& e, const Args& args)
 void max_accel(Engine& e, const Args& args)
 {
     if (args.size() > 1) return;
+    if (e.captured_g2()) {
+        e.print_line(std::string(e.reply_indent(), ' ') +
+                     format("Accel[0] = %.1f  Accel[1] = %.1f", e.motors.axis(axis_az).params().max_accel,
+                            e.motors.axis(axis_el).params().max_accel));
+        return;
+    }
     e.print_line(format("Accel[0] = %.2f", e.motors.axis(axis_az).params().max_accel));
     e.print_line(format("Accel[1] = %.2f", e.motors.axis(axis_el).params().max_accel));
 }
 
 void el_min_max_home(Engine& e, const Args&)
 {
-    e.print_line(format("Min: %ld  Max: %ld  Home: %ld", centi(e.el_limit_min()), centi(e.el_limit_max()),
+    e.print_line(std::string(e.captured_g2() ? e.reply_indent() : 0, ' ') +
+                 format("Min: %ld  Max: %ld  Home: %ld", centi(e.el_limit_min()), centi(e.el_limit_max()),
                         centi(e.profile.home_el)));
+}
+
+// `ela2s <angle>` / `els2a <steps>`: the linear law the capture found (24960 steps per turn,
+// angles held to the limits with a `Min:`/`Max:` warning, steps truncated). Reply text INVENTED.
+void el_angle_to_steps(Engine& e, const Args& args)
+{
+    const auto angle = args.size() == 2 ? parse_number(args[1]) : std::nullopt;
+    if (!angle) {
+        e.invalid_params();
+        return;
+    }
+    double held = *angle;
+    if (held < e.el_limit_min()) {
+        e.print_line(format("Min: %ld", centi(e.el_limit_min())));
+        held = e.el_limit_min();
+    } else if (held > e.el_limit_max()) {
+        e.print_line(format("Max: %ld", centi(e.el_limit_max())));
+        held = e.el_limit_max();
+    }
+    const int per_turn = e.motors.axis(axis_el).params().steps_per_rev;
+    e.print_line(std::string(e.reply_indent(), ' ') + format("Steps = %ld", static_cast<long>(held * per_turn / 360.0)));
+}
+
+void el_steps_to_angle(Engine& e, const Args& args)
+{
+    const auto steps = args.size() == 2 ? parse_number(args[1]) : std::nullopt;
+    if (!steps) {
+        e.invalid_params();
+        return;
+    }
+    const int per_turn = e.motors.axis(axis_el).params().steps_per_rev;
+    e.print_line(std::string(e.reply_indent(), ' ') + format("Angle = %.2f", *steps * 360.0 / per_turn));
+}
+
+// A command that needs arguments (§6.3: `st` without them answers `Invalid params`); with them it
+// is accepted and, in this emulator, has no effect (motor tests, PID, wrap and position registers,
+// velocity modes, DiSEqC packets: no client of this project uses them).
+void setter(Engine& e, const Args& args)
+{
+    if (args.size() < 2) e.invalid_params();
 }
 
 void silent(Engine&, const Args&) {}
 
-// §6.3: "list motors: 0 AZIMUTH, 1 ELEVATION"; one motor per line is INVENTED.
 void list_motors(Engine& e, const Args&)
 {
+    if (e.captured_g2()) {  // §6.3, verbatim
+        e.print_line("Motors:");
+        e.print_line("    0 - AZIMUTH: local");
+        e.print_line("    1 - ELEVATION: local");
+        return;
+    }
+    // The reconstruction: "list motors: 0 AZIMUTH, 1 ELEVATION", one per line INVENTED.
     e.print_line("0 AZIMUTH");
     e.print_line("1 ELEVATION");
 }
@@ -304,7 +466,7 @@ void nvs_edit(Engine& e, const Args& args)
     const auto index = args.size() >= 2 ? parse_int(args[1]) : std::nullopt;
     NvsEntry* entry = index ? e.nvs.find(*index) : nullptr;
     if (entry == nullptr || args.size() > 3) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
     e.nvs_cursor = entry->index;
@@ -315,7 +477,7 @@ void nvs_edit(Engine& e, const Args& args)
     e.count_hazard();
     const auto value = NvsTable::parse_value(*entry, args[2]);
     if (!value) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
     const double old_value = entry->current;
@@ -366,7 +528,7 @@ void os_tasks(Engine& e, const Args&)
 void os_kill(Engine& e, const Args& args)
 {
     if (args.size() != 2) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
     if (args[1] == "Search" && e.profile.search_stop == SearchStop::os_kill && e.search) e.stop_search();
@@ -394,7 +556,7 @@ void dvb_rssi(Engine& e, const Args& args)
 {
     const auto count = args.size() >= 2 ? parse_int(args[1]) : std::optional<int>(1);
     if (!count || *count < 1 || args.size() > 2) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
     const int reads = std::min(*count, 100000);
@@ -419,7 +581,7 @@ void dvb_lnbdc(Engine& e, const Args& args)
     } else if (args.size() == 2 && args[1] == "stb") {
         e.lnb_supply = LnbSupply::stb_18v;
     } else {
-        e.unknown_command();
+        e.invalid_params();
     }
 }
 
@@ -432,7 +594,78 @@ void dvb_config(Engine& e, const Args&)
 
 void dvb_quick_lock(Engine& e, const Args&)
 {
-    e.print_line(format("Lock:0  rssi:%d  cnt:0", e.sky.read(e.displayed_az(), e.motors.axis(axis_el).position(), e.lnb_supply)));
+    const auto line = [](Engine& engine) {
+        engine.print_line(format("Lock:0  rssi:%d  cnt:0", engine.sky.read(engine.displayed_az(),
+                                                                           engine.motors.axis(axis_el).position(), engine.lnb_supply)));
+    };
+    if (!e.captured_g2()) {  // the reconstruction printed one line
+        line(e);
+        return;
+    }
+    line(e);
+    e.start_stream(0.1, false, line);  // §6.3: streams about every 100 ms until interrupted
+}
+
+// DVB/PEAK streaming commands (§6.3, §6.5): a line per period until a byte arrives. `ls` and
+// `rssits` end the submenu's shell when interrupted (`Terminating shell.`, back at TRK>). Line
+// texts are the capture's samples; periods INVENTED except `rssits` (a minute).
+void dvb_stream(Engine& e, const Args& args)
+{
+    const std::string_view word = args.front();
+    const auto rssi = [](Engine& engine) {
+        return engine.sky.read(engine.displayed_az(), engine.motors.axis(axis_el).position(), engine.lnb_supply);
+    };
+    auto reads = std::make_shared<long>(0);
+    if (word == "snr") {
+        e.start_stream(0.1, false, [reads](Engine& en) { en.print_line(format("Reads:%ld  SNR[avg: 0.0  cur: 0.0]", ++*reads)); });
+    } else if (word == "agc") {
+        e.start_stream(0.1, false, [reads](Engine& en) {
+            en.print_line(format("Reads:%ld  RF_AGC[avg: 1327353088  cur: 1327353088] IF_AGC[avg: 2684354560  cur: "
+                                 "2684354560]  SNR: 0.0  NID: FFFF/none", ++*reads));
+        });
+    } else if (word == "lnbv") {
+        e.start_stream(0.1, false, [reads](Engine& en) {
+            const bool low = en.lnb_supply == LnbSupply::odu_13v;
+            en.print_line(format("Reads:%ld  LNB Voltage (mV): %d  ( ADC value: %d )", ++*reads, low ? 13182 : 18204, low ? 118 : 163));
+        });
+    } else if (word == "nid") {
+        e.start_stream(0.1, false, [](Engine& en) { en.print("nid: FFFF/none\r"); });  // overwritten in place
+    } else if (word == "stats") {
+        e.start_stream(0.1, false, nullptr);  // silent without a lock
+    } else if (word == "ls") {
+        e.count_hazard();
+        e.start_stream(0.5, true, [reads](Engine& en) {
+            en.print_line(format("Xp:%ld  Freq:974000 SymRate:20000 Mode:blind_scan no_lock", *reads % 32 + 1));
+            ++*reads;
+        });
+    } else if (word == "rssits") {
+        e.count_hazard();
+        e.start_stream(60.0, true, [rssi](Engine& en) { en.print_line(format("%d", rssi(en))); });
+    }
+}
+
+void dvb_fixed_reply(Engine& e, const Args& args)
+{
+    // One-shot DVB replies as the capture paraphrases them (§6.3); with arguments (the timeouts'
+    // setters, `di2cs`'s switch configuration) accepted silently.
+    const std::string_view word = args.front();
+    if (args.size() > 1) return;
+    static const std::pair<std::string_view, std::string_view> replies[] = {
+        {"freqs", "Non-Stacked"},
+        {"range", "Transponder Range: [ 1 - 32 ]"},
+        {"pwr", "SDS and DiSEqC core power enabled"},
+        {"srch_mode", "Auto Search Mode: 1"},
+        {"tabto", "Timeout (msec):  Acq:4000  NID:20000  Signal Detect:0"},
+        {"to", "Timeout (msec):  Acq:500  NID:12000"},
+        {"di2id", "LNB Read HW ID FAIL"},
+        {"di2stat", "LNB Read Status FAIL"},
+        {"di2conf", "LNB Read Config FAIL"},
+        {"di2sc", "LNB Short Circuit FAIL"},
+        {"di2rcs", "LNB Switch State FAIL"},
+        {"di2cs", "No Parameters Specified"},
+    };
+    for (const auto& [command, reply] : replies)
+        if (command == word) e.print_line(reply);
 }
 
 // §6.3: "the channel parameters"; the layout and values are INVENTED.
@@ -447,10 +680,26 @@ void eeprom_read(Engine& e, const Args& args)
 {
     const auto index = args.size() >= 2 ? parse_int(args[1]) : std::nullopt;
     if (!index) {
-        e.unknown_command();
+        e.invalid_params();
         return;
     }
-    e.print_line(format("Index:%d Read value = 0", *index));  // value INVENTED
+    if (!e.captured_g2()) {
+        e.print_line(format("Index:%d Read value = 0", *index));  // the reconstruction's, INVENTED
+        return;
+    }
+    // §6.3: 17 indices; the captured unit's dump (indices 1-5 valid, the rest the 0x00010101
+    // sentinel). Out of range verbatim; the read texts are the capture's paraphrase.
+    if (*index < 0 || *index > 16) {
+        e.print_line(format("Index out of bounds:%d Min:0 Max:16", *index));
+        return;
+    }
+    if (args.size() > 2) return;  // a write: accepted, not modelled
+    constexpr long valid[] = {0, 0, 22897, 3748, 4346, 11637};
+    if (*index >= 1 && *index <= 5) {
+        e.print_line(format("Read value = %ld", valid[*index]));
+    } else {
+        e.print_line("Failed to read. val:65793");
+    }
 }
 
 void adc_board_id(Engine& e, const Args&) { e.print_line("STATIONARY"); }
@@ -477,22 +726,99 @@ void a3981_diag(Engine& e, const Args&)
     e.print_line("EL DIAG: OK");
 }
 
+// A3981 `ss` and `reset` as captured; `sm` and `cm` as the capture paraphrases them (§6.3).
+void a3981_reply(Engine& e, const Args& args)
+{
+    const std::string_view word = args.front();
+    if (word == "ss") {
+        e.print_line("KEY: FULL-16, HALF-8, QTR-4, EIGHTH-2, SIXTEENTH-1");
+        e.print_line("AZ Step Size:1");
+        e.print_line("EL Step Size:1");
+    } else if (word == "sm") {
+        e.print_line("AZ Step Size Mode = AUTO");
+        e.print_line("EL Step Size Mode = AUTO");
+    } else if (word == "cm") {
+        e.print_line("AZ: Mode = AUTO");
+        e.print_line("EL: Mode = AUTO");
+    } else if (word == "reset") {
+        e.print_line("Az/El A3981 Faults Reset.");
+    }
+}
+
+// LATLON `l <satlon1> <satlon2> <satel1> <satel2>` (§6.3): the echo line as captured; the position
+// is the captured example's for every input (the firmware's algorithm is unknown).
+void latlon(Engine& e, const Args& args)
+{
+    if (args.size() != 5) {
+        e.invalid_params();
+        return;
+    }
+    long centis[4];
+    for (std::size_t i = 0; i < 4; ++i) {
+        const auto value = parse_number(args[i + 1]);
+        if (!value) {
+            e.invalid_params();
+            return;
+        }
+        centis[i] = centi(*value);
+    }
+    e.print_line(format(" anglesentered = %ld %ld %ld %ld", centis[0], centis[1], centis[2], centis[3]));
+    e.print_line("    Lat = 4295  Lon = 25655");
+}
+
+// PEAK `ts` (§6.5): probes a DiSEqC switch for ever; nothing typed stops it, only a power cycle.
+void peak_switch_test(Engine& e, const Args&)
+{
+    e.count_hazard();
+    e.start_stream(0.1, false, [](Engine& engine) { engine.print_line("0b0000 0"); }, true);
+}
+
+// PEAK `stb` (§6.3, as captured): the supply is left at STB.
+void peak_stb(Engine& e, const Args&)
+{
+    for (const char* line : {"Enabled LNB ODU 18V", "Even_sig = 504", "Enabled LNB STB", "Odd_sig = 232", "Enabled LNB STB",
+                             "Odd_sig = 233 Ctr = 0"})
+        e.print_line(line);
+}
+
 void dipswitch(Engine& e, const Args&)
 {
     e.print_line("val:ffffff01");
     e.print_line("app_dipswitch:101");
 }
 
+// STEP> replies: the capture's paraphrases (§6.3), one line each; the reconstruction printed one
+// line per motor.
 void step_max_velocity(Engine& e, const Args&)
 {
+    if (e.captured_g2()) {
+        e.print_line("Max Vel [0] = 7222    Max Vel [1] = 3120");
+        return;
+    }
     e.print_line("Max Vel [0] = 7222");
     e.print_line("Max Vel [1] = 3120");
 }
 
 void step_accel(Engine& e, const Args&)
 {
+    if (e.captured_g2()) {
+        e.print_line("Accel[0] = 44         Accel[1] = 28");
+        return;
+    }
     e.print_line("Accel[0] = 44");
     e.print_line("Accel[1] = 28");
+}
+
+void step_engage(Engine& e, const Args&) { e.print_line("Motors engaged"); }
+
+void step_reply(Engine& e, const Args& args)
+{
+    if (args.front() == "pid") {
+        if (args.size() == 1) e.print_line("Kp=250  Kv=50");
+        return;
+    }
+    if (args.size() > 1) return;  // `p <motor> <pos>`: a raw step move, not modelled
+    e.print_line(format("Step Pos[0] = %-9ld Step Pos[1] = %ld", motor_steps(e, axis_az), motor_steps(e, axis_el)));
 }
 
 }  // namespace birdcage::sim::handlers

@@ -90,6 +90,7 @@ struct Flag {
 using birdcage::sim::AzReport;
 using birdcage::sim::BootMarker;
 using birdcage::sim::HelpLayout;
+using birdcage::sim::G2RootQ;
 using birdcage::sim::HomeReport;
 using birdcage::sim::LineEnding;
 using birdcage::sim::MoveAck;
@@ -158,7 +159,7 @@ const std::vector<Flag>& flags()
              o.line_ending = choice<LineEnding>(f, v, {{"crlf", LineEnding::crlf}, {"lf", LineEnding::lf},
                                                       {"lfcr", LineEnding::lfcr}, {"cr", LineEnding::cr}});
          }},
-        {"--unknown-reply", "TEXT", "unknown-command reply, empty = none (default 'Unknown command')",
+        {"--unknown-reply", "TEXT", "unknown-command reply, empty = none (default: captured G2 'Invalid command', else 'Unknown command')",
          [](Options& o, auto, auto v) { o.unknown_command_reply = v; }},
         {"--out-of-range", "clamp|reject", "out-of-range move (default clamp)", [](Options& o, auto f, auto v) {
              o.out_of_range = choice<OutOfRange>(f, v, {{"clamp", OutOfRange::clamp}, {"reject", OutOfRange::reject}});
@@ -185,11 +186,25 @@ const std::vector<Flag>& flags()
          [](Options& o, auto f, auto v) { o.az_wrap_point = number_at_least(f, v, 0.0, 360.0); }},
         {"--g-aborts", "yes|no", "any byte aborts `g` (default yes, carryout2003 no)",
          [](Options& o, auto f, auto v) { o.g_aborts_on_input = yes_no(f, v); }},
-        {"--g2-root-q", "kill|harmless", "G2 `q` at TRK> (default kill; harmless reprints TRK>)",
-         [](Options& o, auto f, auto v) { o.g2_root_q_kills_shell = choice<bool>(f, v, {{"kill", true}, {"harmless", false}}); }},
+        {"--g2-console", "captured|reconstructed", "which G2 console: the captured 02.02.48 one or the pre-capture reconstruction (default captured)",
+         [](Options& o, auto f, auto v) {
+             const auto console = birdcage::sim::parse_g2_console(v);
+             if (!console) throw UsageError{std::string(f) + ": expected captured|reconstructed, got '" + std::string(v) + "'"};
+             o.g2_console = *console;
+         }},
+        {"--g2-root-q", "kill|harmless|restart", "G2 `q` at TRK> (default kill; harmless reprints TRK>; restart prints `Terminating shell.` and a new TRK>)",
+         [](Options& o, auto f, auto v) {
+             o.g2_root_q = choice<G2RootQ>(f, v, {{"kill", G2RootQ::kill}, {"harmless", G2RootQ::harmless}, {"restart", G2RootQ::restart}});
+         }},
         {"--g2-homed", "yes|no", "G2 axes calibrated at start (default yes)", [](Options& o, auto f, auto v) { o.g2_homed = yes_no(f, v); }},
-        {"--g2-boot-homes", "yes|no", "G2 boot homes with NVS 20 TRUE (default yes)",
+        {"--g2-boot-homes", "yes|no", "G2 boot homes with NVS 20 TRUE (default: captured no, reconstructed yes)",
          [](Options& o, auto f, auto v) { o.g2_boot_homes = yes_no(f, v); }},
+        {"--g2-boot-calibrated", "yes|no", "G2 axes keep their calibration through a boot without homing (default: captured yes, reconstructed no)",
+         [](Options& o, auto f, auto v) { o.g2_boot_calibrated = yes_no(f, v); }},
+        {"--g2-boot-seconds", "S", "captured G2: seconds from power-on to TRK> (default 10)",
+         [](Options& o, auto f, auto v) { o.g2_boot_seconds = number_at_least(f, v, 0.0); }},
+        {"--g2-overshoot", "yes|no", "G2 moves settle 0.01-0.06 deg past the target in the direction of travel (default no)",
+         [](Options& o, auto f, auto v) { o.g2_overshoot = yes_no(f, v); }},
         {"--home-report", "wrap-limits|g2plus", "what `h` prints after AZ homing (default wrap-limits)",
          [](Options& o, auto f, auto v) {
              o.home_report = choice<HomeReport>(f, v, {{"wrap-limits", HomeReport::wrap_limits}, {"g2plus", HomeReport::g2plus_status}});
@@ -212,15 +227,16 @@ const std::vector<Flag>& flags()
         {"--rssi-floor", "N", "G2 RSSI floor (default 401)", [](Options& o, auto f, auto v) { o.rssi_floor = number_at_least(f, v, 0.0); }},
         {"--position-decimals", "N", "decimals in position replies (default 2)",
          [](Options& o, auto f, auto v) { o.position_decimals = static_cast<int>(integer_in(f, v, 0, 6)); }},
-        {"--position-indent", "N", "spaces before position lines (default 0)",
+        {"--position-indent", "N", "spaces before position lines (default: captured G2 4, else 0)",
          [](Options& o, auto f, auto v) { o.position_indent = static_cast<int>(integer_in(f, v, 0, 16)); }},
         {"--position-layout", "one-line|per-axis", "Trav'ler `a` reply (default one-line)", [](Options& o, auto f, auto v) {
              o.travler_position_layout = choice<TravlerPositionLayout>(
                  f, v, {{"one-line", TravlerPositionLayout::one_line}, {"per-axis", TravlerPositionLayout::line_per_axis}});
          }},
-        {"--help-layout", "described|words|one-line|comma-line|colon-table|tab-table|labelled-line", "`?` listing (default described)",
+        {"--help-layout", "available|described|words|one-line|comma-line|colon-table|tab-table|labelled-line",
+         "`?` listing (default: captured G2 available, else described)",
          [](Options& o, auto f, auto v) {
-             o.help_layout = choice<HelpLayout>(f, v, {{"described", HelpLayout::described}, {"words", HelpLayout::words},
+             o.help_layout = choice<HelpLayout>(f, v, {{"available", HelpLayout::available}, {"described", HelpLayout::described}, {"words", HelpLayout::words},
                                                       {"one-line", HelpLayout::one_line}, {"comma-line", HelpLayout::comma_line},
                                                       {"colon-table", HelpLayout::colon_table}, {"tab-table", HelpLayout::tab_table},
                                                       {"labelled-line", HelpLayout::labelled_line}});

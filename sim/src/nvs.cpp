@@ -3,6 +3,7 @@
 
 #include "nvs.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -83,12 +84,17 @@ std::string NvsTable::rule()
     return "---- --------------------------  ----------  ----------  ----------";
 }
 
+// The columns end at fixed places: a name longer than its 26 characters eats into the first
+// value's field instead of pushing the row right (the captured dump's row 71, §6.3 / Appendix A).
 std::string NvsTable::row(const NvsEntry& entry)
 {
+    constexpr int first_value_end = 5 + 26 + 12;
     char text[160];
-    std::snprintf(text, sizeof text, "%3d) %-26s%12s%12s%12s", entry.index, entry.name.c_str(),
-                  format_value(entry, entry.current).c_str(), format_value(entry, entry.saved).c_str(),
-                  format_value(entry, entry.default_value).c_str());
+    const int name_end = std::snprintf(text, sizeof text, "%3d) %-26s", entry.index, entry.name.c_str());
+    const std::string current = format_value(entry, entry.current);
+    const int width = std::max(first_value_end - name_end, static_cast<int>(current.size()) + 1);
+    std::snprintf(text + name_end, sizeof text - static_cast<std::size_t>(name_end), "%*s%12s%12s", width,
+                  current.c_str(), format_value(entry, entry.saved).c_str(), format_value(entry, entry.default_value).c_str());
     return text;
 }
 
@@ -109,8 +115,8 @@ NvsEntry same(int index, const char* name, NvsEntry::Kind kind, double value)
 
 }  // namespace
 
-// Appendix A (birdcage demo dump labelled as captured from 02.02.48). Names of grouped rows
-// ("16/17/18 Pitch/Roll/Yaw Deadband") are expanded by the obvious pattern.
+// Appendix A: the captured dump of a 02.02.48 unit (sim/transcripts/g2-real-console.md), which
+// agrees with the predecessor's demo table except for the names of 75-77.
 std::vector<NvsEntry> g2_nvs_table()
 {
     using K = NvsEntry::Kind;
@@ -153,9 +159,9 @@ std::vector<NvsEntry> g2_nvs_table()
         same(72, "Gyro Sensitivity", K::signed_integer, 1110),
         same(73, "Gyro Filter Size", K::signed_integer, 1),
         same(74, "Gyro Calib Readings", K::integer, 100),
-        same(75, "Mount Type", K::integer, 1),
-        same(76, "Velocity Offset", K::integer, 4),
-        same(77, "Max Accel", K::integer, 600),
+        same(75, "Gyro Mount Type", K::integer, 1),
+        same(76, "Gyro Velocity Offset", K::integer, 4),
+        same(77, "Gyro Max Accel", K::integer, 600),
         same(80, "AZ Max Vel", K::real, 65),
         same(81, "AZ Max Accel", K::real, 400),
         same(82, "AZ Home Velocity", K::real, 55),

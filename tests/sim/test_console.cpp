@@ -5,6 +5,7 @@
 // Over 500 lines: the exact console bytes of five variants, one case per documented behaviour.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <regex>
 #include <sstream>
 
@@ -18,6 +19,13 @@ Options options_for(Variant variant)
 {
     Options options;
     options.variant = variant;
+    return options;
+}
+
+Options reconstructed_g2()
+{
+    Options options = options_for(Variant::carryout_g2);
+    options.g2_console = G2Console::reconstructed;
     return options;
 }
 
@@ -66,36 +74,41 @@ TEST_CASE("G2: bare CR reprints the prompt, submenus have their own prompts", "[
     CHECK(send(console, "eeprom\r").ends_with("EE>"));
 }
 
-TEST_CASE("G2: `a` reports two Angle lines with two decimals", "[console][g2]")
+TEST_CASE("G2: `a` reports two Angle lines with two decimals, indented by four spaces", "[console][g2]")
 {
     Console console(options_for(Variant::carryout_g2));
     send(console, "mot\r");
-    CHECK(send(console, "a\r") == "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>");
+    CHECK(send(console, "a\r") == "a\r\n    Angle[0] = 180.00\r\n    Angle[1] = 45.00\r\nMOT>");
+    CHECK(send(console, "a 1\r") == "a 1\r\n    Angle[1] = 45.00\r\nMOT>");
+
+    Console reconstructed(reconstructed_g2());
+    send(reconstructed, "mot\r");
+    CHECK(send(reconstructed, "a\r") == "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>");
 }
 
 TEST_CASE("G2: absolute and relative moves, ack and true position", "[console][g2]")
 {
     Console console(options_for(Variant::carryout_g2));
     send(console, "mot\r");
-    CHECK(send(console, "a 0 200.5\r") == "a 0 200.5\r\nAngle = 200.50\r\nMOT>");
+    CHECK(send(console, "a 0 200.5\r") == "a 0 200.5\r\n    Angle = 200.50\r\nMOT>");
     CHECK(console.moving());
     settle(console);
     CHECK(console.position().az == Approx(200.5).margin(0.01));
     CHECK(console.mechanical_az() == Approx(-159.5).margin(0.01));
-    CHECK(send(console, "a 1 +10\r") == "a 1 +10\r\nAngle = 55.00\r\nMOT>");
+    CHECK(send(console, "a 1 +10\r") == "a 1 +10\r\n    Angle = 55.00\r\nMOT>");
     settle(console);
     CHECK(console.position().el == Approx(55.0).margin(0.015));
     send(console, "a 0 -20.5\r");
     settle(console);
     CHECK(console.position().az == Approx(180.0).margin(0.01));
-    CHECK(send(console, "a\r") == "a\r\nAngle[0] = 180.00\r\nAngle[1] = 55.00\r\nMOT>");
+    CHECK(send(console, "a\r") == "a\r\n    Angle[0] = 180.00\r\n    Angle[1] = 55.00\r\nMOT>");
 }
 
 TEST_CASE("G2: EL outside 18..65 is clamped by default or rejected by switch", "[console][g2]")
 {
     Console clamping(options_for(Variant::carryout_g2));
     send(clamping, "mot\r");
-    CHECK(send(clamping, "a 1 80\r") == "a 1 80\r\nAngle = 65.00\r\nMOT>");
+    CHECK(send(clamping, "a 1 80\r") == "a 1 80\r\n    Angle = 65.00\r\nMOT>");
     settle(clamping);
     CHECK(clamping.position().el == Approx(65.0).margin(0.015));
 
@@ -113,7 +126,7 @@ TEST_CASE("G2: AZ report switch shows the mechanical (wrap) angle", "[console][g
     options.az_report = AzReport::mechanical;
     Console console(options);
     send(console, "mot\r");
-    CHECK(send(console, "a\r") == "a\r\nAngle[0] = -180.00\r\nAngle[1] = 45.00\r\nMOT>");
+    CHECK(send(console, "a\r") == "a\r\n    Angle[0] = -180.00\r\n    Angle[1] = 45.00\r\nMOT>");
 }
 
 TEST_CASE("G2: echo and line-ending switches", "[console][g2]")
@@ -123,7 +136,7 @@ TEST_CASE("G2: echo and line-ending switches", "[console][g2]")
     options.line_ending = LineEnding::lf;
     Console console(options);
     CHECK(send(console, "mot\r") == "\nMOT>");
-    CHECK(send(console, "a\r") == "\nAngle[0] = 180.00\nAngle[1] = 45.00\nMOT>");
+    CHECK(send(console, "a\r") == "\n    Angle[0] = 180.00\n    Angle[1] = 45.00\nMOT>");
 }
 
 TEST_CASE("line discipline: CR, LF, CRLF end a line - backspace is an ordinary character", "[console]")
@@ -131,22 +144,91 @@ TEST_CASE("line discipline: CR, LF, CRLF end a line - backspace is an ordinary c
     Console console(options_for(Variant::carryout_g2));
     CHECK(send(console, "mot\r\n") == "mot\r\nMOT>");
     CHECK(send(console, "q\n") == "q\r\nTRK>");
-    CHECK(send(console, "mox\bt\r") == "mox\bt\r\nUnknown command\r\nTRK>");
+    CHECK(send(console, "mox\bt\r") == "mox\bt\r\nInvalid command\r\nTRK>");
     CHECK(console.commands() == std::vector<std::string>{"mot", "q", "mox\bt"});
 
+    Console reconstructed(reconstructed_g2());
+    CHECK(send(reconstructed, "mox\r") == "mox\r\nUnknown command\r\nTRK>");
+
     Options silent = options_for(Variant::carryout_g2);
-    silent.unknown_command_reply.clear();
+    silent.unknown_command_reply = "";
     Console quiet(silent);
     CHECK(send(quiet, "bogus\r") == "bogus\r\nTRK>");
 }
 
-TEST_CASE("G2: help lines contain '>' inside <...>", "[console][g2]")
+TEST_CASE("G2: the captured MOT> listing, 23 commands, no g", "[console][g2]")
 {
     Console console(options_for(Variant::carryout_g2));
+    send(console, "mot\r");
+    const std::string help = send(console, "?\r");
+    CHECK(help.starts_with("?\r\nAvailable commands:\r\n   a             Go to angle [[[motor] [[+|-]angle]]]\r\n"));
+    CHECK(help.find("\r\n   elminmaxhome  Display Min, Max & Home Elevation Angles\r\n") != std::string::npos);
+    CHECK(help.ends_with("\r\n   w             Wrap Manager [motor] [ON/OFF]\r\nMOT>"));
+    CHECK(std::count(help.begin(), help.end(), '\n') == 25);  // echo, title, 23 commands
+    CHECK(help.find("   g ") == std::string::npos);
+    CHECK(send(console, "g 100 40\r") == "g 100 40\r\nInvalid command\r\nMOT>");
+    CHECK(send(console, "pid\r") == "pid\r\nInvalid params\r\nMOT>");
+    CHECK_FALSE(console.moving());
+}
+
+TEST_CASE("G2: the captured root answers its 12 submenus, q, Q and help only", "[console][g2]")
+{
+    Options options = options_for(Variant::carryout_g2);
+    options.g2_root_q = G2RootQ::harmless;
+    Console console(options);
+    const std::string help = send(console, "help\r");
+    for (const char* menu : {"a3981", "adc", "dipswitch", "dvb", "eeprom", "gpio", "latlon", "mot", "nvs", "os", "peak", "step"})
+        CHECK(help.find(std::string("\r\n   ") + menu + " ") != std::string::npos);
+    CHECK(std::count(help.begin(), help.end(), '\n') == 14);  // echo, title, 12 submenus
+    CHECK(send(console, "reboot\r") == "reboot\r\nInvalid command\r\nTRK>");
+    CHECK(send(console, "stow\r") == "stow\r\nInvalid command\r\nTRK>");
+    CHECK(send(console, "Q\r") == "Q\r\nTRK>");
+    CHECK(send(console, "mot\rQ\r") == "mot\r\nMOT>Q\r\nTRK>");
+    CHECK(console.hazards() == 1);  // the root `Q` is the root `q`; in MOT> it only leaves
+}
+
+TEST_CASE("G2: the reconstructed console's help lines contain '>' inside <...>", "[console][g2]")
+{
+    Console console(reconstructed_g2());
     const std::string help = send(console, "?\r");
     CHECK(help.find("Enter <mot> - ") != std::string::npos);
+    CHECK(help.find("Enter <stow> - ") != std::string::npos);
     CHECK(help.find("help [<command>]") != std::string::npos);
     CHECK(help.ends_with("TRK>"));
+    send(console, "mot\r");
+    CHECK(send(console, "?\r").find("Enter <g> - ") != std::string::npos);
+}
+
+TEST_CASE("G2: the captured l, p, mv, ma, elminmaxhome and homing output", "[console][g2]")
+{
+    Console console(options_for(Variant::carryout_g2));
+    send(console, "mot\r");
+    CHECK(send(console, "l\r") == "l\r\nMotors:\r\n    0 - AZIMUTH: local\r\n    1 - ELEVATION: local\r\nMOT>");
+    CHECK(send(console, "p\r") == "p\r\n    Position[0] = 20000  Position[1] = 3120\r\nMOT>");
+    CHECK(send(console, "mv\r") == "mv\r\n    Max Vel[0] = 65.0  Max Vel[1] = 45.0\r\nMOT>");
+    CHECK(send(console, "ma\r") == "ma\r\n    Accel[0] = 400.0  Accel[1] = 400.0\r\nMOT>");
+    CHECK(send(console, "elminmaxhome\r") == "elminmaxhome\r\n    Min: 1800  Max: 6500  Home: 6500\r\nMOT>");
+    CHECK(send(console, "h *\r") == "h *\r\nMotorHome:1 timeout:2000\r\nHome TwelInch El   Velocity: 4500\r\n");
+    CHECK(settle(console) ==
+          "EL Stall Timeout\r\nEl Home Angle: 6500\r\n\r\n"
+          "MotorHome:0 timeout:8000\r\nHome TwelInch Az\r\nEnd MotorAzStall:part1\r\n"
+          "Antenna Facing Front\r\nhome:0  wrap_pos:0  wrap_min:-42333  wrap_max:2333\r\nMOT>");
+    CHECK(console.mechanical_az() == Approx(0.0).margin(0.01));
+    CHECK(console.position().el == Approx(65.0).margin(0.015));
+    CHECK(send(console, "h\r") == "h\r\nInvalid params\r\nMOT>");
+    CHECK(console.hazards() == 0);
+}
+
+TEST_CASE("G2: streams end at the next byte; DVB ls ends the submenu's shell", "[console][g2]")
+{
+    Console console(options_for(Variant::carryout_g2));
+    send(console, "dvb\r");
+    CHECK(send(console, "snr\r", 0.35).ends_with("Reads:3  SNR[avg: 0.0  cur: 0.0]\r\n"));
+    CHECK(send(console, "\r") == "DVB>");
+    send(console, "ls\r", 1.2);
+    CHECK(send(console, "\r") == "Terminating shell.\r\nTRK>");
+    send(console, "eeprom\r");
+    CHECK(send(console, "ee 17\r") == "ee 17\r\nIndex out of bounds:17 Min:0 Max:16\r\nEE>");
 }
 
 TEST_CASE("G2: `rssi 10` takes 0.2 s and yields six integers with its echo", "[console][g2]")
@@ -235,9 +317,9 @@ TEST_CASE("G2: os id per Appendix B", "[console][g2]")
     CHECK(id.find("System ID:  TWELINCH\r\n") != std::string::npos);
 }
 
-TEST_CASE("G2: unhomed axes read INT_MAX, refuse moves, and home with h", "[console][g2]")
+TEST_CASE("G2: unhomed axes read INT_MAX, refuse moves, and home with h (reconstructed console)", "[console][g2]")
 {
-    Options options = options_for(Variant::carryout_g2);
+    Options options = reconstructed_g2();
     options.g2_homed = false;
     Console console(options);
     send(console, "mot\r");
@@ -260,21 +342,28 @@ TEST_CASE("G2: unhomed axes read INT_MAX, refuse moves, and home with h", "[cons
 TEST_CASE("G2: hazards at root: q kills the shell until power cycle", "[console][g2][hazard]")
 {
     Console console(options_for(Variant::carryout_g2));
-    CHECK(send(console, "q\r") == "q\r\nTerminating shell\r\n");
+    CHECK(send(console, "q\r") == "q\r\nTerminating shell.\r\n");
     CHECK(console.hazards() == 1);
     CHECK_FALSE(console.shell_alive());
     CHECK(send(console, "\rmot\r", 1.0).empty());
     console.power_cycle();
     const std::string boot = settle(console);
-    CHECK(boot.ends_with("Boot Complete\r\nLoc Startup: IDU NOT Present\r\nTRK>"));
+    CHECK(boot.ends_with("STATIONARY MODE\r\nEnabled LNB ODU 18V\r\nGPS Not Found\r\nTRK>"));
     CHECK(console.shell_alive());
     CHECK(send(console, "\r") == "\r\nTRK>");
+
+    Options restart = options_for(Variant::carryout_g2);
+    restart.g2_root_q = G2RootQ::restart;
+    Console restarting(restart);
+    CHECK(send(restarting, "q\r") == "q\r\nTerminating shell.\r\nTRK>");
+    CHECK(restarting.shell_alive());
+    CHECK(restarting.hazards() == 1);
 }
 
 TEST_CASE("G2: q at root harmless by switch - ADC scan deadlocks - other hazards counted", "[console][g2][hazard]")
 {
-    Options options = options_for(Variant::carryout_g2);
-    options.g2_root_q_kills_shell = false;
+    Options options = reconstructed_g2();  // `stow` at the root is the reconstruction's
+    options.g2_root_q = G2RootQ::harmless;
     Console console(options);
     CHECK(send(console, "q\r") == "q\r\nTRK>");
     CHECK(console.hazards() == 1);
@@ -295,9 +384,32 @@ TEST_CASE("G2: q at root harmless by switch - ADC scan deadlocks - other hazards
     CHECK_FALSE(console.shell_alive());
 }
 
-TEST_CASE("G2: boot log order - NVS 20 decides whether the search runs", "[console][g2][boot]")
+TEST_CASE("G2: the captured boot - bursts, lines, 10 s, no homing", "[console][g2][boot]")
 {
     Options options = options_for(Variant::carryout_g2);
+    options.already_booted = false;
+    options.start_az = 120.0;
+    Console console(options);
+    CHECK(send(console, "\r").empty());  // nothing answers during boot
+    console.advance(0.14);
+    CHECK(console.take_output() ==
+          std::string("\x01\x00", 2) + "Bootloader version: 1.01\r\nApplication is running...\r\n\x98\x80\x96"
+                                         "Application Starting Kinetis PCB... power up/reset\r\n");
+    const std::string boot = settle(console, 30.0);
+    CHECK(boot.starts_with("Version 02.02.48\r\nCopyright 2013 - Winegard Company\r\nBoot Complete\r\n\r\n"
+                           "Loc Startup: IDU NOT Present\r\napp_dipswitch:101\r\n"));
+    CHECK(boot.ends_with("NoGpsStartUp: 721\r\nSTATIONARY MODE\r\nEnabled LNB ODU 18V\r\nGPS Not Found\r\nTRK>"));
+    CHECK(std::count(boot.begin(), boot.end(), '\n') == 22);
+    CHECK(boot.find("MotorHome") == std::string::npos);
+    CHECK(console.time() == Approx(10.0).margin(0.2));
+    CHECK(console.position().az == Approx(120.0).margin(0.01));  // no homing: the axes stay put
+    send(console, "mot\r");
+    CHECK(send(console, "a\r") == "a\r\n    Angle[0] = 120.00\r\n    Angle[1] = 45.00\r\nMOT>");
+}
+
+TEST_CASE("G2: boot log order - NVS 20 decides whether the search runs (reconstructed console)", "[console][g2][boot]")
+{
+    Options options = reconstructed_g2();
     options.already_booted = false;
     Console console(options);
     CHECK(send(console, "\r").empty());  // nothing answers during boot
@@ -338,10 +450,10 @@ TEST_CASE("G2: move ack after motion (switch) holds the prompt until the dish st
     options.move_ack = MoveAck::after_motion;
     Console console(options);
     send(console, "mot\r");
-    CHECK(send(console, "a 0 90\r") == "a 0 90\r\nAngle = 90.00\r\n");
+    CHECK(send(console, "a 0 90\r") == "a 0 90\r\n    Angle = 90.00\r\n");
     CHECK(send(console, "a\r", 0.5).empty());  // typed while busy: queued
     const std::string rest = settle(console);
-    CHECK(rest == "MOT>a\r\nAngle[0] = 90.00\r\nAngle[1] = 45.00\r\nMOT>");
+    CHECK(rest == "MOT>a\r\n    Angle[0] = 90.00\r\n    Angle[1] = 45.00\r\nMOT>");
 }
 
 TEST_CASE("position queries while moving can be held back (switch)", "[console][g2]")
@@ -351,12 +463,12 @@ TEST_CASE("position queries while moving can be held back (switch)", "[console][
     Console console(options);
     send(console, "mot\ra 0 10\r");
     CHECK(send(console, "a\r") == "a\r\n");
-    CHECK(settle(console) == "Angle[0] = 10.00\r\nAngle[1] = 45.00\r\nMOT>");
+    CHECK(settle(console) == "    Angle[0] = 10.00\r\n    Angle[1] = 45.00\r\nMOT>");
 }
 
-TEST_CASE("G2: g moves both axes and any new byte aborts it", "[console][g2]")
+TEST_CASE("G2: g moves both axes and any new byte aborts it (reconstructed console)", "[console][g2]")
 {
-    Console console(options_for(Variant::carryout_g2));
+    Console console(reconstructed_g2());
     send(console, "mot\r");
     CHECK(send(console, "g 100 30\r") == "g 100 30\r\n");
     CHECK(settle(console) == "MOT>");

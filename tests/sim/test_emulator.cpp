@@ -40,9 +40,9 @@ TEST_CASE("pty: G2 answers prompts and `a` - a move changes the true position", 
     PtyClient client(dish.device_path());
     CHECK(client.command("", "TRK>") == "\r\nTRK>");
     CHECK(client.command("mot", "MOT>") == "mot\r\nMOT>");
-    CHECK(client.command("a", "MOT>") == "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>");
-    CHECK(client.command("a 0 210", "MOT>") == "a 0 210\r\nAngle = 210.00\r\nMOT>");
-    CHECK(client.command("a 1 30", "MOT>") == "a 1 30\r\nAngle = 30.00\r\nMOT>");
+    CHECK(client.command("a", "MOT>") == "a\r\n    Angle[0] = 180.00\r\n    Angle[1] = 45.00\r\nMOT>");
+    CHECK(client.command("a 0 210", "MOT>") == "a 0 210\r\n    Angle = 210.00\r\nMOT>");
+    CHECK(client.command("a 1 30", "MOT>") == "a 1 30\r\n    Angle = 30.00\r\nMOT>");
     REQUIRE(wait_for([&] { return !dish.moving(); }));
     CHECK(dish.true_position().az == Approx(210.0).margin(0.01));
     CHECK(dish.true_position().el == Approx(30.0).margin(0.015));
@@ -79,12 +79,12 @@ TEST_CASE("pty: G2 root q is a hazard that kills the shell until power_cycle", "
 {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
-    CHECK(client.command("q", "Terminating shell\r\n").size() > 0);
+    CHECK(client.command("q", "Terminating shell.\r\n").size() > 0);
     CHECK(dish.hazards_received() == 1);
     CHECK_FALSE(dish.shell_alive());
     CHECK(client.command("", ">", 300ms).empty());
     dish.power_cycle();
-    CHECK(client.read_until("Boot Complete\r\nLoc Startup: IDU NOT Present\r\nTRK>").size() > 0);
+    CHECK(client.read_until("GPS Not Found\r\nTRK>").size() > 0);
     CHECK(client.command("", "TRK>") == "\r\nTRK>");
 }
 
@@ -97,11 +97,20 @@ TEST_CASE("pty: G2 boot sequence at a high time scale", "[emulator][g2][boot]")
     PtyClient client(dish.device_path());
     const std::string boot = client.read_until("TRK>", 10s);
     REQUIRE_FALSE(boot.empty());
-    CHECK(boot.starts_with("Bootloader v1.01\r\n"));
-    CHECK(boot.find("wrap_min:-42333 wrap_max:2333\r\n") != std::string::npos);
-    CHECK(boot.ends_with("Boot Complete\r\nLoc Startup: IDU NOT Present\r\nTRK>"));
+    CHECK(boot.starts_with(std::string("\x01\x00", 2) + "Bootloader version: 1.01\r\nApplication is running...\r\n\x98\x80\x96"));
+    CHECK(boot.find("Boot Complete\r\n\r\nLoc Startup: IDU NOT Present\r\n") != std::string::npos);
+    CHECK(boot.ends_with("GPS Not Found\r\nTRK>"));
     CHECK_FALSE(dish.search_running());
-    CHECK(dish.true_position().el == Approx(65.0).margin(0.015));
+    CHECK(dish.true_position().el == Approx(45.0).margin(0.015));  // no homing at boot
+
+    options.g2_console = birdcage::sim::G2Console::reconstructed;
+    Emulator old(options);
+    PtyClient old_client(old.device_path());
+    const std::string old_boot = old_client.read_until("TRK>", 10s);
+    CHECK(old_boot.starts_with("Bootloader v1.01\r\n"));
+    CHECK(old_boot.find("wrap_min:-42333 wrap_max:2333\r\n") != std::string::npos);
+    CHECK(old_boot.ends_with("Boot Complete\r\nLoc Startup: IDU NOT Present\r\nTRK>"));
+    CHECK(old.true_position().el == Approx(65.0).margin(0.015));
 }
 
 TEST_CASE("pty: HAL 2.05 power-on: NoGPS, search wanders, ngsearch s q stops it", "[emulator][hal205]")

@@ -76,9 +76,17 @@ std::string until_seen(Console& console, std::string_view text, double limit = 6
 
 }  // namespace
 
-TEST_CASE("help layout: described is the G2's documented `Enter <cmd> - ...` listing", "[console][switch][help]")
+TEST_CASE("help layout: available is the captured G2's, described the reconstructed G2's", "[console][switch][help]")
 {
-    Console console(options_for(Variant::carryout_g2));
+    Console g2(options_for(Variant::carryout_g2));
+    const std::string captured = send(g2, "?\r");
+    CHECK(captured.starts_with("?\r\nAvailable commands:\r\n   a3981         "));
+    CHECK(captured.find("\r\n   mot           Motors\r\n") != std::string::npos);
+    CHECK(captured.ends_with("\r\n   step          Raw stepper\r\nTRK>"));
+
+    Options reconstructed = options_for(Variant::carryout_g2);
+    reconstructed.g2_console = G2Console::reconstructed;
+    Console console(reconstructed);
     const std::string help = send(console, "?\r");
     CHECK(help.starts_with("?\r\nEnter <a3981> - "));
     CHECK(help.find("\r\nEnter <mot> - Motors\r\n") != std::string::npos);
@@ -154,7 +162,7 @@ TEST_CASE("line endings LF CR and CR alone (switch)", "[console][switch]")
     options.line_ending = LineEnding::lfcr;
     Console lfcr(options);
     CHECK(send(lfcr, "mot\r") == "mot\n\rMOT>");
-    CHECK(send(lfcr, "a\r") == "a\n\rAngle[0] = 180.00\n\rAngle[1] = 45.00\n\rMOT>");
+    CHECK(send(lfcr, "a\r") == "a\n\r    Angle[0] = 180.00\n\r    Angle[1] = 45.00\n\rMOT>");
     options.line_ending = LineEnding::cr;
     Console cr(options);
     CHECK(send(cr, "mot\r") == "mot\rMOT>");
@@ -181,9 +189,24 @@ TEST_CASE("boot: input is accepted right after the last boot line (default), dro
     CHECK(deaf.commands() == std::vector<std::string>{"q", "", ""});  // received, not acted on
 }
 
-TEST_CASE("boot: G2 late line after Boot Complete, a CR typed in between is answered after it", "[console][switch][boot][g2]")
+TEST_CASE("boot: the captured G2 keeps a CR typed after Boot Complete and answers it after TRK>", "[console][switch][boot][g2]")
 {
     Options options = options_for(Variant::carryout_g2);
+    options.already_booted = false;
+    options.g2_boot_seconds = 4.0;
+    Console console(options);
+    const std::string boot = until_seen(console, "Boot Complete\r\n");
+    CHECK(boot.ends_with("Copyright 2013 - Winegard Company\r\nBoot Complete\r\n\r\n"));
+    CHECK(send(console, "\r").empty());  // kept for the shell, not answered yet
+    const auto rest = run_for(console, console.time() + 5.0);
+    CHECK(joined(rest).ends_with("Enabled LNB ODU 18V\r\nGPS Not Found\r\nTRK>\r\nTRK>"));
+    CHECK(time_of(rest, "GPS Not Found") == Approx(4.0).margin(0.03));
+}
+
+TEST_CASE("boot: G2 late line after Boot Complete, a CR typed in between is answered after it (reconstructed)", "[console][switch][boot][g2]")
+{
+    Options options = options_for(Variant::carryout_g2);
+    options.g2_console = G2Console::reconstructed;
     options.already_booted = false;
     options.late_boot_line_delay = 2.0;
     Console console(options);
@@ -197,6 +220,7 @@ TEST_CASE("boot: G2 late line after Boot Complete, a CR typed in between is answ
 
     // Default: the documented order with a short gap.
     Options quick = options_for(Variant::carryout_g2);
+    quick.g2_console = G2Console::reconstructed;
     quick.already_booted = false;
     Console fast(quick);
     until_seen(fast, "Boot Complete\r\n");
@@ -211,10 +235,10 @@ TEST_CASE("boot: input typed before the completion line is lost", "[console][swi
     Options options = options_for(Variant::carryout_g2);
     options.already_booted = false;
     Console console(options);
-    until_seen(console, "Ant ID - 12-IN G2\r\n");
+    until_seen(console, "Application is running...\r\n");
     CHECK(send(console, "\r").empty());
     const std::string rest = until_seen(console, "TRK>");
-    CHECK(rest.ends_with("Boot Complete\r\nLoc Startup: IDU NOT Present\r\nTRK>"));
+    CHECK(rest.ends_with("Enabled LNB ODU 18V\r\nGPS Not Found\r\nTRK>"));
     console.advance(0.5);
     CHECK(console.take_output().empty());  // the early CR was never answered
 }
@@ -226,9 +250,9 @@ TEST_CASE("boot: line gap switch spaces the boot lines in simulated time", "[con
     options.boot_line_gap = 0.3;
     Console console(options);
     const auto chunks = run_for(console, 2.0);
-    const double first = time_of(chunks, "Bootloader v1.01");
-    const double second = time_of(chunks, "SPI1 init @ 4 MHz");
-    const double third = time_of(chunks, "Motor init");
+    const double first = time_of(chunks, "Application Starting");
+    const double second = time_of(chunks, "Version 02.02.48");
+    const double third = time_of(chunks, "Copyright 2013");
     CHECK(second - first == Approx(0.3).margin(0.002));
     CHECK(third - second == Approx(0.3).margin(0.002));
 }
@@ -300,7 +324,13 @@ TEST_CASE("position replies: decimals, indentation, Trav'ler fields per line (sw
     Console console(g2);
     send(console, "mot\r");
     CHECK(send(console, "a\r") == "a\r\n    Angle[0] = 180.000\r\n    Angle[1] = 45.000\r\nMOT>");
-    CHECK(send(console, "a 1 50\r") == "a 1 50\r\nAngle = 50.000\r\nMOT>");
+    CHECK(send(console, "a 1 50\r") == "a 1 50\r\n    Angle = 50.000\r\nMOT>");
+    // The captured console's own indentation is four spaces; the switch overrides it.
+    Options flush = options_for(Variant::carryout_g2);
+    flush.position_indent = 0;
+    Console unindented(flush);
+    send(unindented, "mot\r");
+    CHECK(send(unindented, "a\r") == "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>");
 }
 
 TEST_CASE("home report: G2 wrap limits by default, the G2+ status line by switch", "[console][switch][g2]")
@@ -310,16 +340,27 @@ TEST_CASE("home report: G2 wrap limits by default, the G2+ status line by switch
     Console g2(options);
     send(g2, "mot\r");
     CHECK(until_seen(g2, "MOT>") == "");  // nothing pending
-    g2.feed("h *\r");
-    CHECK(until_seen(g2, "MOT>", 60.0) == "h *\r\nwrap_min:-42333 wrap_max:2333\r\nMOT>");
+    g2.feed("h 0\r");
+    CHECK(until_seen(g2, "MOT>", 60.0) ==
+          "h 0\r\nMotorHome:0 timeout:8000\r\nHome TwelInch Az\r\nEnd MotorAzStall:part1\r\nAntenna Facing Front\r\n"
+          "home:0  wrap_pos:0  wrap_min:-42333  wrap_max:2333\r\nMOT>");
 
     options.home_report = HomeReport::g2plus_status;
     Console plus(options);
     send(plus, "mot\r");
     plus.feed("h *\r");
-    CHECK(until_seen(plus, "MOT>", 60.0) == "h *\r\nAZ - Angle: 1 Wrap: 0\r\nMOT>");
+    CHECK(until_seen(plus, "MOT>", 60.0).ends_with("\r\nAntenna Facing Front\r\nAZ - Angle: 1 Wrap: 0\r\nMOT>"));
     plus.feed("h 1\r");
-    CHECK(until_seen(plus, "MOT>", 60.0) == "h 1\r\nMOT>");
+    CHECK(until_seen(plus, "MOT>", 60.0) ==
+          "h 1\r\nMotorHome:1 timeout:2000\r\nHome TwelInch El   Velocity: 4500\r\nEL Stall Timeout\r\nEl Home Angle: 6500\r\nMOT>");
+
+    // The reconstructed console's one-line reports.
+    options.g2_console = G2Console::reconstructed;
+    options.home_report = HomeReport::wrap_limits;
+    Console reconstructed(options);
+    send(reconstructed, "mot\r");
+    reconstructed.feed("h *\r");
+    CHECK(until_seen(reconstructed, "MOT>", 60.0) == "h *\r\nwrap_min:-42333 wrap_max:2333\r\nMOT>");
 }
 
 TEST_CASE("g abort on input: per-variant default (2003 Carryout no, §8.5), overridable", "[console][switch][carryout2003]")

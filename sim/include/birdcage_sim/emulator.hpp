@@ -47,11 +47,13 @@ enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete lin
 //                position at 0 the dish stops and reverses mid-track", §6.3 `w`/`sw`).
 enum class AzMapping { nearest, literal, wrap_manager };
 std::optional<AzMapping> parse_az_mapping(std::string_view name);   // "nearest", "literal", "wrap_manager"
-// `?` listing layout. Only the G2's is documented: `Enter <cmd> - Description` per line plus the
-// usage line `help [<command>]` (§6.3). No source shows a Trav'ler or 2003 Carryout listing
+// `?` listing layout. Only the G2's is captured (`available`, sim/transcripts/g2-real-console.md); the
+// reconstructed G2 console printed `Enter <cmd> - Description` per line plus the usage line
+// `help [<command>]` (the predecessor's summary, §6.3). No source shows a Trav'ler or 2003 Carryout listing
 // verbatim (§3.3, §8.3 say only that `?` lists the commands), so the others are the shapes a
 // firmware console plausibly prints, each filled from the same menu table.
 enum class HelpLayout {
+    available,    // the captured G2's: `Available commands:`, then `   <word padded to 14><description>`
     described,    // `Enter <a> - Angle ...` per command, `Enter <q> - ...`, `help [<command>]`
     words,        // bare command words, one per line
     one_line,     // all words on one line, space-separated
@@ -143,6 +145,23 @@ struct MotorDynamics {
     std::optional<double> accel;           // deg/s^2, both axes
 };
 
+// Which G2 console the emulator plays (docs/firmware.md §6, sim/README.md "The G2 console"):
+//  captured       the console of the real 02.02.48 session captures (sim/transcripts/g2-real-*):
+//                 its boot, texts, indentation, listings, errors and menus, byte for byte where
+//                 they show them;
+//  reconstructed  the console this emulator played before any capture existed, rebuilt from the
+//                 predecessor's summaries (paraphrased boot with homing, `Enter <cmd> - ...` help,
+//                 `Unknown command`, `g` in MOT>, `reboot`/`stow` at the root, no indentation).
+enum class G2Console { captured, reconstructed };
+std::optional<G2Console> parse_g2_console(std::string_view name);  // "captured", "reconstructed"
+
+// What `q` at the G2's `TRK>` does (docs/firmware.md §6.5: disputed).
+enum class G2RootQ {
+    kill,      // `Terminating shell.`, then the console is dead until a power cycle (the predecessor)
+    harmless,  // `TRK>` reprinted, as the clients that send `q` first need (§6.6, §7)
+    restart,   // `Terminating shell.`, then a fresh `TRK>`: what interrupting DVB `ls` shows (§6.5)
+};
+
 struct Options {
     Variant variant = Variant::carryout_g2;
     double time_scale = 1.0;      // simulated seconds per real second
@@ -157,8 +176,9 @@ struct Options {
     // Every switch below is listed in sim/README.md with its CLI flag, evidence and alternatives.
     bool echo = true;             // §6.1 (G2: strong evidence), §3.1 / §14 (others: hints only)
     LineEnding line_ending = LineEnding::crlf;
-    // §14 HAL0.4 / G2.6: the text is undocumented. INVENTED default. Empty = print nothing.
-    std::string unknown_command_reply = "Unknown command";
+    // Unset: the captured G2's `Invalid command` on the captured G2 (§6.3), elsewhere `Unknown
+    // command` (§14 HAL0.4: undocumented, INVENTED). Empty = print nothing.
+    std::optional<std::string> unknown_command_reply;
     OutOfRange out_of_range = OutOfRange::clamp;
     // Printed instead of moving when out_of_range == reject. INVENTED default.
     std::string out_of_range_reply = "Angle out of range";
@@ -176,11 +196,23 @@ struct Options {
     // had a G2 on the bench). false = "harmless": the prompt is reprinted, as Davidson's home.py
     // needs (it sends `q` first and succeeds only if every reply ends in `>`, §6.6). Counted as a
     // hazard either way.
-    bool g2_root_q_kills_shell = true;
+    G2RootQ g2_root_q = G2RootQ::kill;
+    G2Console g2_console = G2Console::captured;
     // G2 with already_booted: axes calibrated (true) or reading INT_MAX until `h` (false), §6.4.
     bool g2_homed = true;
-    // §6.2 caveat / §14 G2.7: does boot homing run when NVS 20 (Disable Tracker Proc) is TRUE?
-    bool g2_boot_homes = true;
+    // Does boot homing run when NVS 20 (Disable Tracker Proc) is TRUE? Unset: the console's answer,
+    // no on the captured G2 (its boot log has no homing, §6.2), yes on the reconstructed one.
+    std::optional<bool> g2_boot_homes;
+    // After a boot that does not home: do the axes keep their calibration (positions read as before
+    // the boot) or read INT_MAX until `h` (the predecessor's claim, §6.2)? The capture shows no
+    // `a` before its `h *`, so it is open. Unset: yes on the captured G2, no on the reconstructed.
+    std::optional<bool> g2_boot_calibrated;
+    // Seconds from power-on to the captured G2's `TRK>` (§6.2: about 10 s; where in the boot the
+    // time goes is not captured: the emulator spends it before `GPS Not Found`).
+    double g2_boot_seconds = 10.0;
+    // Settling error in the direction of travel (§6.4: +0.01 AZ, +0.05 EL outward, -0.02/-0.06 on
+    // return, a capture of four moves). Off by default: see sim/README.md "Switches".
+    bool g2_overshoot = false;
     HomeReport home_report = HomeReport::wrap_limits;
     PromptStyle prompt_style = PromptStyle::named;  // Trav'ler, Pro, Carryout 2003 only
     // §14 HAL0.1: a space after `>`? Davidson's G2 transcript shows typed text right after the
@@ -207,11 +239,13 @@ struct Options {
     // Position replies (§14 HAL0.3, G2.10): decimals (every client needs at least one, Appendix C),
     // leading spaces (birdcage's demo indents by 4, §6.3), Trav'ler field layout.
     int position_decimals = 2;
-    int position_indent = 0;
+    // Unset: 4 on the captured G2 (`    Angle[0] = 180.00`, §6.3), 0 elsewhere.
+    std::optional<int> position_indent;
     TravlerPositionLayout travler_position_layout = TravlerPositionLayout::one_line;
 
     // `?` listing (§6.3, §3.3, §8.3). Upper case applies to the command words only.
-    HelpLayout help_layout = HelpLayout::described;
+    // Unset: `available` on the captured G2, `described` elsewhere.
+    std::optional<HelpLayout> help_layout;
     bool help_upper_case = false;
     // §6.3 names G2 commands that its listing is not known to show: MOT `l` (list motors) and DVB
     // `dis` (channel parameters). Whether `?` lists them is unknown; on, the shell accepts them

@@ -115,7 +115,7 @@ NvsEntry same(int index, const char* name, NvsEntry::Kind kind, double value)
 
 }  // namespace
 
-// Appendix A: the captured dump of a 02.02.48 unit (sim/transcripts/g2-real-console.md), which
+// Appendix A: the captured dump of a 02.02.48 unit (sim/transcripts/captured/), which
 // agrees with the predecessor's demo table except for the names of 75-77.
 std::vector<NvsEntry> g2_nvs_table()
 {

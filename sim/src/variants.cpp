@@ -18,7 +18,7 @@ namespace h = handlers;
 bool unlisted_on(const Options& options) { return options.unlisted_commands; }
 
 // ---- Carryout G2, firmware 02.02.48 (§6) ---------------------------------------------------
-// Two consoles (Options::g2_console): the captured one (sim/transcripts/g2-real-console.md, the
+// Two consoles (Options::g2_console): the captured one (sim/transcripts/captured/, the
 // default) and the reconstruction this emulator played before any capture existed. One table per
 // menu serves both: entries only one of them has carry `captured_only` / `reconstructed_only`.
 // MOT> descriptions are the captured listing's, verbatim; the other menus' listings were not
@@ -56,13 +56,13 @@ constexpr Command g2_mot_commands[] = {
     {"w", h::setter, nullptr, "Wrap Manager [motor] [ON/OFF]", captured_only},
 };
 constexpr Command g2_nvs_commands[] = {
-    {"d", h::nvs_dump, nullptr, "Display [<idx>]"},
-    {"e", h::nvs_edit, nullptr, "Edit <idx> [<value>]"},
+    {"d", h::nvs_dump, nullptr, "Display [idx]"},
+    {"e", h::nvs_edit, nullptr, "Edit [idx] [value]"},
     {"s", h::nvs_save, nullptr, "Save"},
 };
 constexpr Command g2_dvb_commands[] = {
-    {"rssi", h::dvb_rssi, nullptr, "Average RSSI over <n> reads"},
-    {"lnbdc", h::dvb_lnbdc, nullptr, "LNB supply <odu|stb>"},
+    {"rssi", h::dvb_rssi, nullptr, "Average RSSI [reads]"},
+    {"lnbdc", h::dvb_lnbdc, nullptr, "LNB supply [odu|stb]"},
     {"config", h::dvb_config, nullptr, "BCM configuration"},
     {"qls", h::dvb_quick_lock, nullptr, "Quick lock status"},
     {"def", h::hazard_only, nullptr, "Restore defaults"},
@@ -77,8 +77,8 @@ constexpr Command g2_dvb_commands[] = {
     {"range", h::dvb_fixed_reply, nullptr, "Transponder range", captured_only},
     {"pwr", h::dvb_fixed_reply, nullptr, "Power", captured_only},
     {"srch_mode", h::dvb_fixed_reply, nullptr, "Search mode", captured_only},
-    {"tabto", h::dvb_fixed_reply, nullptr, "Table timeouts [<acq> <nid> <sd>]", captured_only},
-    {"to", h::dvb_fixed_reply, nullptr, "Tune timeouts [<acq> <nid>]", captured_only},
+    {"tabto", h::dvb_fixed_reply, nullptr, "Table timeouts [acq] [nid] [sd]", captured_only},
+    {"to", h::dvb_fixed_reply, nullptr, "Tune timeouts [acq] [nid]", captured_only},
     {"di2id", h::dvb_fixed_reply, nullptr, "DiSEqC 2 LNB ID", captured_only},
     {"di2stat", h::dvb_fixed_reply, nullptr, "DiSEqC 2 LNB status", captured_only},
     {"di2conf", h::dvb_fixed_reply, nullptr, "DiSEqC 2 LNB config", captured_only},
@@ -87,9 +87,9 @@ constexpr Command g2_dvb_commands[] = {
     {"di2cs", h::dvb_fixed_reply, nullptr, "DiSEqC 2 configure switch", captured_only},
     {"diag", h::silent, nullptr, "Diagnostics", captured_only},
     {"table", h::silent, nullptr, "Transponder table", captured_only},
-    {"t", h::setter, nullptr, "Transponder <n>", captured_only},
-    {"e", h::setter, nullptr, "Edit <n> <v>", captured_only},
-    {"h", h::setter, nullptr, "Parameter help <n>", captured_only},
+    {"t", h::setter, nullptr, "Transponder [n]", captured_only},
+    {"e", h::setter, nullptr, "Edit parameter [n] [value]", captured_only},
+    {"h", h::setter, nullptr, "Parameter help [n]", captured_only},
     {"srch", h::silent, nullptr, "Search on/off", captured_only},
     {"shuf", h::silent, nullptr, "Shuffle on/off", captured_only},
     {"tablex", h::silent, nullptr, "Extended table on/off", captured_only},
@@ -98,15 +98,15 @@ constexpr Command g2_dvb_commands[] = {
     {"rrto", h::silent, nullptr, "DiSEqC reply timeout", captured_only},
     {"tdthresh", h::silent, nullptr, "DiSEqC tone threshold", captured_only},
     {"pretx", h::silent, nullptr, "DiSEqC pre-TX delay", captured_only},
-    {"send", h::setter, nullptr, "DiSEqC packet <3-6 bytes>", captured_only},
+    {"send", h::setter, nullptr, "DiSEqC packet [3-6 bytes]", captured_only},
 };
 constexpr Command g2_os_commands[] = {
     {"id", h::os_id, nullptr, "Identification"},
     {"reboot", h::reboot, nullptr, "Reboot"},
 };
 constexpr Command g2_eeprom_commands[] = {
-    {"ee", h::eeprom_read, nullptr, "Read/write <idx> [<v>]"},
-    {"inv", h::hazard_only, nullptr, "Invalidate <idx>"},
+    {"ee", h::eeprom_read, nullptr, "Read/write [idx] [value]"},
+    {"inv", h::hazard_only, nullptr, "Invalidate [idx]"},
     {"def", h::hazard_only, nullptr, "Defaults"},
 };
 constexpr Command g2_adc_commands[] = {
@@ -127,26 +127,26 @@ constexpr Command g2_a3981_commands[] = {
 constexpr Command g2_dipswitch_commands[] = {{"dipswitch", h::dipswitch, nullptr, "Read DIP switches"}};
 constexpr Command g2_gpio_commands[] = {
     {"regs", h::silent, nullptr, "Registers", captured_only},
-    {"r", h::setter, nullptr, "Read pin <port> <pin>", captured_only},
-    {"w", h::setter, nullptr, "Write pin <port> <pin>", captured_only},
-    {"dir", h::setter, nullptr, "Pin direction <bit> <val>", captured_only},
+    {"r", h::setter, nullptr, "Read pin [port] [pin]", captured_only},
+    {"w", h::setter, nullptr, "Write pin [port] [pin]", captured_only},
+    {"dir", h::setter, nullptr, "Pin direction [bit] [val]", captured_only},
 };
 constexpr Command g2_latlon_commands[] = {
-    {"l", h::latlon, nullptr, "Lat/lon from <satlon1> <satlon2> <satel1> <satel2>", captured_only},
+    {"l", h::latlon, nullptr, "Lat/lon from [satlon1] [satlon2] [satel1] [satel2]", captured_only},
 };
 constexpr Command g2_peak_commands[] = {
     {"ts", h::peak_switch_test, nullptr, "Switch test", captured_only},
-    {"pw", h::setter, nullptr, "Peak power <az> <el>", captured_only},
-    {"psnr", h::setter, nullptr, "Peak SNR <az> <el>", captured_only},
-    {"pxy1", h::silent, nullptr, "Peak XY [<n>]", captured_only},
+    {"pw", h::setter, nullptr, "Peak power [az] [el]", captured_only},
+    {"psnr", h::setter, nullptr, "Peak SNR [az] [el]", captured_only},
+    {"pxy1", h::silent, nullptr, "Peak XY [n]", captured_only},
     {"stb", h::peak_stb, nullptr, "STB test", captured_only},
     {"rssits", h::dvb_stream, nullptr, "RSSI test", captured_only},
 };
 constexpr Command g2_step_commands[] = {
     {"e", h::step_engage, nullptr, "Engage", captured_only},
     {"r", h::silent, nullptr, "Release", captured_only},
-    {"p", h::step_reply, nullptr, "Position [<motor> <pos>]", captured_only},
-    {"v", h::setter, nullptr, "Velocity <motor> <vel>", captured_only},
+    {"p", h::step_reply, nullptr, "Position [motor] [pos]", captured_only},
+    {"v", h::setter, nullptr, "Velocity [motor] [vel]", captured_only},
     {"mv", h::step_max_velocity, nullptr, "Max velocity (usteps/s)"},
     {"ma", h::step_accel, nullptr, "Acceleration (usteps/s/ms)"},
     {"pid", h::step_reply, nullptr, "PID", captured_only},
@@ -206,7 +206,7 @@ void append_g2_homing(std::vector<BootStep>& steps, const Engine& engine)
     steps.push_back({K::line, "home:0  wrap_pos:0  wrap_min:-42333  wrap_max:2333"});
 }
 
-// The captured boot of a unit with the tracker disabled (§6.2, sim/transcripts/g2-real-console.md):
+// The captured boot of a unit with the tracker disabled (§6.2, sim/transcripts/captured/):
 // two raw bursts around the bootloader's lines at 0.05 s, the application banner at 0.1 s, then
 // `Boot Complete`, an empty line and the location/tuner status lines; `TRK>` about 10 s after
 // power-on. Where the 10 s go is not captured: spent before `GPS Not Found` (a GPS search timing

@@ -109,7 +109,7 @@ TEST_CASE("auto-detect (90100) identifies every emulated variant without sending
              o.after_boot_line = "Antenna Facing Front: tracker disabled";
          }},
         {"carryout2003 left in target, no unknown-command text", Variant::carryout2003, "Carryout HAL 1.00.065",
-         [](Options& o) { o.unknown_command_reply.clear(); }, {"target"}},
+         [](Options& o) { o.unknown_command_reply = ""; }, {"target"}},
         {"pro left in ODU mot, q returns to the IDU", Variant::travler_pro, "Trav'ler Pro",
          [](Options& o) { o.pro_q_at_odu_root_returns_to_idu = true; }, {"odu", "mot"}},
         // Indistinguishable from a HAL 0.0.00 root: reported as such, with the Pro's 75 deg cap kept.

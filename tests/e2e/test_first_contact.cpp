@@ -97,7 +97,8 @@ double real_seconds(const Options& o, double seconds) { return seconds * o.time_
 // Together they flip every switch that bears on first contact; a switch a variant does not have
 // is simply ignored by the emulator for that variant. Left out on purpose: g2_homed and
 // g2_boot_homes (an unhomed G2 refuses moves until `R 1` by design, tested in test_verbs.cpp),
-// and the replay options.
+// and the replay options. The terse profile meets the G2's reconstructed console (the pre-capture
+// one), the others its captured console.
 std::vector<Profile> profiles_for(const VariantRow& v) {
     const bool g_aborts_by_default = v.variant != Variant::carryout2003;
     const HelpLayout terse_help = other_help_layout(v, 0);
@@ -111,13 +112,14 @@ std::vector<Profile> profiles_for(const VariantRow& v) {
          [g_aborts_by_default, terse_help](Options& o) {
              o.echo = false;
              o.line_ending = birdcage::sim::LineEnding::lf;
-             o.unknown_command_reply.clear();
+             o.unknown_command_reply = "";
              o.out_of_range = birdcage::sim::OutOfRange::reject;
              o.move_ack = birdcage::sim::MoveAck::after_motion;
              o.answer_position_while_moving = false;
              o.az_report = birdcage::sim::AzReport::mechanical;
              o.g_aborts_on_input = !g_aborts_by_default;
-             o.g2_root_q_kills_shell = false;
+             o.g2_root_q = birdcage::sim::G2RootQ::harmless;
+             o.g2_console = birdcage::sim::G2Console::reconstructed;  // the pre-capture G2 console
              o.home_report = birdcage::sim::HomeReport::g2plus_status;
              o.prompt_style = birdcage::sim::PromptStyle::bare;
              o.prompt_space = true;

@@ -81,7 +81,7 @@ std::vector<Setting> common_switches() {
         {"defaults", [](Options&) {}},
         {"echo off", [](Options& o) { o.echo = false; }},
         {"LF line endings", [](Options& o) { o.line_ending = birdcage::sim::LineEnding::lf; }},
-        {"unknown command prints nothing", [](Options& o) { o.unknown_command_reply.clear(); }},
+        {"unknown command prints nothing", [](Options& o) { o.unknown_command_reply = ""; }},
         {"unknown command prints ?", [](Options& o) { o.unknown_command_reply = "?"; }},
         {"unknown command prints an error with >",
          [](Options& o) { o.unknown_command_reply = "Error: bad command -> type ? for help"; }},
@@ -181,11 +181,21 @@ TEST_CASE("carryout2003: every unknown-behaviour switch and start-up situation",
 
 TEST_CASE("g2: every unknown-behaviour switch and start-up situation", "[e2e][variants][g2]") {
     const std::vector<Setting> own = {
-        {"q at TRK> does not kill the shell", [](Options& o) { o.g2_root_q_kills_shell = false; }},
+        {"q at TRK> does not kill the shell", [](Options& o) { o.g2_root_q = birdcage::sim::G2RootQ::harmless; }},
+        {"q at TRK> restarts the shell", [](Options& o) { o.g2_root_q = birdcage::sim::G2RootQ::restart; }},
         {"RSSI floor 500", [](Options& o) { o.rssi_floor = 500.0; }},
-        // One more boot line after `Loc Startup: ...` that nobody documented, shaped like a boot
+        {"moves overshoot as captured", [](Options& o) { o.g2_overshoot = true; }},
+        // The console this emulator played before the captures: paraphrased boot with homing,
+        // `Enter <cmd> - ...` help, `Unknown command`, no indentation, `g` in MOT>.
+        {"reconstructed console", [](Options& o) { o.g2_console = birdcage::sim::G2Console::reconstructed; }},
+        {"booting, reconstructed console",
+         [](Options& o) {
+             o.already_booted = false;
+             o.g2_console = birdcage::sim::G2Console::reconstructed;
+         }},
+        // One more boot line after `GPS Not Found` that nobody documented, shaped like a boot
         // marker: the dish is up once two pokes find TRK>, whatever that last line said.
-        {"booting, one more line after Loc Startup",
+        {"booting, one more line after the last boot line",
          [](Options& o) {
              o.already_booted = false;
              o.after_boot_line = "Motor init: wrap manager on";

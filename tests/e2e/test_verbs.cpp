@@ -106,9 +106,10 @@ TEST_CASE("G2: while R 1 homes, p answers, s says BUSY, and a P sent meanwhile i
 TEST_CASE("G2 with unhomed axes: moves refused with a clear error until R homes them", "[e2e][verbs][g2][homing]") {
     Options o = e2e::dish_options(Variant::carryout_g2);
     SECTION("booted unhomed") { o.g2_homed = false; }
-    SECTION("boot skips homing (tracker disabled, g2_boot_homes off)") {
+    SECTION("boot skips homing and loses the calibration (tracker disabled, the predecessor's claim)") {
         o.already_booted = false;
         o.g2_boot_homes = false;
+        o.g2_boot_calibrated = false;
     }
     e2e::Rig rig(o, 90105, {"-C", "leapfrog=0"});
     e2e::RotctldConnection client(rig.port());

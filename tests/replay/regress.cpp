@@ -154,6 +154,8 @@ public:
             } else if (op == "resync") {
                 const auto synced = session_.resync(send_timeout);
                 out << "op resync: " << status_field(synced) << " menu=" << birdcage::golden::quoted(session_.menu()) << '\n';
+            } else if (op == "home") {
+                out << "op home: " << status_field(controller_.home()) << '\n';
             } else if (op == "allow-nvs-write") {
                 session_.set_allow_nvs_write(true);
                 out << "op allow-nvs-write\n";

@@ -219,7 +219,7 @@ TEST_CASE("G2: the captured l, p, mv, ma, elminmaxhome and homing output", "[con
     CHECK(console.hazards() == 0);
 }
 
-TEST_CASE("G2: streams end at the next byte; DVB ls ends the submenu's shell", "[console][g2]")
+TEST_CASE("G2: streams end at the next byte, DVB ls ends the submenu's shell", "[console][g2]")
 {
     Console console(options_for(Variant::carryout_g2));
     send(console, "dvb\r");

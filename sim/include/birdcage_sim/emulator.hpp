@@ -47,7 +47,7 @@ enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete lin
 //                position at 0 the dish stops and reverses mid-track", §6.3 `w`/`sw`).
 enum class AzMapping { nearest, literal, wrap_manager };
 std::optional<AzMapping> parse_az_mapping(std::string_view name);   // "nearest", "literal", "wrap_manager"
-// `?` listing layout. Only the G2's is captured (`available`, sim/transcripts/g2-real-console.md); the
+// `?` listing layout. Only the G2's is captured (`available`, sim/transcripts/captured/); the
 // reconstructed G2 console printed `Enter <cmd> - Description` per line plus the usage line
 // `help [<command>]` (the predecessor's summary, §6.3). No source shows a Trav'ler or 2003 Carryout listing
 // verbatim (§3.3, §8.3 say only that `?` lists the commands), so the others are the shapes a
@@ -146,7 +146,7 @@ struct MotorDynamics {
 };
 
 // Which G2 console the emulator plays (docs/firmware.md §6, sim/README.md "The G2 console"):
-//  captured       the console of the real 02.02.48 session captures (sim/transcripts/g2-real-*):
+//  captured       the console of the real 02.02.48 session captures (sim/transcripts/captured/):
 //                 its boot, texts, indentation, listings, errors and menus, byte for byte where
 //                 they show them;
 //  reconstructed  the console this emulator played before any capture existed, rebuilt from the

@@ -95,7 +95,7 @@ Engine::Engine(const Options& opts)
 {
     menus = {profile.root};
     if (profile.nvs_disable_tracker_index >= 0) {
-        // The G2's search runs exactly when NVS 20 is FALSE (§6.2 item 14).
+        // The G2's search runs exactly when NVS 20 is FALSE (§6.2).
         if (NvsEntry* entry = nvs.find(profile.nvs_disable_tracker_index)) {
             const double disabled = opts.search_running ? 0.0 : 1.0;
             entry->current = entry->saved = disabled;

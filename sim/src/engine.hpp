@@ -50,7 +50,7 @@ enum class PositionFormat {
 enum class SearchStop {
     ngsearch_stop,        // HAL 2.05: `ngsearch` → `s` → `q` (§4.3)
     os_kill,              // HAL 0.0.00, Pro: `os` → `kill Search` (§3.3, §5.3)
-    nvs_disable_tracker,  // G2: NVS 20 TRUE + `s` + reboot (§6.2 item 14, Appendix A)
+    nvs_disable_tracker,  // G2: NVS 20 TRUE + `s` + reboot (§6.2, Appendix A)
     runs_out,             // 2003 Carryout: cannot be stopped, ends by itself (§8.2)
 };
 
@@ -79,7 +79,7 @@ struct VariantProfile {
     bool root_q_kills_shell;  // G2 (§6.5), subject to Options::g2_root_q_kills_shell
     bool fixed_prompts;       // G2 prompts are known (§6.3); others follow Options::prompt_style
     SearchStop search_stop;
-    bool boot_prints_prompt;  // G2 prints TRK> when the tracker stays off (§6.2 item 14)
+    bool boot_prints_prompt;  // G2 prints TRK> when the tracker stays off (§6.2 item 5)
     AxisParams az, el, skew;  // mechanical travel + motion parameters
     double el_min, el_max;    // firmware limits unless NVS overrides them
     double el_stall_above;    // Pro: motor stalls above ~75 deg (§5.4); +inf elsewhere
@@ -180,7 +180,7 @@ struct Engine {
     Busy busy;
     NvsTable nvs;
     int nvs_cursor = -1;
-    // §6.2 item 8: the boot log says `Enabled LNB STB`; what the sky model hears.
+    // The LNB supply the sky model hears: 18 V at boot (`Enabled LNB ODU 18V`, §6.2 item 4).
     LnbSupply lnb_supply = LnbSupply::stb_18v;
     unsigned motor_stalls = 0;     // injected stalls that have happened
 

@@ -300,7 +300,7 @@ void home(Engine& e, const Args& args)
     }
     if (home_az) {
         // Stall detection finds the hard stop at the top of the wrap window, then the axis
-        // returns to its zero (§6.2 item 11, §6.4).
+        // returns to its zero (§6.3 `h`, §6.4).
         e.motors.enqueue(axis_az, e.profile.az.max);
         e.motors.enqueue(axis_az, e.profile.home_az);
         e.homed[axis_az] = true;

@@ -106,7 +106,7 @@ struct ExtraBootLine {
     double silence_before = 0.0; // simulated seconds of quiet before the line
 };
 // What `h` prints when the AZ axis has homed (§14 G2.8). The G2 02.02.48's wrap line is known
-// from its boot log (§6.2 item 11); mjlangan's G2+ client waits for `AZ - Angle: 1 Wrap: 0` (§7.1,
+// from its homing output (§6.3); mjlangan's G2+ client waits for `AZ - Angle: 1 Wrap: 0` (§7.1,
 // shape inferred from its regex).
 enum class HomeReport { wrap_limits, g2plus_status };
 // Trav'ler `a` reply (§14 HAL0.3): birdcage documents one line `AZ = .. EL = .. SK = ..` (§3.3);
@@ -274,7 +274,7 @@ struct Options {
     // Console tests expect; a real UART always paces.
     bool pace_at_line_rate = false;
     // Simulated seconds between the completion line and the late boot lines after it (G2:
-    // `Boot Complete`, then `Loc Startup: IDU NOT Present`, §6.2 item 13). Input arriving after
+    // `Boot Complete`, then `Loc Startup: IDU NOT Present`, §6.2 items 3-4). Input arriving after
     // the completion line is kept and answered once the late lines and the boot prompt are out;
     // input before it is lost (nothing reads the UART yet, INVENTED).
     double late_boot_line_delay = 0.05;

@@ -102,7 +102,7 @@ void Controller::warn_if_unhomed() const {
 }
 
 // Read-only: the firmware's TV search runs after boot unless NVS "Disable Tracker Proc?" is TRUE
-// (docs/firmware.md 6.2 item 14, Appendix A). The backend never writes NVS; it only warns.
+// (docs/firmware.md 6.2, Appendix A). The backend never writes NVS; it only warns.
 Status Controller::check_tracker_disabled() {
     if (profile_.tracker_disable_nvs_index < 0) {
         return Status::ok();
@@ -303,7 +303,7 @@ Result<AzEl> Controller::query_position() {
         position = again;
     }
     // The dish moving on its own at rest is the firmware's TV search (tracker enabled): find out
-    // why once, read-only (docs/firmware.md 6.2 item 14).
+    // why once, read-only (docs/firmware.md 6.2).
     if (position && before && at_rest && !tracker_checked_ && profile_.tracker_disable_nvs_index >= 0 &&
         moved_on_its_own(*before, position.value)) {
         emit(options_.log, LogLevel::warning, "the dish moves on its own while idle; checking whether its tracker is enabled");

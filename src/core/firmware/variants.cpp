@@ -44,13 +44,13 @@ constexpr std::array<ConsoleStep, 1> carryout_motor_entry{{{"target", 0ms}}};
 
 // ---- Carryout G2 02.02.48 (docs/firmware.md 6) ----
 constexpr std::array<ConsoleStep, 1> g2_motor_entry{{{"mot", 0ms}}};
-// `Boot Complete` then `Loc Startup: IDU NOT Present`: the boot-complete pair (6.2 item 13); the
+// `Boot Complete` then `Loc Startup: IDU NOT Present`: the boot-complete pair (6.2 item 3-4); the
 // second may arrive after the first has been answered, so either ends the boot.
 constexpr std::array<std::string_view, 2> g2_boot_complete{"Boot Complete", "Loc Startup:"};
 constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -",
                                                     "Boot Complete", "Loc Startup:"};
 
-// G2 homing, elevation first as at boot (6.2 item 11): the dish rises before it turns.
+// G2 homing, elevation first as `h *` does (6.3): the dish rises before it turns.
 constexpr std::array<std::string_view, 2> g2_home{"h 1", "h 0"};
 
 constexpr std::array<std::string_view, 4> any_boot_complete{"NoGPS", "No LNB Voltage", "Boot Complete",

@@ -540,6 +540,13 @@ Dialect draw_dialect(Variant variant, std::uint32_t seed)
 
     o.boot_line_gap = draw.uniform(0.0, 0.3);
     if (variant == Variant::carryout_g2) o.late_boot_line_delay = draw.uniform(0.05, 2.0);
+    if (captured_g2) {
+        // What the captures leave open on their own console (§6.2, §6.4): the boot's length
+        // ("~10 s") and whether moves settle past the target.
+        o.g2_boot_seconds = draw.uniform(8.0, 12.0);
+        o.g2_overshoot = draw.chance(0.3);
+        said << "g2: boot " << fixed(o.g2_boot_seconds, 1) << " s, overshoot " << (o.g2_overshoot ? "yes" : "no") << "\n";
+    }
     o.pace_at_line_rate = draw.chance(0.5);
     said << "boot.line_gap_s: " << fixed(o.boot_line_gap, 3) << "\nboot.late_line_delay_s: "
          << fixed(o.late_boot_line_delay, 3) << "\nline_rate_pacing: " << (o.pace_at_line_rate ? "yes" : "no") << "\n";

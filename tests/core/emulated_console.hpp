@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string>
+#include <vector>
 
 #include "birdcage/base/clock.hpp"
 #include "birdcage/console/transport.hpp"
@@ -30,14 +31,24 @@ public:
     void tick(std::chrono::milliseconds span) {
         console_.advance(std::chrono::duration<double>(span).count());
         now_ += span;
-        output_ += console_.take_output();
+        take_output();
     }
 
     Status write(std::string_view bytes, Deadline) override {
+        writes_.push_back({console_.time(), std::string(bytes)});
         console_.feed(bytes);
-        output_ += console_.take_output();
+        take_output();
         return Status::ok();
     }
+
+    // What crossed the line, with the dish's time (seconds) it crossed at: for tests that ask what
+    // the core sent after the dish said something, and how soon.
+    struct Timed {
+        double at;
+        std::string bytes;
+    };
+    const std::vector<Timed>& writes() const { return writes_; }
+    const std::vector<Timed>& dish_output() const { return dish_output_; }
 
     // A read that finds nothing lets one slice of dish time pass first (the line is never idle in
     // dish time while the core waits), then reports a timeout as the contract allows.
@@ -60,7 +71,17 @@ public:
     const sim::Console& console() const { return console_; }
 
 private:
+    void take_output() {
+        std::string fresh = console_.take_output();
+        if (!fresh.empty()) {
+            dish_output_.push_back({console_.time(), fresh});
+            output_ += fresh;
+        }
+    }
+
     static constexpr std::chrono::milliseconds read_slice{10};
+    std::vector<Timed> writes_;
+    std::vector<Timed> dish_output_;
     sim::Console console_;
     std::string output_;
     Clock::time_point now_ = Clock::time_point{} + std::chrono::hours(1);

@@ -39,11 +39,16 @@ TEST_CASE("recovery: a step that asked nothing proves nothing") {
 }
 
 TEST_CASE("recovery: a failed attempt backs off doubling within bounds, a lost link is reopened first") {
-    const auto first = classify_failed_attempt(Status{Errc::timeout, "still booting"}, 0ms, 100ms, 2000ms);
+    const auto first = classify_failed_attempt(Status{Errc::protocol, "unexpected prompt"}, 0ms, 100ms, 2000ms);
     CHECK_FALSE(first.reopen);
     CHECK(first.backoff == 100ms);
-    const auto later = classify_failed_attempt(Status{Errc::timeout, "still booting"}, 1500ms, 100ms, 2000ms);
+    const auto later = classify_failed_attempt(Status{Errc::protocol, "unexpected prompt"}, 1500ms, 100ms, 2000ms);
     CHECK(later.backoff == 2000ms);
+    // A timed-out attempt listened for its whole slice: the next listens after the shortest pause,
+    // so the ready line of a booting dish is read when it comes, not seconds later.
+    const auto booting = classify_failed_attempt(Status{Errc::timeout, "still booting"}, 1500ms, 100ms, 2000ms);
+    CHECK_FALSE(booting.reopen);
+    CHECK(booting.backoff == 100ms);
     CHECK(classify_failed_attempt(Status{Errc::disconnected, "EOF"}, 100ms, 100ms, 2000ms).reopen);
     CHECK(classify_failed_attempt(Status{Errc::io, "EIO"}, 100ms, 100ms, 2000ms).reopen);
 }

@@ -57,11 +57,17 @@ public:
     const std::string& menu() const { return menu_; }
     const std::string& last_prompt() const { return last_prompt_; }
     bool reboot_seen() const { return reboot_seen_; }
-    // Clears reboot_seen() and last_boot_line().
+    // Clears reboot_seen(), last_boot_line() and just_booted().
     void clear_reboot_seen() {
         reboot_seen_ = false;
         last_boot_line_.clear();
+        just_booted_ = false;
     }
+    // The latest output is the firmware's documented ready line (FirmwareProfile::ready_markers),
+    // heard by transact() or listen(): the dish has just booted, is at its root and takes input.
+    // While this holds, transact() sends nothing and fails at once: whatever it was asked is void
+    // (a booting dish drops its input), and the caller's recovery must stop the TV search first.
+    bool just_booted() const { return just_booted_; }
     // The most recent boot line seen anywhere (transact, listen or stale input).
     const std::string& last_boot_line() const { return last_boot_line_; }
     // The last bytes the console sent, raw (line noise and text the framer dropped included): for
@@ -112,6 +118,7 @@ private:
     std::string menu_;
     std::string last_prompt_;
     bool reboot_seen_ = false;
+    bool just_booted_ = false;
     std::string last_boot_line_;
     static constexpr std::size_t recent_output_limit = 8192;
     std::string recent_output_;

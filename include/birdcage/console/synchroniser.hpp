@@ -39,6 +39,10 @@ struct SyncSettings {
     // its completion marker.
     std::span<const std::string_view> boot_markers;
     std::span<const std::string_view> boot_complete_markers;
+    // The firmware's documented last boot line (FirmwareProfile::ready_markers): heard as the latest
+    // output, it ends the synchronisation at once, no poke sent. The console is then at its root,
+    // just booted, and takes input (docs/firmware.md 3.6).
+    std::span<const std::string_view> ready_markers;
     // Sent after a line ending drew no prompt, to tell a live prompt-less console from a silent
     // one; empty: never. Must be harmless in every menu of every variant (`?`).
     std::string_view probe_command;
@@ -59,6 +63,7 @@ struct ConsoleSnapshot {
     std::vector<std::string> probe_reply;   // lines answering probe_command, when it proved the console live
     std::vector<std::string> heard;         // every printable line heard, oldest first (boot lines included)
     std::string last_boot_line;             // empty when no boot output was heard
+    std::string ready_line;                 // the ready line that ended the synchronisation (no prompt then)
     bool boot_heard = false;
     std::chrono::milliseconds waited{0};
 };
@@ -82,6 +87,7 @@ private:
         std::string_view text() const { return std::string_view(raw).substr(0, text_end); }
         bool failed = false;
         Status failure;
+        bool ready_line_last = false;   // the latest text was a complete ready line (SyncSettings::ready_markers)
     };
 
     Clock::time_point now() const;

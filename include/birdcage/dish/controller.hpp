@@ -148,7 +148,8 @@ public:
 private:
     Clock::time_point now() const;
     Status initialize_within(std::chrono::milliseconds boot_budget);
-    Status wait_for_boot();
+    // Ok(true): the dish has just printed its ready line and is at its root, its TV search starting.
+    Result<bool> wait_for_boot();
     Status open_motor_menu();
     void warn_if_unhomed() const;
     Status check_tracker_disabled();

@@ -116,6 +116,13 @@ struct FirmwareProfile {
     // Auto-detection that finds this variant sends the one `q` that tells the two apart.
     std::optional<VariantId> also_shown_inside = std::nullopt;
 
+    // Substrings of the documented last boot line, after which the console takes input at once and
+    // the TV search is about to start (Trav'ler `NoGPS`, HAL 2.05 `No LNB Voltage`: docs/firmware.md
+    // 3.2, 3.6, 4.2). Heard as the latest output, it ends the wait for the boot without a poke, so
+    // the search is stopped before it swings the dish. Empty: two answered pokes confirm every boot
+    // (the G2 prints status lines for ~10 s after its `Boot Complete`, 6.2).
+    std::span<const std::string_view> ready_markers = {};
+
     bool has(Quirk quirk) const { return (quirks & quirk) != 0; }
     bool prompt_known() const { return !motor_prompt.empty(); }
 };

@@ -33,8 +33,11 @@ struct RecoveryVerdict {
 RecoveryVerdict classify_step(const StepOutcome& outcome, int failures_so_far, int failures_before_recovery);
 
 // A recovery attempt failed: whether the port must be reopened before the next one, and how long
-// to wait for it (doubling from `min` up to `max`, so a dish that is powered later is found
-// quickly without flooding a console that is still booting).
+// to wait for it. An attempt that timed out has spent its time listening to the line (the
+// synchroniser paces its own pokes): the next one follows after `min` only, since a longer pause
+// would leave unread the ready line a booting Trav'ler prints before its TV search swings the
+// dish. Any other failure waits, doubling from `min` up to `max`, so a port that reopens later is
+// found quickly without a busy loop.
 struct RetryVerdict {
     bool reopen = false;
     std::chrono::milliseconds backoff{0};

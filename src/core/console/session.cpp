@@ -29,6 +29,7 @@ ConsoleSession::ConsoleSession(Transport& transport, const FirmwareProfile& prof
 
 Result<ConsoleSnapshot> ConsoleSession::synchronise(const SyncSettings& settings) {
     framer_.reset();
+    just_booted_ = false;   // the synchroniser reports a ready line itself (ConsoleSnapshot::ready_line)
     ConsoleSynchroniser synchroniser(transport_, settings, log_);
     auto synced = synchroniser.synchronise();
     note_raw(synchroniser.recent_output());
@@ -78,6 +79,12 @@ void ConsoleSession::note_menu_after(std::string_view command) {
 }
 
 void ConsoleSession::handle_event(const FrameEvent& event, Collected& into) {
+    // A prompt after the ready line is the root's; any other output means the dish has moved on.
+    if (event.kind != FrameEvent::Kind::prompt && event.kind != FrameEvent::Kind::noise) {
+        just_booted_ = event.kind == FrameEvent::Kind::boot_line &&
+                       std::any_of(profile_.ready_markers.begin(), profile_.ready_markers.end(),
+                                   [&](std::string_view marker) { return event.text.find(marker) != std::string::npos; });
+    }
     switch (event.kind) {
     case FrameEvent::Kind::line:
         into.lines.push_back(event.text);
@@ -175,6 +182,15 @@ Result<Reply> ConsoleSession::transact(std::string_view command, std::chrono::mi
     collected.lines.clear();
     collected.everything.clear();
     collected.prompt.clear();
+    auto lost_to_boot = [&](std::string_view when) {
+        return Result<Reply>{{collected.lines, collected.prompt},
+                             Status{Errc::timeout, "the dish has just booted (\"" + last_boot_line_ + "\" " +
+                                                       std::string(when) + " \"" + escape_bytes(command) +
+                                                       "\"): its TV search must be stopped first"}};
+    };
+    if (just_booted_) {
+        return lost_to_boot("before");
+    }
 
     const Deadline deadline = Clock::now() + timeout;
     const std::string wire = std::string(command) + std::string(profile_.line_ending);
@@ -197,6 +213,9 @@ Result<Reply> ConsoleSession::transact(std::string_view command, std::chrono::mi
         Status failure;
         const ReadOutcome outcome = read_some(collected, wait_until, failure);
         if (outcome == ReadOutcome::data) {
+            if (just_booted_) {
+                return lost_to_boot("arrived instead of the reply to");   // the boot dropped the command
+            }
             quiet_until = Clock::now() + profile_.quiet_gap;
             continue;
         }

@@ -163,6 +163,7 @@ SyncSettings console_sync_settings(const FirmwareProfile& profile, std::chrono::
     settings.line_ending = profile.line_ending;
     settings.boot_markers = profile.reboot_markers;
     settings.boot_complete_markers = profile.boot_complete_markers;
+    settings.ready_markers = profile.ready_markers;
     settings.budget = budget;
     if (profile.prompt_known()) {
         settings.expected = "the console's prompt (" + std::string(profile.root_prompt) + " at the root, " +
@@ -215,11 +216,13 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
         for (std::size_t i = heard.raw.size() - bytes.size(); i < heard.raw.size(); ++i) {
             const char c = heard.raw[i];
             if (is_line_end(c)) {
-                if (const std::size_t prompt = prompt_before_noise(std::string_view(heard.raw).substr(line_start, i - line_start))) {
-                    lines_end = line_start + prompt;
+                const std::string_view ended = std::string_view(heard.raw).substr(line_start, i - line_start);
+                if (const std::size_t prompt = prompt_before_noise(ended)) {
+                    lines_end = line_start + prompt;   // a prompt after the ready line: at the root, as it says
                 } else if (is_text_line(line_text, line_noise)) {
                     lines_end = i + 1;
                     spoke = true;
+                    heard.ready_line_last = contains_any(ended, settings_.ready_markers);
                 }
                 line_start = i + 1;
                 line_text = 0;
@@ -245,6 +248,14 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
             spoke = spoke || heard.text_end > previous_end;
         } else if (is_text_line(line_text, line_noise)) {
             heard.text_end = heard.raw.size();
+        }
+        if (line_text > 0 && !looks_like_prompt(std::string_view(heard.raw).substr(line_start))) {
+            heard.ready_line_last = false;   // more text follows the ready line
+        }
+        // The dish has just booted and takes input: every moment waited now lets its TV search
+        // swing it further.
+        if (heard.ready_line_last) {
+            return heard;
         }
         if (spoke) {
             wait_until = std::min(limit, now() + gap);
@@ -368,6 +379,19 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         return fail_io(stale.failure);
     }
     absorb(stale.raw, snapshot);
+    auto ready = [&](const Heard& heard) {
+        if (!heard.ready_line_last) {
+            return false;
+        }
+        snapshot.ready_line = snapshot.last_boot_line;
+        snapshot.waited = waited();
+        emit(log_, LogLevel::verbose, "the dish printed its ready line \"" + escape_bytes(snapshot.ready_line) +
+                                          "\": in sync at its root without a poke, after " + seconds_text(snapshot.waited));
+        return true;
+    };
+    if (ready(stale)) {
+        return {std::move(snapshot), Status::ok()};
+    }
     if (booting()) {
         report_progress(snapshot, started);   // opened mid-boot: say so at once
     }
@@ -382,6 +406,9 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
             return fail_io(unsolicited.failure);
         }
         absorb(unsolicited.raw, snapshot);
+        if (ready(unsolicited)) {
+            return {std::move(snapshot), Status::ok()};
+        }
         if (unsolicited.text_end > 0) {
             candidate.clear();
             probe_answer.clear();
@@ -403,6 +430,9 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
             return fail_io(reply.failure);
         }
         absorb(reply.raw, snapshot);
+        if (ready(reply)) {
+            return {std::move(snapshot), Status::ok()};
+        }
         // A prompt counts even while boot output seemed to be in progress: the line was quiet
         // (for boot_listen, when booting) before each of the two pokes, and a booting dish does
         // not answer them. So whatever the last boot line said -- one we do not know may follow
@@ -433,6 +463,9 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
             }
             const std::size_t first_new = snapshot.heard.size();
             absorb(answer.raw, snapshot);
+            if (ready(answer)) {
+                return {std::move(snapshot), Status::ok()};
+            }
             if (std::string prompt = trailing_prompt(answer.text()); !prompt.empty()) {
                 candidate = std::move(prompt);   // the next bare line ending confirms it
                 continue;

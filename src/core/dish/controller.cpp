@@ -73,17 +73,30 @@ Clock::time_point Controller::now() const { return options_.clock.now(); }
 
 // A booting, idle or noisy console is brought to a confirmed prompt by the one synchroniser
 // (never on a single line: see synchroniser.hpp); it also says at default verbosity that it waits.
-Status Controller::wait_for_boot() {
+// A ready line heard as the latest output (by a poll, or by the synchroniser) is acted on at once:
+// no poke, because each moment lets the TV search swing the dish further (docs/reliability.md).
+Result<bool> Controller::wait_for_boot() {
+    if (session_.just_booted()) {
+        const std::string ready_line = session_.last_boot_line();
+        session_.clear_reboot_seen();
+        emit(options_.log, LogLevel::warning, "dish booted (its ready line \"" + ready_line + "\"): stopping its TV search at once");
+        return {true, Status::ok()};
+    }
     session_.clear_reboot_seen();
     const auto synced = session_.synchronise(console_sync_settings(profile_, boot_budget_));
     if (!synced) {
-        return Status{synced.status.code, "the " + std::string(profile_.display_name) +
-                                              " console did not come into sync: " + synced.status.message};
+        return {false, Status{synced.status.code, "the " + std::string(profile_.display_name) +
+                                                      " console did not come into sync: " + synced.status.message}};
+    }
+    if (!synced.value.ready_line.empty()) {
+        emit(options_.log, LogLevel::warning,
+             "dish booted (its ready line \"" + synced.value.ready_line + "\"): stopping its TV search at once");
+        return {true, Status::ok()};
     }
     if (synced.value.boot_heard) {
         emit(options_.log, LogLevel::warning, "dish booted (last boot output \"" + synced.value.last_boot_line + "\")");
     }
-    return Status::ok();
+    return {false, Status::ok()};
 }
 
 Status Controller::in_submenu(std::string_view menu, const std::function<Status(ConsoleSession&)>& work) {
@@ -224,13 +237,21 @@ Status Controller::open_motor_menu() {
         }
         return Status::ok();
     }
-    if (Status booted = wait_for_boot(); !booted) {
-        return booted;
+    const Result<bool> booted = wait_for_boot();
+    if (!booted) {
+        return booted.status;
     }
-    if (Status left = menus_.leave_submenus(); !left) {
+    std::span<const ConsoleStep> search_kill = profile_.search_kill;
+    if (booted.value) {
+        // At its root after the boot: the steps that only leave submenus (`q`, a bare line) would
+        // delay the stop, so the stop's own command is the first thing the dish hears.
+        while (!search_kill.empty() && (search_kill.front().command == "q" || search_kill.front().command.empty())) {
+            search_kill = search_kill.subspan(1);
+        }
+    } else if (Status left = menus_.leave_submenus(); !left) {
         return left;
     }
-    if (Status killed = menus_.run_steps(profile_.search_kill, "stopping the TV search"); !killed) {
+    if (Status killed = menus_.run_steps(search_kill, "stopping the TV search"); !killed) {
         return killed;
     }
     return menus_.enter_motor_menu("entering the motor menu");

@@ -154,6 +154,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .tracker_disable_nvs_index = -1,
         .predictive_by_default = false,
         .also_shown_inside = VariantId::travler_pro,
+        .ready_markers = hal000_boot_complete,
     },
     {
         .id = VariantId::travler_hal205,
@@ -183,6 +184,7 @@ constexpr std::array<FirmwareProfile, 5> profiles{{
         .home_commands = {},
         .tracker_disable_nvs_index = -1,
         .predictive_by_default = false,
+        .ready_markers = hal205_boot_complete,
     },
     {
         .id = VariantId::travler_pro,

@@ -44,6 +44,9 @@ RecoveryVerdict classify_step(const StepOutcome& outcome, int failures_so_far, i
 
 RetryVerdict classify_failed_attempt(const Status& attempt, std::chrono::milliseconds previous_backoff,
                                      std::chrono::milliseconds min, std::chrono::milliseconds max) {
+    if (attempt.code == Errc::timeout) {
+        return {false, min};
+    }
     return {link_lost(attempt), std::clamp(previous_backoff * 2, min, max)};
 }
 

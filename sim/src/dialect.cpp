@@ -559,6 +559,14 @@ Dialect draw_dialect(Variant variant, std::uint32_t seed)
         o.idle_line_period = draw.uniform(3.0, 60.0);
     }
     said << "async_line: \"" << o.idle_line << "\" every " << fixed(o.idle_line_period, 1) << " s\n";
+
+    // Prompt decorations on every variant and every menu, the G2 included: its documented prompt
+    // text stays, a tag before it or marks after its '>' are what another build may add. Drawn
+    // last, so every earlier draw of a seed stays what it was.
+    if (o.prompt_prefix.empty() && draw.chance(0.25))
+        o.prompt_prefix = draw.pick<const char*>({"WG ", "[WG]", "dish:", "ant ", "#", "(wg) "});
+    if (draw.chance(0.2)) o.prompt_suffix = draw.pick<const char*>({">", "$", ":", "#"});
+    said << "prompt_decoration: before \"" << o.prompt_prefix << "\", after \"" << o.prompt_suffix << "\"\n";
     dialect.description = said.str();
     return dialect;
 }

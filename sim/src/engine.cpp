@@ -152,9 +152,10 @@ void Engine::print_line(std::string_view text)
 void Engine::print_prompt()
 {
     const bool named = profile.fixed_prompts || options.prompt_style == PromptStyle::named;
-    if (!profile.fixed_prompts) output.append(options.prompt_prefix);
+    output.append(options.prompt_prefix);
     if (named) output.append(menus.back()->prompt_name);
     output.push_back('>');
+    output.append(options.prompt_suffix);
     if (options.prompt_space) output.push_back(' ');
 }
 

@@ -213,6 +213,10 @@ const std::vector<Flag>& flags()
              o.prompt_style = choice<PromptStyle>(f, v, {{"named", PromptStyle::named}, {"bare", PromptStyle::bare}});
          }},
         {"--prompt-space", "yes|no", "a space after the prompt (default no)", [](Options& o, auto f, auto v) { o.prompt_space = yes_no(f, v); }},
+        {"--prompt-prefix", "TEXT", "a tag before every prompt, any variant (e.g. \"WG \"; default none)",
+         [](Options& o, auto, auto v) { o.prompt_prefix = std::string(v); }},
+        {"--prompt-suffix", "TEXT", "marks after every prompt's '>', any variant (e.g. $; default none)",
+         [](Options& o, auto, auto v) { o.prompt_suffix = std::string(v); }},
         {"--hal205-marker", "nogps|no-lnb-voltage", "HAL 2.05 boot-complete line (default nogps)", [](Options& o, auto f, auto v) {
              o.hal205_boot_marker = choice<BootMarker>(f, v, {{"nogps", BootMarker::no_gps}, {"no-lnb-voltage", BootMarker::no_lnb_voltage}});
          }},

@@ -54,7 +54,7 @@ TEST_CASE("framer: named byte sequences") {
          {{Kind::line, "one"}, {Kind::line, "two"}}},
         {"prompt split across chunks", g2(), {"Angle = 1.00\r\nMO", "T>"}, "",
          {{Kind::line, "Angle = 1.00"}, {Kind::prompt, "MOT>"}}},
-        {"prompt with a trailing space", g2(), {"\r\nTRK> "}, "", {{Kind::prompt, "TRK> "}}},
+        {"prompt with a trailing space", g2(), {"\r\nTRK> "}, "", {{Kind::prompt, "TRK>"}}},
         {"bare '>' prompt (Trav'ler, likely)", hal205(), {"\r\n>"}, "", {{Kind::prompt, ">"}}},
         {"echo after the prompt on the same line", g2(), {"TRK>nvs\r\nNVS>"}, "nvs",
          {{Kind::echo, "TRK>nvs"}, {Kind::prompt, "NVS>"}}},
@@ -67,6 +67,13 @@ TEST_CASE("framer: named byte sequences") {
         {"a chunk ending right after a help-line '>' is not a prompt", g2(), {"Enter <a3981>", " - x\r\n"}, "",
          {{Kind::line, "Enter <a3981> - x"}}},
         {"lowercase word before '>' is not a prompt", g2(), {"abc>"}, "", {}},
+        // A product tag before the documented prompt, or marks after it: the menu is the same.
+        {"tagged prompt (WG TRK>) is reported as its documented text", g2(), {"\r\nWG TRK>"}, "",
+         {{Kind::prompt, "TRK>"}}},
+        {"bracket tag and echo after it", g2(), {"[G2]MOT>a\r\n    Angle[0] = 180.00\r\n[G2]MOT>"}, "a",
+         {{Kind::echo, "[G2]MOT>a"}, {Kind::line, "    Angle[0] = 180.00"}, {Kind::prompt, "MOT>"}}},
+        {"marks after the '>' and a space", hal205(), {"\r\ndish:TRK>$ "}, "", {{Kind::prompt, "TRK>"}}},
+        {"a tagged bare prompt", hal205(), {"\r\nant >"}, "", {{Kind::prompt, ">"}}},
         {"leading non-ASCII garbage is dropped and reported", g2(), {"\xff\xfe\x80" "Angle = 1.00\r\nMOT>"}, "",
          {{Kind::line, "Angle = 1.00"}, {Kind::noise, "\xff\xfe\x80"}, {Kind::prompt, "MOT>"}}},
         {"NULs inside a line", g2(), {std::string("Ang\0le = 1.00\r\n", 15)}, "",
@@ -131,4 +138,13 @@ TEST_CASE("looks_like_prompt") {
     CHECK_FALSE(looks_like_prompt("TRK>nvs"));
     CHECK_FALSE(looks_like_prompt(""));
     CHECK_FALSE(looks_like_prompt("mot>"));
+    // Known by shape: a short tag before, marks after; the documented text is what counts.
+    CHECK(prompt_text("WG TRK>") == "TRK>");
+    CHECK(prompt_text("[G2]MOT>") == "MOT>");
+    CHECK(prompt_text("dish:TRK>$ ") == "TRK>");
+    CHECK(prompt_text("#>") == ">");
+    CHECK(prompt_text("TRK>>") == "TRK>");
+    CHECK(prompt_text("Enter <a3981>").empty());
+    CHECK(prompt_text("a very long banner TRK>").empty());   // more than a tag
+    CHECK(prompt_text("Gmot>").empty());
 }

@@ -444,3 +444,33 @@ TEST_CASE("sync: silences of several seconds inside a boot are waited out, not t
         CHECK(c.empty());
     }
 }
+
+// A G2 console whose prompts carry a product tag (`WG TRK>`, `[G2]MOT>`) is the same firmware: its
+// prompt is known by its shape, and the session learns the menu from the documented text.
+TEST_CASE("sync: a prompt with a tag before it or marks after it is confirmed as its documented text") {
+    const std::string prompt = GENERATE(std::string("WG TRK>"), std::string("[G2]MOT>"), std::string("TRK>$"),
+                                        std::string("dish: TRK> "));
+    FakeTransport wire(prompt_console(prompt, "\r\n", true));
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(), log.sink(), frozen);
+    const auto synced = sync.synchronise();
+    INFO(prompt << ": " << synced.status.message);
+    REQUIRE(synced);
+    CHECK(synced.value.prompt == (prompt.find("MOT") != std::string::npos ? "MOT>" : "TRK>"));
+    CHECK(wire.commands() == Commands{"", ""});
+}
+
+// The waiting messages say what the console showed: a console that answers every poke with a
+// line that is no prompt never reads "no boot output yet" as if it were silent.
+TEST_CASE("sync: while waiting, the messages name the last line the console showed and the pokes it answered") {
+    FakeTransport wire(prompt_console("tracker ready, type help", "\r\n", false));
+    Logged log;
+    ConsoleSynchroniser sync(wire, g2_settings(40s), log.sink(), frozen);
+    const auto synced = sync.synchronise();
+    REQUIRE_FALSE(synced);
+    CHECK(log.count("the console shows no prompt confirmed yet (it last showed \"tracker ready, type help\")") == 1);
+    CHECK(log.count("still waiting for the dish to boot: 30 s; no boot output; the console last showed "
+                    "\"tracker ready, type help\"; ") == 1);
+    CHECK(log.count("no boot output yet") == 0);
+    CHECK(log.count(" pokes answered") == 1);
+}

@@ -127,3 +127,47 @@ TEST_CASE("rotctl -l lists the auto-detecting model", "[e2e][autodetect][registr
     CHECK(with.out.find(std::to_string(kAutoModel)) != std::string::npos);
     CHECK(with.out.find("Auto-detect") != std::string::npos);
 }
+
+// A G2 whose prompts carry a product tag (`WG TRK>`, `[G2]MOT>`) or marks after the '>' is the same
+// firmware: it opens with its own model and with 90100, booting or up, and is driven. Before prompts
+// were known by their shape it never opened ("still waiting for the dish to boot" for ever).
+TEST_CASE("a G2 whose prompts carry a tag opens with its own model and auto-detected, booting and up",
+          "[e2e][autodetect][prompt_shape]") {
+    struct TagCase {
+        const char* name;
+        std::string prefix, suffix;
+        bool booting;
+        int model;
+    };
+    const TagCase c = GENERATE(TagCase{"WG , own model, up", "WG ", "", false, 90105},
+                               TagCase{"[G2], own model, booting", "[G2]", "", true, 90105},
+                               TagCase{"WG , auto, up", "WG ", "", false, kAutoModel},
+                               TagCase{"[G2] and $, auto, booting", "[G2]", "$", true, kAutoModel});
+    INFO(c.name);
+    Options o;
+    o.variant = Variant::carryout_g2;
+    o.time_scale = 50.0;
+    o.start_az = 100.0;
+    o.start_el = 30.0;
+    o.prompt_prefix = c.prefix;
+    o.prompt_suffix = c.suffix;
+    o.already_booted = !c.booting;
+    e2e::Rig rig(o, c.model, {"-C", "leapfrog=0"});
+    e2e::RotctldConnection client(rig.port());
+    const std::string info = client.ask("_", 1);
+    INFO(info);
+    CHECK(info.find("Carryout G2") != std::string::npos);
+    REQUIRE(rig.rotctl({"P", "150", "40"}).exit_code == 0);
+    const bool settled = e2e::wait_until(
+        [&] {
+            const auto p = rig.dish().true_position();
+            return !rig.dish().moving() && e2e::angle_between(p.az, 150.0) <= 0.1 && std::fabs(p.el - 40.0) <= 0.1;
+        },
+        30s);
+    if (!settled) {
+        INFO(rig.rotctld_log_text());
+        CHECK(settled);
+    }
+    CHECK(rig.dish().hazards_received() == 0);
+    CHECK(rig.dish().shell_alive());
+}

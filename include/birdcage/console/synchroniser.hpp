@@ -101,6 +101,7 @@ private:
     void end_boot_on(const std::string& answer, const std::string& last_boot_line);
     Status write(std::string_view bytes);
     void report_progress(const ConsoleSnapshot& snapshot, Clock::time_point started);
+    std::string shown_so_far(const ConsoleSnapshot& snapshot) const;
     void check_baud(std::string_view raw);
     Status give_up(const ConsoleSnapshot& snapshot, std::string_view why) const;
 
@@ -115,6 +116,8 @@ private:
     std::chrono::milliseconds next_progress_{0};
     std::size_t bytes_heard_ = 0;
     std::size_t noise_bytes_ = 0;
+    std::size_t pokes_ = 0;            // bare line endings sent
+    std::size_t answered_pokes_ = 0;   // of which drew console text
     std::string recent_;   // the tail of everything heard, for the give-up message
 };
 
@@ -122,8 +125,9 @@ private:
 // its boot lines, `?` as the liveness probe where its prompts are undocumented, its baud rate.
 SyncSettings console_sync_settings(const FirmwareProfile& profile, std::chrono::milliseconds budget);
 
-// The prompt the output ends with: its last non-empty line, if that line is `WORD>` (optionally
-// one trailing space), free of noise bytes, and followed by nothing but line endings. Empty if none.
+// The prompt the output ends with, as its documented text (`TRK>` for `WG TRK> `): its last
+// non-empty line, if that line has a prompt's shape (framer.hpp, prompt_shape()), is free of noise
+// bytes, and is followed by nothing but line endings. Empty if none.
 std::string trailing_prompt(std::string_view output);
 
 // The last `count` non-empty lines of `output`, each quoted and escaped, for error messages.

@@ -257,8 +257,11 @@ struct Options {
     // --- console shape drawn by the dialect generator (dialect.hpp) ------------------------
     // Extra boot lines and silences (empty: the documented boot log only).
     std::vector<ExtraBootLine> boot_extra;
-    // Before the menu name of a prompt the notes leave open (not the G2's, §6.3), e.g. "HAL ".
+    // Decorations of every prompt, on every variant (a product tag before the documented text,
+    // e.g. "WG " or "[G2]", and marks after its '>', e.g. "$"): the documented prompt text stays
+    // (§6.3 for the G2), what a firmware build adds around it is open (§14 HAL0.1).
     std::string prompt_prefix;
+    std::string prompt_suffix;
 
     // --- motor dynamics (docs/firmware.md §3.4, §6.4; docs/tracking.md §1.4) ---------------
     // The variant's speeds and acceleration are the defaults. Only the G2's are read from its

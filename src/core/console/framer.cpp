@@ -8,8 +8,12 @@
 //  2. Reply text is printable ASCII (0x20-0x7E) plus TAB. Any other byte (NUL, 0x80-0xFF, other
 //     controls, BS, DEL) is line noise (RS-485 idle bus, wrong baud, swapped pair): it is removed
 //     from the line and reported as a noise event, never interpreted.
-//  3. A prompt is an optional run of [A-Z0-9_] followed by '>' and at most one space (`TRK>`,
-//     `MOT>`, `A3981>`, `>`). The firmware prints it last and then waits, so it is recognised only
+//  3. A prompt is its documented text, an optional run of [A-Z0-9_] followed by '>' (`TRK>`,
+//     `MOT>`, `A3981>`, `>`), known by its shape rather than its exact bytes: a short decoration
+//     may stand before it (a product tag such as `WG `, `[G2]`, `dish:`, ending in neither a
+//     letter nor a digit) and up to two of `$#:%>~` after it, then at most one space
+//     (prompt_shape()). The documented text is what the framer reports: a console that tags its
+//     prompts is in the same menus. The firmware prints it last and then waits, so it is recognised only
 //     (a) as the whole unterminated line at the end of a chunk, when nothing followed it yet, or
 //     (b) as a whole line of its own, or (c) as the start of a line that runs into an unprintable
 //     byte (noise read in the same chunk as the prompt: a dish never prints such a byte, so its
@@ -23,6 +27,7 @@
 #include "birdcage/console/framer.hpp"
 
 #include <array>
+#include <optional>
 
 namespace birdcage {
 namespace {
@@ -42,27 +47,65 @@ bool contains_any(std::string_view line, std::span<const std::string_view> marke
     return false;
 }
 
-// Length of a leading prompt (`TRK>`), 0 if the line does not start with one.
-std::size_t leading_prompt_length(std::string_view text) {
-    std::size_t i = 0;
-    while (i < text.size() && is_prompt_word_char(text[i])) {
-        ++i;
-    }
-    if (i < text.size() && text[i] == '>') {
-        return i + 1;
-    }
-    return 0;
-}
+constexpr std::size_t max_decoration_before = 12;
+constexpr std::size_t max_prompt_word = 16;
+constexpr std::size_t max_decoration_after = 2;
+
+bool is_decoration_after_char(char c) { return std::string_view("$#:%>~").find(c) != std::string_view::npos; }
+bool is_letter_or_digit(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'); }
 
 }  // namespace
 
-bool looks_like_prompt(std::string_view text) {
-    const std::size_t length = leading_prompt_length(text);
+// `documented` receives the prompt's documented text (`TRK>`).
+std::size_t leading_prompt_length(std::string_view text, std::string_view* documented) {
+    const std::size_t close = text.find('>');
+    if (close == std::string_view::npos) {
+        return 0;
+    }
+    std::size_t word = close;
+    while (word > 0 && close - word < max_prompt_word && is_prompt_word_char(text[word - 1])) {
+        --word;
+    }
+    const std::string_view before = text.substr(0, word);
+    // Help lines such as `Enter <a3981> - ...` hold a `<` before their `>`; a tag ends apart from
+    // the prompt's word, so `mot>` (an echo, a listing word) is no prompt.
+    if (before.size() > max_decoration_before || before.find('<') != std::string_view::npos ||
+        (!before.empty() && is_letter_or_digit(before.back()))) {
+        return 0;
+    }
+    for (char c : before) {
+        if (!is_text_byte(static_cast<unsigned char>(c))) {
+            return 0;
+        }
+    }
+    std::size_t end = close + 1;
+    while (end < text.size() && end - close - 1 < max_decoration_after && is_decoration_after_char(text[end])) {
+        ++end;
+    }
+    if (documented) {
+        *documented = text.substr(word, close + 1 - word);
+    }
+    return end;
+}
+
+std::optional<PromptShape> prompt_shape(std::string_view text) {
+    std::string_view documented;
+    const std::size_t length = leading_prompt_length(text, &documented);
     if (length == 0) {
-        return false;
+        return std::nullopt;
     }
     const std::string_view rest = text.substr(length);
-    return rest.empty() || rest == " ";
+    if (!rest.empty() && rest != " ") {
+        return std::nullopt;
+    }
+    return PromptShape{documented, text.substr(0, length)};
+}
+
+bool looks_like_prompt(std::string_view text) { return prompt_shape(text).has_value(); }
+
+std::string prompt_text(std::string_view text) {
+    const auto shape = prompt_shape(text);
+    return shape ? std::string(shape->documented) : std::string();
 }
 
 ConsoleFramer::ConsoleFramer(const FirmwareProfile& profile) : profile_(profile) {}
@@ -101,7 +144,7 @@ void ConsoleFramer::finish_line(std::vector<FrameEvent>& events) {
         }
     }
     if (looks_like_prompt(line)) {
-        events.push_back({FrameEvent::Kind::prompt, line});
+        events.push_back({FrameEvent::Kind::prompt, prompt_text(line)});
     } else if (contains_any(line, profile_.reboot_markers) || contains_any(line, profile_.boot_complete_markers)) {
         events.push_back({FrameEvent::Kind::boot_line, line});
     } else if (contains_any(line, fault_markers)) {
@@ -121,9 +164,8 @@ void ConsoleFramer::end_prompt_at_noise(std::vector<FrameEvent>& events) {
     if (echo_pending_ && std::string_view(expected_echo_).starts_with(after)) {
         return;
     }
-    std::string prompt = partial_.substr(0, length);
+    std::string prompt = prompt_text(std::string_view(partial_).substr(0, length));
     if (after.starts_with(' ')) {
-        prompt += ' ';
         after.remove_prefix(1);
     }
     flush_noise(events);
@@ -147,7 +189,7 @@ std::vector<FrameEvent> ConsoleFramer::feed(std::string_view bytes) {
     }
     flush_noise(events);
     if (looks_like_prompt(partial_)) {
-        events.push_back({FrameEvent::Kind::prompt, partial_});
+        events.push_back({FrameEvent::Kind::prompt, prompt_text(partial_)});
         partial_.clear();
     }
     return events;

@@ -29,16 +29,16 @@ bool is_text_line(std::size_t text_bytes, std::size_t noise_bytes) { return text
 // unprintable bytes, as a noisy idle bus sends after the prompt); 0 otherwise. A prompt followed
 // by text with a stray noise byte in it is no prompt: the console is still printing.
 std::size_t prompt_before_noise(std::string_view line) {
-    const std::size_t close = line.find('>');
-    if (close == std::string_view::npos || !looks_like_prompt(line.substr(0, close + 1))) {
+    const std::size_t length = leading_prompt_length(line);
+    if (length == 0) {
         return 0;
     }
     std::size_t text = 0;
     std::size_t noise = 0;
-    for (char c : line.substr(close + 1)) {
+    for (char c : line.substr(length)) {
         ++(is_text_byte(static_cast<unsigned char>(c)) ? text : noise);
     }
-    return noise > 0 && !is_text_line(text, noise) ? close + 1 : 0;
+    return noise > 0 && !is_text_line(text, noise) ? length : 0;
 }
 
 bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
@@ -108,14 +108,8 @@ std::string trailing_prompt(std::string_view output) {
         --begin;
     }
     const std::string_view line = output.substr(begin, end - begin);
-    if (!looks_like_prompt(line)) {   // also rejects any noise byte: a prompt is printable text only
-        return {};
-    }
-    std::string prompt(line);
-    while (!prompt.empty() && prompt.back() == ' ') {
-        prompt.pop_back();
-    }
-    return prompt;
+    // prompt_text() also rejects any noise byte: a prompt is printable text only.
+    return prompt_text(line);
 }
 
 std::string quoted_tail(std::string_view output, std::size_t count) {
@@ -325,15 +319,37 @@ Status ConsoleSynchroniser::write(std::string_view bytes) {
     return transport_.write(bytes, now() + settings_.reply_window);
 }
 
+// What the console has shown so far, for the waiting messages: they must never say "nothing"
+// of a console that printed its boot log or answers every poke with a prompt not recognised.
+std::string ConsoleSynchroniser::shown_so_far(const ConsoleSnapshot& snapshot) const {
+    std::string shown = snapshot.last_boot_line.empty() ? std::string("no boot output")
+                                                        : "last boot output \"" + escape_bytes(snapshot.last_boot_line) + "\"";
+    const std::string last = quoted_tail(recent_, 1);
+    if (last.empty()) {
+        return shown + ", nothing else heard";
+    }
+    if (snapshot.last_boot_line.empty() || last != "\"" + escape_bytes(snapshot.last_boot_line) + "\"") {
+        shown += "; the console last showed " + last;
+    }
+    if (pokes_ > 0) {
+        shown += "; " + std::to_string(answered_pokes_) + " of " + std::to_string(pokes_) + " pokes answered";
+    }
+    return shown;
+}
+
 void ConsoleSynchroniser::report_progress(const ConsoleSnapshot& snapshot, Clock::time_point started) {
     const auto elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(now() - started);
     if (!announced_wait_) {
         announced_wait_ = true;
-        emit(log_, LogLevel::warning,
-             (snapshot.last_boot_line.empty()
-                  ? std::string("the console does not answer yet; waiting for the dish to finish booting")
-                  : "the dish is booting (\"" + escape_bytes(snapshot.last_boot_line) + "\"); waiting for it to finish") +
-                 " (up to " + seconds_text(settings_.budget) + ")");
+        std::string what;
+        if (!snapshot.last_boot_line.empty()) {
+            what = "the dish is booting (\"" + escape_bytes(snapshot.last_boot_line) + "\"); waiting for it to finish";
+        } else if (const std::string last = quoted_tail(recent_, 1); !last.empty()) {
+            what = "the console shows no prompt confirmed yet (it last showed " + last + "); waiting for one";
+        } else {
+            what = "the console does not answer yet; waiting for the dish to finish booting";
+        }
+        emit(log_, LogLevel::warning, what + " (up to " + seconds_text(settings_.budget) + ")");
         return;
     }
     if (elapsed < next_progress_) {
@@ -345,10 +361,7 @@ void ConsoleSynchroniser::report_progress(const ConsoleSnapshot& snapshot, Clock
         milestone = next_progress_;
         next_progress_ += settings_.progress_interval;
     }
-    emit(log_, LogLevel::warning,
-         "still waiting for the dish to boot: " + seconds_text(milestone) +
-             (snapshot.last_boot_line.empty() ? std::string(", no boot output yet")
-                                              : "; last boot output \"" + escape_bytes(snapshot.last_boot_line) + "\""));
+    emit(log_, LogLevel::warning, "still waiting for the dish to boot: " + seconds_text(milestone) + "; " + shown_so_far(snapshot));
 }
 
 Status ConsoleSynchroniser::give_up(const ConsoleSnapshot& snapshot, std::string_view why) const {
@@ -429,6 +442,8 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         if (reply.failed) {
             return fail_io(reply.failure);
         }
+        ++pokes_;
+        answered_pokes_ += reply.text_end > 0 ? 1 : 0;
         absorb(reply.raw, snapshot);
         if (ready(reply)) {
             return {std::move(snapshot), Status::ok()};

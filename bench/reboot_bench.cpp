@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// Reboot benchmark (docs/benchmarks.md, "A Trav'ler reboot mid-pass"): a Trav'ler power-cycled
+// mid-pass while a Gpredict-like client tracks through the stock rotctld with the backend
+// preloaded. A program, not a test: it measures and prints, asserts nothing.
+//
+//   reboot_bench [--variants hal000,hal205] [--runs N] [--scale K] [--pass NAME]
+//                [--from S] [--reboot-at S] [--to S] [--no-reboot]
+//
+// Per run it measures, on the emulator's true position and its console traffic:
+//   * the wall time from the dish's ready line (`NoGPS`) to the command that stops its TV search
+//     (`kill Search`; HAL 2.05: `s` in its `ngsearch` menu);
+//   * the RMS of the dish against the satellite over the window, with the reboot in it;
+//   * the RMS before the reboot and after the dish is back on the satellite (within 1 deg), so
+//     what was learnt before the reboot (lead, pointing mode, motion, orbit) shows if it is lost.
+// The default pass and window put the reboot where the emulated calibration (AZ 0, EL 45, an
+// INVENTED boot move, sim/src/variants.cpp) is short: sso-85 rising through AZ 17-25 toward the
+// culmination, so the reboot's cost is the boot and the search, not a turn of the cable wrap.
+// Real speed is --scale 1 (the default): a run takes the window's length in real time.
+#include "gpredict_client.hpp"
+#include "harness.hpp"
+#include "pass.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+using namespace std::chrono_literals;
+using birdcage::sim::Variant;
+using Steady = std::chrono::steady_clock;
+
+namespace {
+
+struct Dish {
+    std::string name;
+    Variant variant;
+    int model;
+    double el_min, el_max;
+    std::string ready_line;    // the documented last boot line
+    std::string stop_command;  // the command that stops the TV search (docs/firmware.md 3.6, 4.3)
+};
+
+const std::vector<Dish>& dishes() {
+    static const std::vector<Dish> all{
+        {"hal000", Variant::travler_hal000, 90101, 15.0, 90.0, "NoGPS", "kill Search\r"},
+        {"hal205", Variant::travler_hal205, 90102, 15.0, 90.0, "NoGPS", "s\r"},
+    };
+    return all;
+}
+
+struct Settings {
+    std::vector<std::string> variants{"hal000", "hal205"};
+    int runs = 3;
+    double scale = 1.0;
+    std::string pass = "sso-85";
+    double from = 300.0, reboot_at = 370.0, to = 440.0;   // pass clock, seconds
+    bool reboot = true;
+};
+
+// Console traffic with the wall time it crossed at, from the emulator's console thread.
+class Traffic {
+public:
+    void record(bool from_client, std::string_view bytes) {
+        std::lock_guard lock(mutex_);
+        chunks_.push_back({Steady::now(), from_client, std::string(bytes)});
+    }
+    struct Chunk {
+        Steady::time_point at;
+        bool from_client;
+        std::string bytes;
+    };
+    std::vector<Chunk> since(Steady::time_point start) const {
+        std::lock_guard lock(mutex_);
+        std::vector<Chunk> out;
+        for (const Chunk& c : chunks_) {
+            if (c.at >= start) {
+                out.push_back(c);
+            }
+        }
+        return out;
+    }
+
+private:
+    mutable std::mutex mutex_;
+    std::vector<Chunk> chunks_;
+};
+
+struct RunResult {
+    double ready_to_stop_s = NAN;   // wall time, NoGPS to the search stop
+    double rms_deg = 0.0, before_deg = 0.0, after_deg = 0.0, max_deg = 0.0;
+    double back_after_s = NAN;      // pass seconds from the reboot until the dish is within 1 deg again
+    int error_streak = 0;
+    bool disengaged = false;
+};
+
+double rms(const std::vector<double>& errors) {
+    double sum = 0.0;
+    for (double e : errors) {
+        sum += e * e;
+    }
+    return errors.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(errors.size()));
+}
+
+RunResult run_once(const Dish& d, const Settings& s) {
+    const bench::Pass pass = bench::Pass::load(std::string(BIRDCAGE_BENCH_PASSES_DIR) + "/" + s.pass + ".csv");
+    // The client engages 30 s before the window, as docs/gpredict.md tells users to.
+    const double start = s.from - 30.0;
+    const bench::Direction at_start = pass.at(start);
+    auto options = e2e::dish_options(d.variant, at_start.az, std::clamp(at_start.el, d.el_min, d.el_max), s.scale);
+    options.pace_at_line_rate = true;
+    Traffic traffic;
+    options.trace = [&traffic](bool from_client, std::string_view bytes) { traffic.record(from_client, bytes); };
+    char scale_conf[48], latitude_conf[48];
+    std::snprintf(scale_conf, sizeof scale_conf, "time_scale=%g", s.scale);
+    std::snprintf(latitude_conf, sizeof latitude_conf, "latitude=%.4f", pass.site_latitude());
+    e2e::Rig rig(options, d.model, {"-C", scale_conf, "-C", latitude_conf});
+
+    bench::ClientSettings client_settings;
+    client_settings.threshold_deg = 0.5;   // docs/gpredict.md's setting
+    client_settings.min_el = d.el_min;
+    client_settings.max_el = d.el_max;
+    bench::GpredictClient client(pass, client_settings, rig.dish(), s.scale, rig.port(), start);
+    bench::ClientRecord record;
+    std::thread tracking([&] { record = client.run_until(s.to); });
+
+    auto pass_now = [&] { return client.pass_time_of(rig.dish().sim_time()); };
+    Steady::time_point cycled_at{};
+    if (s.reboot) {
+        e2e::wait_until([&] { return pass_now() >= s.reboot_at; }, std::chrono::seconds(static_cast<int>(s.reboot_at - start + 600)));
+        cycled_at = Steady::now();
+        rig.dish().power_cycle();
+    }
+    tracking.join();
+
+    RunResult r;
+    r.error_streak = record.longest_error_streak;
+    r.disengaged = record.disengaged;
+    if (s.reboot) {
+        // The ready line from the dish after the power cycle, then the stop from the backend.
+        std::string dish_text, client_text;
+        std::optional<Steady::time_point> ready_at;
+        for (const auto& chunk : traffic.since(cycled_at)) {
+            if (!chunk.from_client && !ready_at) {
+                dish_text += chunk.bytes;
+                if (dish_text.find(d.ready_line) != std::string::npos) {
+                    ready_at = chunk.at;
+                }
+            } else if (chunk.from_client && ready_at) {
+                client_text += chunk.bytes;
+                const std::size_t stop = client_text.find(d.stop_command);
+                // HAL 2.05's `s` counts only after `ngsearch` took it into that menu.
+                const bool in_place = d.stop_command != "s\r" ||
+                                      (stop != std::string::npos && client_text.find("ngsearch\r") < stop);
+                if (stop != std::string::npos && in_place) {
+                    r.ready_to_stop_s = std::chrono::duration<double>(chunk.at - *ready_at).count();
+                    break;
+                }
+            }
+        }
+    }
+
+    // Ground truth: the emulator's history, held between samples, on the pass clock.
+    const std::vector<birdcage::sim::Sample> history = rig.dish().history();
+    std::size_t h = 0;
+    std::vector<double> all, before, after;
+    bool back = !s.reboot;
+    constexpr double grid_s = 0.1;
+    for (int i = 0; s.from + i * grid_s <= s.to; ++i) {
+        const double t = s.from + i * grid_s;
+        while (h + 1 < history.size() && client.pass_time_of(history[h + 1].t) <= t) {
+            ++h;
+        }
+        const bench::Direction sat = pass.at(t);
+        if (sat.el < d.el_min || sat.el > d.el_max) {
+            continue;
+        }
+        const double error = bench::angle_between(sat, {history[h].az, history[h].el});
+        all.push_back(error);
+        r.max_deg = std::max(r.max_deg, error);
+        if (!s.reboot || t < s.reboot_at) {
+            before.push_back(error);
+        } else {
+            // Back once within 1 deg for 5 s: the boot, the search and the return are over.
+            if (!back && error <= 1.0) {
+                bool holds = true;
+                for (std::size_t k = h; k < history.size() && client.pass_time_of(history[k].t) <= t + 5.0; ++k) {
+                    holds = holds && bench::angle_between(pass.at(client.pass_time_of(history[k].t)),
+                                                          {history[k].az, history[k].el}) <= 1.0;
+                }
+                if (holds) {
+                    back = true;
+                    r.back_after_s = t - s.reboot_at;
+                }
+            }
+            if (back) {
+                after.push_back(error);
+            }
+        }
+    }
+    r.rms_deg = rms(all);
+    r.before_deg = rms(before);
+    r.after_deg = rms(after);
+    return r;
+}
+
+std::vector<std::string> split(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        out.push_back(item);
+    }
+    return out;
+}
+
+Settings parse(int argc, char** argv) {
+    Settings s;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) {
+                throw std::runtime_error(arg + " needs a value");
+            }
+            return argv[++i];
+        };
+        if (arg == "--variants") {
+            s.variants = split(value());
+        } else if (arg == "--runs") {
+            s.runs = std::stoi(value());
+        } else if (arg == "--scale") {
+            s.scale = std::stod(value());
+        } else if (arg == "--pass") {
+            s.pass = value();
+        } else if (arg == "--from") {
+            s.from = std::stod(value());
+        } else if (arg == "--reboot-at") {
+            s.reboot_at = std::stod(value());
+        } else if (arg == "--to") {
+            s.to = std::stod(value());
+        } else if (arg == "--no-reboot") {
+            s.reboot = false;
+        } else {
+            throw std::runtime_error("unknown argument " + arg +
+                                     " (--variants, --runs, --scale, --pass, --from, --reboot-at, --to, --no-reboot)");
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        const Settings s = parse(argc, argv);
+        std::printf("variant run ready_to_stop_s rms_deg before_deg after_deg max_deg back_after_s error_streak disengaged\n");
+        for (const std::string& name : s.variants) {
+            const auto d = std::find_if(dishes().begin(), dishes().end(), [&](const Dish& x) { return x.name == name; });
+            if (d == dishes().end()) {
+                throw std::runtime_error("unknown variant " + name + " (hal000, hal205)");
+            }
+            for (int run = 1; run <= s.runs; ++run) {
+                const RunResult r = run_once(*d, s);
+                std::printf("%s %d %.3f %.2f %.2f %.2f %.1f %.1f %d %s\n", name.c_str(), run, r.ready_to_stop_s, r.rms_deg,
+                            r.before_deg, r.after_deg, r.max_deg, r.back_after_s, r.error_streak,
+                            r.disengaged ? "yes" : "no");
+                std::fflush(stdout);
+            }
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "reboot_bench: %s\n", e.what());
+        return 2;
+    }
+    return 0;
+}

@@ -668,8 +668,13 @@ extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* v
         if (service->profile().receiver_menu.empty()) {
             return report(__func__, {Errc::unsupported, std::string(service->profile().display_name) + " has no satellite tuner"});
         }
-        val->f = static_cast<float>(birdcage::lnb_volts(service->lnb_supply()));
-        return RIG_OK;
+        if (const auto supply = service->lnb_supply()) {
+            val->f = static_cast<float>(birdcage::lnb_volts(*supply));
+            return RIG_OK;
+        }
+        // Never a made-up 18: after rotctld restarts the dish may still be at 13 V.
+        return report(__func__, {Errc::not_initialised, "the LNB supply is unknown: the dish's DVB dis did not say it "
+                                                         "and it has not been set since open (V LNB 13|18 sets it)"});
     default:
         return -RIG_EINVAL;
     }

@@ -10,6 +10,7 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,9 @@ struct FakeG2 {
     bool homed = true;
     bool shell_killed = false;
     std::vector<std::string> extra_lines_after_query;  // e.g. a stall line, played once
+    // With a value: `dvb` enters DVB>, whose `dis` lists the channel parameters with this as the
+    // LNB row's current value (the real console's `ODU:13V`); `lnbdc odu|stb` sets it.
+    std::optional<std::string> lnb_polarity;
 
     std::vector<std::string> respond(const std::string& command);
 };

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,8 +31,10 @@ struct HandDrivenService {
     ServiceMailbox mailbox;
     std::unique_ptr<ServiceWorker> worker;
 
-    HandDrivenService() {
+    // `lnb_polarity`: the tuner's `dis` value (FakeG2::lnb_polarity), none: it lists nothing.
+    explicit HandDrivenService(std::optional<std::string> lnb_polarity = std::nullopt) {
         g2.step_per_query = 7.0;   // a move takes several polls, so posts can land mid-move
+        g2.lnb_polarity = std::move(lnb_polarity);
         auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return respond(c); });
         wire = transport.get();
         ControllerOptions options{};
@@ -39,8 +42,13 @@ struct HandDrivenService {
         options.leapfrog = false;
         options.boot_timeout = 200ms;
         options.clock = DishClock::manual([this] { return now; });
-        worker = std::make_unique<ServiceWorker>(mailbox, std::move(transport), options, ServiceTiming{},
-                                                 TransportFactory{});
+        // The same dish again over a new port after a hang-up (the adapter plugged back).
+        TransportFactory reopen = [this]() -> Result<std::unique_ptr<Transport>> {
+            auto again = std::make_unique<FakeTransport>([this](const std::string& c) { return respond(c); });
+            wire = again.get();
+            return {std::move(again), Status::ok()};
+        };
+        worker = std::make_unique<ServiceWorker>(mailbox, std::move(transport), options, ServiceTiming{}, reopen);
         PointingOptions pointing;
         pointing.mode = PointingMode::none;
         worker->set_pointing(pointing);
@@ -71,6 +79,13 @@ struct HandDrivenService {
     void step() {
         const Clock::duration wait = worker->step();
         now += std::max<Clock::duration>(wait, 1ms);
+    }
+    // Steps until a recovery under way has ended.
+    void recover() {
+        for (int i = 0; i < 200 && mailbox.view().dish.recovering; ++i) {
+            step();
+        }
+        REQUIRE_FALSE(mailbox.view().dish.recovering);
     }
     // Steps until the service reports idle (nothing in flight, queued or posted).
     void drain() {
@@ -261,4 +276,92 @@ TEST_CASE("service worker: S while the dish reboots drops the target posted befo
     CHECK(service.moves_sent() == moves_before);
     CHECK(service.g2.az == Approx(0.0));
     CHECK(service.g2.el == Approx(65.0));
+}
+
+// After rotctld restarts, the dish may still be at 13 V: the LNB supply the backend reports is the
+// one its tuner lists (DVB `dis`), or unknown, never the boot default assumed. A reboot of the dish
+// makes the boot default (18 V) true again.
+TEST_CASE("service worker: the LNB supply is read from the dish at open, or unknown; a reboot makes it 18 V") {
+    SECTION("the tuner lists 13 V") {
+        HandDrivenService service(std::string("ODU:13V"));
+        CHECK(service.mailbox.view().lnb_supply == LnbSupply::odu_13v);
+        CHECK(std::count(service.wire->commands().begin(), service.wire->commands().end(), "dis") == 1);
+        service.step_into_recovery();
+        service.recover();
+        CHECK(service.mailbox.view().lnb_supply == LnbSupply::stb_18v);
+    }
+    SECTION("the tuner lists nothing we can read") {
+        HandDrivenService service;
+        CHECK_FALSE(service.mailbox.view().lnb_supply.has_value());
+        service.step_into_recovery();
+        service.recover();
+        CHECK(service.mailbox.view().lnb_supply == LnbSupply::stb_18v);
+    }
+}
+
+// What the backend learnt of the dish (its motors' step time, pace and start-up, from which the
+// pointing mode is chosen) and of the client (the satellite's motion, the orbit, the lead) are
+// facts a reboot of the dish or an unplugged adapter does not change: recovery keeps them, and the
+// client's targets sent meanwhile keep teaching the estimate.
+TEST_CASE("service worker: what was learnt about the dish and the client survives a reboot and an unplug") {
+    HandDrivenService service;
+    // Small steps (0.4-2 deg) time the motors.
+    for (const double d : {1.0, 2.0, 3.0}) {
+        REQUIRE(service.mailbox.post_target({180.0 + d, 45.0 + d}, service.now));
+        service.drain();
+    }
+    REQUIRE(service.worker->learnt_step_seconds(Axis::azimuth));
+    REQUIRE(service.worker->learnt_step_seconds(Axis::elevation));
+
+    // A client tracking at 0.5 deg/s in azimuth, one target a second.
+    AzEl sat{190.0, 50.0};
+    auto track_for = [&](int seconds) {
+        for (int s = 0; s < seconds; ++s) {
+            sat.az += 0.5;
+            REQUIRE(service.mailbox.post_target(sat, service.now));
+            for (int i = 0; i < 5; ++i) {
+                (void)service.worker->step();   // the dish's time moves with the client's second only
+            }
+            service.now += 1s;
+        }
+    };
+    track_for(25);   // an established track (PredictorSettings::established_track_s)
+    const auto before = service.worker->predictor().predict(service.now);
+    REQUIRE(before);
+    REQUIRE(before->moving);
+    REQUIRE(before->az_rate == Approx(0.5).margin(0.05));
+    // What the dish taught up to the fault (tracking's own steps keep refining it).
+    const auto az_step = service.worker->learnt_step_seconds(Axis::azimuth);
+    const auto el_step = service.worker->learnt_step_seconds(Axis::elevation);
+    const auto mode = service.worker->pointing_mode();
+
+    SECTION("a reboot") {
+        service.step_into_recovery();
+        track_for(3);   // the client goes on while the dish boots
+        service.recover();
+    }
+    SECTION("an unplug") {
+        service.wire->hang_up();
+        for (int i = 0; i < 50 && !service.mailbox.view().dish.recovering; ++i) {
+            service.step();
+        }
+        REQUIRE(service.mailbox.view().dish.recovering);
+        track_for(3);
+        service.recover();
+    }
+    INFO("step seconds before " << az_step.value_or(-1) << " / " << el_step.value_or(-1) << ", after "
+                                << service.worker->learnt_step_seconds(Axis::azimuth).value_or(-1) << " / "
+                                << service.worker->learnt_step_seconds(Axis::elevation).value_or(-1));
+    // Still known, within what the legs since (the return to the target) refined.
+    REQUIRE(service.worker->learnt_step_seconds(Axis::azimuth));
+    REQUIRE(service.worker->learnt_step_seconds(Axis::elevation));
+    CHECK(*service.worker->learnt_step_seconds(Axis::azimuth) == Approx(*az_step).epsilon(0.1));
+    CHECK(*service.worker->learnt_step_seconds(Axis::elevation) == Approx(*el_step).epsilon(0.1));
+    CHECK(service.worker->pointing_mode() == mode);
+    // The estimate ran on through the outage: it knows where the satellite is now and how fast it goes.
+    const auto after = service.worker->predictor().predict(service.now);
+    REQUIRE(after);
+    CHECK(after->moving);
+    CHECK(after->az_rate == Approx(0.5).margin(0.05));
+    CHECK(after->position.az == Approx(sat.az).margin(1.0));
 }

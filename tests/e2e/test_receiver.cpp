@@ -80,7 +80,8 @@ TEST_CASE("G2: v RSSI follows where the dish points, and V LNB changes the sky i
     const std::string levels = client.ask("v ?", 1);
     CHECK(levels.find("RSSI") != std::string::npos);
     CHECK(levels.find("LNB") != std::string::npos);
-    CHECK(reading(client, "LNB") == 18.0);   // the boot default (`Enabled LNB STB`)
+    // The emulated tuner's `dis` lists no LNB row the backend can read: unknown, not an assumed 18.
+    CHECK(client.ask("v LNB", 1).find("RPRT -11") != std::string::npos);
 
     REQUIRE(client.ask("V LNB 13", 1).find("RPRT 0") != std::string::npos);
     CHECK(reading(client, "LNB") == 13.0);
@@ -116,6 +117,26 @@ TEST_CASE("G2: v RSSI follows where the dish points, and V LNB changes the sky i
     CHECK(e2e::angle_between(p.az, 174.0) <= 0.1);
     CHECK(std::fabs(p.el - 43.0) <= 0.1);
     move_to(rig, client, 150.0, 30.0);
+    no_streaming_or_hazard(rig);
+}
+
+// rotctld restarted while the dish stayed powered at 13 V: the backend must not report the boot
+// default. What it reports is the tuner's own listing (DVB `dis`, the real console's `LNB Polarity
+// ODU:13V` row) or unknown; setting it makes it known; a reboot of the dish makes 18 V true again.
+TEST_CASE("G2: the LNB supply after open is the dish's or unknown, never an assumed 18 V", "[e2e][receiver]") {
+    const auto options = e2e::dish_options(Variant::carryout_g2, 174.0, 43.0);
+    e2e::Rig rig(options, kG2, {}, [](birdcage::sim::Emulator& dish) { e2e::type_into(dish, {"dvb", "lnbdc odu", "q"}); });
+    e2e::RotctldConnection client(rig.port());
+    CHECK(sent(rig, "dis"));   // asked, one-shot
+    const std::string after_open = client.ask("v LNB", 1);
+    INFO(after_open);
+    CHECK(after_open.find("18") == std::string::npos);
+    CHECK(after_open.find("RPRT -11") != std::string::npos);
+    REQUIRE(client.ask("V LNB 13", 1).find("RPRT 0") != std::string::npos);
+    CHECK(reading(client, "LNB") == 13.0);
+    rig.dish().power_cycle();
+    REQUIRE(e2e::wait_until([&] { return client.ask("_", 1).find("recovered 1") != std::string::npos; }, 60s));
+    CHECK(reading(client, "LNB") == 18.0);   // the boot default again (`Enabled LNB STB`)
     no_streaming_or_hazard(rig);
 }
 
@@ -163,7 +184,8 @@ TEST_CASE("G2: a reading asked during a move waits for it, loses nothing of it, 
     // The move survived the trip to DVB> and back.
     CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 200.0, 40.0); }, 60s));
     const auto commands = rig.dish().received_commands();
-    const auto dvb = std::find(commands.begin(), commands.end(), "dvb");
+    // The reading's trip (the open's LNB read went to DVB> before any leg).
+    const auto dvb = std::find_if(commands.begin(), commands.end(), [](const std::string& c) { return c.rfind("rssi ", 0) == 0; });
     REQUIRE(dvb != commands.end());
     // The worker entered the tuner menu only with no leg in flight: both legs (the controller
     // sends the next one as the previous arrives) were sent before it.

@@ -70,8 +70,8 @@ public:
 
     Status initialize();
     // A controller built over a port reopened after a hang-up takes over what the one before it
-    // knew of the dish (before its initialize()): the last position, and the cable-wrap turns and
-    // azimuth mapping learnt. An unplugged adapter does not move the dish, so the branch it was on
+    // knew of the dish (before its initialize()): the last position, the cable-wrap turns and
+    // azimuth mapping learnt, and the motors' learnt pace, start-up delay and step time. An unplugged adapter does not move the dish, so the branch it was on
     // holds; the first reading after the re-initialisation still rechecks it (a dish that
     // rebooted meanwhile has moved, and its branch is assumed afresh).
     void carry_over(const Controller& before);

@@ -63,6 +63,9 @@ public:
     // reading that shows it there, once its own legs have timed it; nullopt before (or where the
     // driver cannot time legs).
     virtual std::optional<double> learnt_step_seconds(Axis) const { return std::nullopt; }
+    // Takes over what `before` (the driver of the controller this one replaces, over a reopened
+    // port) learnt of the motors: facts about the dish, which an unplugged adapter does not change.
+    virtual void take_learning_from(const MoveDriver& before) { (void)before; }
 };
 
 std::unique_ptr<MoveDriver> make_move_driver(const MoveContext& context);

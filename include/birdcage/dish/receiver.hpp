@@ -5,7 +5,7 @@
 // (G2 `DVB>`, docs/firmware.md 6.3). Variants without a tuner (FirmwareProfile::receiver_menu empty)
 // answer Errc::unsupported.
 //
-// Only single-shot commands are ever sent here: `rssi <n>` and `lnbdc odu|stb`. The tuner's
+// Only single-shot commands are ever sent here: `rssi <n>`, `lnbdc odu|stb` and `dis`. The tuner's
 // streaming commands (`agc`, `lnbv`, `snr`, `nid`) and the ADC menu's `m` and argument-less `scan`
 // never end or deadlock the console (docs/firmware.md 6.5), so no function builds them.
 #pragma once
@@ -37,5 +37,8 @@ std::chrono::milliseconds rssi_timeout(int samples);
 // leave the motor menu for the tuner's menu and return to it, whatever the outcome.
 Result<RssiReading> read_signal(Controller& controller, int samples);
 Status apply_lnb_supply(Controller& controller, LnbSupply supply);
+// Reads the LNB supply the tuner is set to from its one-shot `dis` listing (parse_g2_lnb_polarity),
+// so that what the backend reports after open is the dish's, not an assumption.
+Result<LnbSupply> read_lnb_supply(Controller& controller);
 
 } // namespace birdcage

@@ -11,6 +11,7 @@
 
 #include "birdcage/base/azel.hpp"
 #include "birdcage/base/errors.hpp"
+#include "birdcage/base/plain_types.hpp"
 #include "birdcage/firmware/variants.hpp"
 
 namespace birdcage {
@@ -62,6 +63,11 @@ struct RssiReading {
 };
 // G2 `rssi <n>` body: `iterations:<n>  interval(msec):20` / ` Reads:<n>  RSSI[avg: <v>  cur: <v>]`.
 Result<RssiReading> parse_g2_rssi(std::span<const std::string> lines);
+
+// The LNB supply in a G2 DVB `dis` table (a one-shot listing of the channel parameters): its row
+// `5    LNB Polarity         ODU:13V                  ---` (the real console, firmware 02.02.48),
+// 13 V or 18 V in the row's current value. Errc::protocol when no such row names either.
+Result<LnbSupply> parse_g2_lnb_polarity(std::span<const std::string> lines);
 
 // ---- hazard guard rules ------------------------------------------------------------------------
 

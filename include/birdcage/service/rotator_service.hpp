@@ -72,7 +72,8 @@ public:
     Result<RssiReading> read_signal(int samples);
     Status set_lnb_supply(LnbSupply supply);
     // The supply last set (the boot default until then, and again after the dish rebooted).
-    LnbSupply lnb_supply() const;
+    // Empty while unknown: not read at open (no `dis` answer) and not set since (docs/receiver.md).
+    std::optional<LnbSupply> lnb_supply() const;
 
     bool idle() const;
     // True from reset() until the home has run. position() keeps answering meanwhile.

@@ -68,7 +68,9 @@ struct ServiceView {
     bool idle = true;             // no motion, nothing queued, nothing posted and not yet taken
     bool homing = false;          // homing, or a home requested and not yet started
     Status fault;                 // the last motor fault, until the next target
-    LnbSupply lnb_supply = lnb_boot_default;
+    // Read from the dish at open, set since, or the boot default after a reboot; empty: unknown
+    // (the read failed and nothing was set), never assumed.
+    std::optional<LnbSupply> lnb_supply;
 };
 
 class ServiceMailbox {
@@ -127,7 +129,7 @@ private:
     ServiceSnapshot snapshot_;
     Status fault_;
     std::optional<Status> fault_unreported_;
-    LnbSupply lnb_supply_ = lnb_boot_default;
+    std::optional<LnbSupply> lnb_supply_;
 };
 
 }  // namespace birdcage

@@ -73,10 +73,18 @@ public:
     void run();
 
     const FirmwareProfile& profile() const { return *profile_; }
+    // What was learnt about the dish and the client, for tests and diagnostics: it survives a
+    // reboot of the dish and an unplugged adapter.
+    std::optional<double> learnt_step_seconds(Axis axis) const {
+        return controller_ ? controller_->learnt_step_seconds(axis) : std::nullopt;
+    }
+    std::optional<PointingMode> pointing_mode() const { return pointing_.mode; }
+    const TargetPredictor& predictor() const { return predictor_; }
     const DishClock& clock() const { return options_.clock; }
 
 private:
     Status detect();
+    void read_lnb_supply_at_open();
     struct Outcome {
         Status status = Status::ok();
         bool talked = false;   // false: an idle step that sent nothing (proves nothing about the dish)

@@ -518,6 +518,14 @@ MovingAxes AxisLegDriver::moving_axes() const {
     return moving;
 }
 
+void AxisLegDriver::take_learning_from(const MoveDriver& before) {
+    if (const auto* same = dynamic_cast<const AxisLegDriver*>(&before)) {
+        paces_ = same->paces_;
+        startup_ = same->startup_;
+        step_times_ = same->step_times_;
+    }
+}
+
 std::optional<double> AxisLegDriver::learnt_step_seconds(Axis axis) const {
     if (!step_times_.learnt(axis)) {
         return std::nullopt;

@@ -217,6 +217,7 @@ void Controller::carry_over(const Controller& before) {
         state_.record(*before.state_.last_position, *before.state_.last_position_at, before.state_.position_estimated);
     }
     wrap_ = before.wrap_;
+    driver_->take_learning_from(*before.driver_);
 }
 
 Status Controller::reinitialize(std::chrono::milliseconds boot_budget) {

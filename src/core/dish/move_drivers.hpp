@@ -29,6 +29,7 @@ public:
     MovingAxes moving_axes() const override;
     bool sync_lost() const override { return false; }
     std::optional<double> learnt_step_seconds(Axis axis) const override;
+    void take_learning_from(const MoveDriver& before) override;
 
 private:
     static constexpr int max_waypoint_legs = 4;   // bounds the waypoint legs per target (3 span any window)

@@ -68,4 +68,23 @@ Status apply_lnb_supply(Controller& controller, LnbSupply supply) {
     });
 }
 
+Result<LnbSupply> read_lnb_supply(Controller& controller) {
+    if (Status usable = require_receiver(controller); !usable) {
+        return {{}, usable};
+    }
+    Result<LnbSupply> supply{{}, Status{Errc::protocol, "no reading"}};
+    const Status done = controller.in_submenu(controller.profile().receiver_menu, [&](ConsoleSession& session) {
+        const auto reply = session.transact("dis", receiver_command_timeout);
+        if (!reply) {
+            return reply.status;
+        }
+        supply = parse_g2_lnb_polarity(reply.value.lines);
+        return supply.status;
+    });
+    if (!done) {
+        return {{}, done};
+    }
+    return supply;
+}
+
 } // namespace birdcage

@@ -291,6 +291,24 @@ Result<RssiReading> parse_g2_rssi(std::span<const std::string> lines) {
     return {{*reads, *average, *current}, Status::ok()};
 }
 
+Result<LnbSupply> parse_g2_lnb_polarity(std::span<const std::string> lines) {
+    for (const std::string& line : lines) {
+        const std::size_t row = line.find("LNB Polarity");
+        if (row == std::string::npos) {
+            continue;
+        }
+        // The current value is the first voltage after the name; the default column (`---`) none.
+        const std::string_view values = std::string_view(line).substr(row + std::string_view("LNB Polarity").size());
+        const std::size_t v13 = values.find("13V");
+        const std::size_t v18 = values.find("18V");
+        if (v13 == std::string_view::npos && v18 == std::string_view::npos) {
+            break;
+        }
+        return {v13 < v18 ? LnbSupply::odu_13v : LnbSupply::stb_18v, Status::ok()};
+    }
+    return {{}, parse_error("no LNB Polarity row naming 13V or 18V", lines)};
+}
+
 std::string menu_for_prompt(const FirmwareProfile& profile, std::string_view prompt) {
     while (!prompt.empty() && prompt.back() == ' ') {
         prompt.remove_suffix(1);

@@ -149,7 +149,7 @@ Status RotatorService::set_lnb_supply(LnbSupply supply) {
     return done;
 }
 
-LnbSupply RotatorService::lnb_supply() const { return mailbox_.view().lnb_supply; }
+std::optional<LnbSupply> RotatorService::lnb_supply() const { return mailbox_.view().lnb_supply; }
 
 bool RotatorService::idle() const { return mailbox_.view().idle; }
 

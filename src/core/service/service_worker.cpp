@@ -4,6 +4,7 @@
 #include "birdcage/service/service_worker.hpp"
 
 #include "birdcage/console/detect.hpp"
+#include "birdcage/dish/receiver.hpp"
 #include "birdcage/service/recovery.hpp"
 
 #include <algorithm>
@@ -64,6 +65,7 @@ Status ServiceWorker::start() {
         return st;
     }
     predictor_.set_dish_limits(controller_->el_min(), controller_->el_max());
+    read_lnb_supply_at_open();
     // A dish that answers its menus but not a position query is still usable for moves; the error
     // is published and reported by position() until a poll succeeds.
     const Result<AzEl> first = controller_->query_position();
@@ -71,6 +73,23 @@ Status ServiceWorker::start() {
     published_.last_answer_at = Clock::now();
     publish(first.status, true);
     return Status::ok();
+}
+
+// The LNB supply survives a restart of rotctld (the dish stays powered): what the backend reports
+// is read from the tuner, or unknown, never the boot default assumed (docs/receiver.md).
+void ServiceWorker::read_lnb_supply_at_open() {
+    if (profile_->receiver_menu.empty()) {
+        return;
+    }
+    const Result<LnbSupply> supply = read_lnb_supply(*controller_);
+    if (supply) {
+        mailbox_.set_lnb_supply(supply.value);
+        emit(options_.log, LogLevel::verbose, "LNB supply read from the dish: " + std::to_string(lnb_volts(supply.value)) + " V");
+        return;
+    }
+    emit(options_.log, LogLevel::warning,
+         "the LNB supply could not be read from the dish (" + supply.status.message +
+             "): unknown until set (V LNB 13|18) or the dish reboots");
 }
 
 void ServiceWorker::run() {
@@ -173,6 +192,14 @@ ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
         controller_->cancel_pending();
         forget_the_pass();
     }
+    if (mail.target) {
+        // The client tracks on while the dish cannot be asked: its targets still teach the
+        // satellite's motion, the orbit and the client's habits, so steering resumes from an
+        // estimate that ran through the outage instead of one started afresh. The dish's position
+        // is no measure of the client's lead meanwhile.
+        predictor_.observe(std::min(mail.target_posted_at, options_.clock.now()), *mail.target, std::nullopt);
+        previous_client_target_ = std::exchange(client_target_, *mail.target);
+    }
     const Status attempt = recover_once();
     if (!attempt) {
         const RetryVerdict retry = classify_failed_attempt(attempt, backoff_, timing_.recovery_backoff_min,
@@ -263,10 +290,14 @@ Status ServiceWorker::resume(AzEl target) {
     if (unseen) {
         return accept_target(target, options_.clock.now());
     }
-    if (steering_predictively() && predictor_.predict(options_.clock.now())) {
+    const auto now = options_.clock.now();
+    if (steering_predictively() && predictor_.predict(now)) {
         return steer();
     }
-    return controller_->set_target(target);
+    return controller_->set_target(target,
+                                   azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
+                                                          previous_client_target_, target, controller_->el_min()),
+                                   predictor_.pass_ahead(now));
 }
 
 // Predictive steering aims ahead of the satellite and moves in small steps; a dish that needs a

@@ -242,17 +242,32 @@ Status Controller::open_motor_menu() {
     if (!booted) {
         return booted.status;
     }
-    std::span<const ConsoleStep> search_kill = profile_.search_kill;
     if (booted.value) {
         // At its root after the boot: the steps that only leave submenus (`q`, a bare line) would
         // delay the stop, so the stop's own command is the first thing the dish hears.
+        std::span<const ConsoleStep> search_kill = profile_.search_kill;
         while (!search_kill.empty() && (search_kill.front().command == "q" || search_kill.front().command.empty())) {
             search_kill = search_kill.subspan(1);
         }
-    } else if (Status left = menus_.leave_submenus(); !left) {
+        const Status killed = menus_.run_steps(search_kill, "stopping the TV search");
+        if (killed) {
+            return menus_.enter_motor_menu("entering the motor menu");
+        }
+        if (killed.code != Errc::timeout) {
+            return killed;
+        }
+        // A firmware that prints more after its ready line answers only once it has finished: it
+        // kept the input, so its prompt is found the usual way and the whole stop sent again.
+        emit(options_.log, LogLevel::verbose, "no answer right after the ready line (" + killed.message +
+                                                  "); waiting for the console's prompt");
+        if (const Result<bool> again = wait_for_boot(); !again) {
+            return again.status;
+        }
+    }
+    if (Status left = menus_.leave_submenus(); !left) {
         return left;
     }
-    if (Status killed = menus_.run_steps(search_kill, "stopping the TV search"); !killed) {
+    if (Status killed = menus_.run_steps(profile_.search_kill, "stopping the TV search"); !killed) {
         return killed;
     }
     return menus_.enter_motor_menu("entering the motor menu");

@@ -281,7 +281,7 @@ TEST_CASE("service worker: S while the dish reboots drops the target posted befo
 // After rotctld restarts, the dish may still be at 13 V: the LNB supply the backend reports is the
 // one its tuner lists (DVB `dis`), or unknown, never the boot default assumed. A reboot of the dish
 // makes the boot default (18 V) true again.
-TEST_CASE("service worker: the LNB supply is read from the dish at open, or unknown; a reboot makes it 18 V") {
+TEST_CASE("service worker: the LNB supply is read from the dish at open or unknown and a reboot makes it 18 V") {
     SECTION("the tuner lists 13 V") {
         HandDrivenService service(std::string("ODU:13V"));
         CHECK(service.mailbox.view().lnb_supply == LnbSupply::odu_13v);

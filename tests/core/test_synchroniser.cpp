@@ -462,7 +462,7 @@ TEST_CASE("sync: a prompt with a tag before it or marks after it is confirmed as
 
 // The waiting messages say what the console showed: a console that answers every poke with a
 // line that is no prompt never reads "no boot output yet" as if it were silent.
-TEST_CASE("sync: while waiting, the messages name the last line the console showed and the pokes it answered") {
+TEST_CASE("sync: while waiting the messages name the last line the console showed and the pokes it answered") {
     FakeTransport wire(prompt_console("tracker ready, type help", "\r\n", false));
     Logged log;
     ConsoleSynchroniser sync(wire, g2_settings(40s), log.sink(), frozen);

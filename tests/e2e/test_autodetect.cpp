@@ -131,7 +131,7 @@ TEST_CASE("rotctl -l lists the auto-detecting model", "[e2e][autodetect][registr
 // A G2 whose prompts carry a product tag (`WG TRK>`, `[G2]MOT>`) or marks after the '>' is the same
 // firmware: it opens with its own model and with 90100, booting or up, and is driven. Before prompts
 // were known by their shape it never opened ("still waiting for the dish to boot" for ever).
-TEST_CASE("a G2 whose prompts carry a tag opens with its own model and auto-detected, booting and up",
+TEST_CASE("a G2 whose prompts carry a tag opens with its own model and auto-detected when booting and when up",
           "[e2e][autodetect][prompt_shape]") {
     struct TagCase {
         const char* name;

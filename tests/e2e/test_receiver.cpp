@@ -123,7 +123,7 @@ TEST_CASE("G2: v RSSI follows where the dish points, and V LNB changes the sky i
 // rotctld restarted while the dish stayed powered at 13 V: the backend must not report the boot
 // default. What it reports is the tuner's own listing (DVB `dis`, the real console's `LNB Polarity
 // ODU:13V` row) or unknown; setting it makes it known; a reboot of the dish makes 18 V true again.
-TEST_CASE("G2: the LNB supply after open is the dish's or unknown, never an assumed 18 V", "[e2e][receiver]") {
+TEST_CASE("G2: the LNB supply after open is the dish's or unknown and never an assumed 18 V", "[e2e][receiver]") {
     const auto options = e2e::dish_options(Variant::carryout_g2, 174.0, 43.0);
     e2e::Rig rig(options, kG2, {}, [](birdcage::sim::Emulator& dish) { e2e::type_into(dish, {"dvb", "lnbdc odu", "q"}); });
     e2e::RotctldConnection client(rig.port());

@@ -24,6 +24,7 @@ bool Console::shell_alive() const { return engine_->shell_alive; }
 bool Console::booting() const { return engine_->booting(); }
 const std::vector<Sample>& Console::history() const { return engine_->history; }
 unsigned Console::hazards() const { return engine_->hazards; }
+const std::vector<std::string>& Console::hazard_commands() const { return engine_->hazard_lines; }
 const std::vector<std::string>& Console::commands() const { return engine_->commands; }
 double Console::time() const { return engine_->now; }
 void Console::power_cycle() { engine_->start_boot(); }

@@ -304,6 +304,12 @@ unsigned Emulator::hazards_received() const
     return impl_->console.hazards();
 }
 
+std::vector<std::string> Emulator::hazard_commands() const
+{
+    std::lock_guard lock(impl_->mutex);
+    return impl_->console.hazard_commands();
+}
+
 std::vector<std::string> Emulator::received_commands() const
 {
     std::lock_guard lock(impl_->mutex);

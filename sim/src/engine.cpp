@@ -12,8 +12,39 @@
 #include <cmath>
 #include <utility>
 
+#include "birdcage/firmware/hazards.hpp"
+
 namespace birdcage::sim {
 namespace {
+
+// What the known clients legitimately ask of a console (docs/firmware.md §15): well-formed moves and
+// homes, the documented search stops and the LNB switch. Any other word the core's hazard rule
+// names counts as a hazard, however the emulated firmware answers it.
+constexpr birdcage::HazardRequests client_requests = birdcage::request_move | birdcage::request_home |
+                                                     birdcage::request_search_stop | birdcage::request_lnb_supply;
+
+birdcage::VariantId core_variant(Variant variant)
+{
+    switch (variant) {
+    case Variant::travler_hal000: return birdcage::VariantId::travler_hal000;
+    case Variant::travler_hal205: return birdcage::VariantId::travler_hal205;
+    case Variant::travler_pro: return birdcage::VariantId::travler_pro;
+    case Variant::carryout2003: return birdcage::VariantId::carryout2003;
+    case Variant::carryout_g2: return birdcage::VariantId::carryout_g2;
+    }
+    return birdcage::VariantId::carryout_g2;
+}
+
+// The core's name of a menu: "root" for a shell root, "eeprom" for the G2's EE>, otherwise the
+// prompt's word in lower case (as the backend's session names them).
+std::string core_menu_name(const Menu& menu)
+{
+    if (menu.shell_root) return "root";
+    if (menu.prompt_name == "EE") return "eeprom";
+    std::string name(menu.prompt_name);
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return name;
+}
 
 constexpr double max_tick = 0.02;           // simulated seconds per event step
 constexpr double search_dwell = 0.5;        // INVENTED pause between search moves
@@ -264,6 +295,10 @@ void Engine::execute(const std::string& line)
         return;
     }
     const Menu& menu = *menus.back();
+    hazard_counted_for_line_ = false;
+    executing_line_ = line;
+    if (birdcage::judge_command(core_variant(profile.variant), core_menu_name(menu), line, client_requests).hazard())
+        count_hazard();
     const std::string_view word = args.front();
     if (word == "q" || (word == "Q" && captured_g2())) {  // the captured root answers `Q` too (§6.3)
         quit();

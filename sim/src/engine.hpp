@@ -141,7 +141,16 @@ struct Engine {
     }
     std::size_t reply_indent() const;  // Options::position_indent, or the console's
     HelpLayout help_layout() const;    // Options::help_layout, or the console's
-    void count_hazard() { ++hazards; }
+    // One hazard per command line at most: the dispatch counts by the core's hazard rule (execute())
+    // and a handler may count the same line again for what only it can see (an unhomed axis, the
+    // Pro's elevation stall).
+    void count_hazard()
+    {
+        if (hazard_counted_for_line_) return;
+        ++hazards;
+        if (hazard_lines.size() < 1000) hazard_lines.push_back(executing_line_);
+        hazard_counted_for_line_ = true;
+    }
     void kill_shell(std::string_view last_words);  // console dead until power cycle
     void reboot();
     void start_boot();
@@ -172,6 +181,7 @@ struct Engine {
     std::vector<std::string> commands;
     std::vector<Sample> history;
     unsigned hazards = 0;
+    std::vector<std::string> hazard_lines;  // the command line of each hazard counted
     bool shell_alive = true;
     bool search = false;
     double search_ends_at = 0.0;
@@ -212,6 +222,8 @@ private:
     };
     std::array<StallArm, 2> stall_arms_{};
 
+    bool hazard_counted_for_line_ = false;
+    std::string executing_line_;
     std::string line_;
     std::string pending_;
     std::string received_line_;

@@ -385,10 +385,19 @@ int main(int argc, char** argv)
         // A strict replay that fails has nothing more to say: report the diff and stop.
         const timespec check_period{0, 100'000'000};
         bool reported_complete = false;
+        // At every exit, also a failed replay: how many hazards the dish received, and which.
+        const auto report_hazards = [&emulator] {
+            const auto lines = emulator.hazard_commands();
+            std::cerr << "birdcage-sim: hazards received: " << emulator.hazards_received();
+            for (std::size_t i = 0; i < lines.size() && i < 20; ++i)
+                std::cerr << (i == 0 ? " (" : ", ") << '"' << lines[i] << '"';
+            std::cerr << (lines.empty() ? "" : lines.size() > 20 ? ", ...)" : ")") << '\n';
+        };
         for (;;) {
             if (sigtimedwait(&stop_signals, nullptr, &check_period) >= 0) break;
             if (const auto failure = emulator.replay_failure()) {
                 std::cerr << *failure;
+                report_hazards();
                 return 1;
             }
             if (!reported_complete && emulator.replay_complete()) {
@@ -396,6 +405,7 @@ int main(int argc, char** argv)
                 reported_complete = true;
             }
         }
+        report_hazards();
     } catch (const std::exception& error) {
         std::cerr << "birdcage-sim: " << error.what() << '\n';
         return 1;

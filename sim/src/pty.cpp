@@ -19,7 +19,8 @@ namespace {
 
 Pty::Pty()
 {
-    master_ = ::posix_openpt(O_RDWR | O_NOCTTY);
+    // Close-on-exec: a program the tests start (rotctld, the probe) must not hold the dish's side.
+    master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
     if (master_ < 0) fail("posix_openpt");
     try {
         if (::grantpt(master_) != 0) fail("grantpt");
@@ -27,7 +28,7 @@ Pty::Pty()
         char name[128];
         if (::ptsname_r(master_, name, sizeof name) != 0) fail("ptsname_r");
         slave_path_ = name;
-        guard_ = ::open(name, O_RDWR | O_NOCTTY);
+        guard_ = ::open(name, O_RDWR | O_NOCTTY | O_CLOEXEC);
         if (guard_ < 0) fail("open pty slave");
         termios attributes{};
         if (::tcgetattr(guard_, &attributes) != 0) fail("tcgetattr");

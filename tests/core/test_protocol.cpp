@@ -164,27 +164,31 @@ TEST_CASE("hazard_check: every documented hazard is refused") {
         HazardContext context;
         Errc expected;
     };
+    const HazardRequests backend = backend_requests;
     const Case cases[] = {
         {"G2 q at root kills the shell", g2, "q", {"root"}, Errc::hazard},
         {"G2 q in an unknown menu", g2, "q", {""}, Errc::hazard},
         {"G2 q in a submenu is fine", g2, "q", {"mot"}, Errc::ok},
         {"Trav'ler q anywhere is the clients' idiom", hal205, "q", {""}, Errc::ok},
         {"argument-less scan", g2, "scan", {"adc"}, Errc::hazard},
-        {"scan with arguments", g2, "scan 0 10", {"adc"}, Errc::ok},
+        // The real ADC listing calls `scan` a streaming sweep (§15): no caller asks for one.
+        {"scan with arguments streams", g2, "scan 0 10", {"adc"}, Errc::hazard},
         {"NVS write", g2, "e 20 1", {"nvs"}, Errc::hazard},
         {"NVS write allowed", g2, "e 20 1", {"nvs", true}, Errc::ok},
         {"NVS read", g2, "e 20", {"nvs"}, Errc::ok},
         {"EEPROM write", g2, "ee 3 1", {"eeprom"}, Errc::hazard},
         {"NVS save", g2, "s", {"nvs"}, Errc::hazard},
-        {"save in an unknown menu", hal205, "s", {""}, Errc::hazard},
-        {"ngsearch stop is not a save", hal205, "s", {"ngsearch"}, Errc::ok},
-        {"stow", g2, "stow", {"root"}, Errc::hazard},
-        {"reboot", g2, "reboot", {"os"}, Errc::hazard},
-        {"def", g2, "def", {"dvb"}, Errc::hazard},
-        {"EEPROM invalidate", g2, "inv 3", {"eeprom"}, Errc::hazard},
-        {"move on unhomed axes", g2, "a 0 180.00", {"mot", false, true}, Errc::not_homed},
+        {"save in an unknown menu", hal205, "s", {"", false, false, backend}, Errc::hazard},
+        {"ngsearch stop is not a save", hal205, "s", {"ngsearch", false, false, backend}, Errc::ok},
+        {"ngsearch stop needs the search-stop request", hal205, "s", {"ngsearch"}, Errc::hazard},
+        {"stow", g2, "stow", {"root", false, false, backend}, Errc::hazard},
+        {"reboot", g2, "reboot", {"os", false, false, backend}, Errc::hazard},
+        {"def", g2, "def", {"dvb", true, false, backend}, Errc::hazard},
+        {"EEPROM invalidate", g2, "inv 3", {"eeprom", true, false, backend}, Errc::hazard},
+        {"move on unhomed axes", g2, "a 0 180.00", {"mot", false, true, backend}, Errc::not_homed},
         {"query on unhomed axes", g2, "a", {"mot", false, true}, Errc::ok},
-        {"move on homed axes", g2, "a 0 180.00", {"mot"}, Errc::ok},
+        {"move on homed axes", g2, "a 0 180.00", {"mot", false, false, backend}, Errc::ok},
+        {"a move nobody asked for", g2, "a 0 180.00", {"mot"}, Errc::hazard},
         {"bare line", g2, "", {""}, Errc::ok},
     };
     for (const auto& c : cases) {

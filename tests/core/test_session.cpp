@@ -52,6 +52,7 @@ TEST_CASE("session: G2 transaction ends on the prompt and drops the echo") {
 TEST_CASE("session: a missing prompt is a timeout on prompt-known firmware") {
     FakeTransport wire([](const std::string& c) { return std::vector<std::string>{c + "\r\nAngle = 1.00\r\n"}; });
     ConsoleSession session(wire, profile(VariantId::carryout_g2), {});
+    session.set_requests(request_move);
     const auto reply = session.transact("a 0 1.00", 500ms);
     CHECK(reply.status.code == Errc::timeout);
     CHECK(reply.value.lines == std::vector<std::string>{"Angle = 1.00"});
@@ -113,11 +114,22 @@ TEST_CASE("session: hazard guard refuses before any byte is written") {
             CHECK(wire.written().empty());
         }
     }
-    SECTION("NVS writes pass when explicitly allowed") {
+    SECTION("NVS writes pass when explicitly allowed, in NVS>") {
         session.set_allow_nvs_write(true);
+        session.set_menu("nvs");
         CHECK(session.transact("e 20 1", 1000ms).status.code != Errc::hazard);
     }
+    SECTION("an allowed NVS write is still refused where the menu is unknown (`e` engages in MOT>)") {
+        session.set_allow_nvs_write(true);
+        CHECK(session.transact("e 20 1", 1000ms).status.code == Errc::hazard);
+        CHECK(wire.written().empty());
+    }
+    SECTION("a session that did not ask for motion sends no move") {
+        CHECK(session.transact("a 0 180.00", 1000ms).status.code == Errc::hazard);
+        CHECK(wire.written().empty());
+    }
     SECTION("moves are refused once the axes are known to be unhomed") {
+        session.set_requests(backend_requests);
         session.set_axes_unhomed(true);
         CHECK(session.transact("a 0 180.00", 1000ms).status.code == Errc::not_homed);
         CHECK(wire.written().empty());
@@ -167,6 +179,7 @@ TEST_CASE("session: menu inference where prompts are unknown") {
     FakeTravler dish;
     FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
     ConsoleSession session(wire, profile(VariantId::travler_hal205), {});
+    session.set_requests(backend_requests);
     CHECK(session.menu().empty());
     CHECK(session.transact("s", 500ms).status.code == Errc::hazard);  // could be NVS save
     REQUIRE(session.transact("q", 500ms));

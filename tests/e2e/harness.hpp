@@ -99,7 +99,22 @@ private:
 // read each line and its reply has gone quiet; the reply is read and discarded.
 void type_into(birdcage::sim::Emulator& dish, const std::vector<std::string>& lines);
 
-// Emulator + preloaded stock rotctld for one Winegard model.
+// The dish received no word of the core's hazard rule (docs/firmware.md §15) outside a move request:
+// a Catch2 check naming the lines it counted (stderr in the benchmark). Rig runs it at teardown;
+// a test that holds an Emulator of its own keeps a HazardWatch beside it.
+void expect_no_hazards(const birdcage::sim::Emulator& dish);
+class HazardWatch {
+public:
+    explicit HazardWatch(const birdcage::sim::Emulator& dish) : dish_(dish) {}
+    ~HazardWatch();
+    HazardWatch(const HazardWatch&) = delete;
+    HazardWatch& operator=(const HazardWatch&) = delete;
+
+private:
+    const birdcage::sim::Emulator& dish_;
+};
+
+// Emulator + preloaded stock rotctld for one Winegard model; at teardown, expect_no_hazards().
 class Rig {
 public:
     // `prepare` runs after the emulator starts and before rotctld opens the port; rotctld must

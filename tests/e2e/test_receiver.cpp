@@ -196,6 +196,7 @@ TEST_CASE("G2: a reading asked during a move waits for it, loses nothing of it, 
 
 TEST_CASE("G2: stock rotctl with the backend preloaded reads RSSI directly from the dish", "[e2e][receiver]") {
     birdcage::sim::Emulator dish(e2e::dish_options(Variant::carryout_g2, 174.0, 43.0));
+    const e2e::HazardWatch no_hazards(dish);
     const auto result = e2e::run({"/usr/bin/rotctl", "-m", std::to_string(kG2), "-r", dish.device_path(), "v", "RSSI"},
                                  e2e::preload_environment());
     INFO(result.out << result.err);

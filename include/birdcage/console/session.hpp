@@ -18,6 +18,7 @@
 #include "birdcage/base/log.hpp"
 #include "birdcage/console/synchroniser.hpp"
 #include "birdcage/console/transport.hpp"
+#include "birdcage/firmware/hazards.hpp"
 #include "birdcage/firmware/variants.hpp"
 
 namespace birdcage {
@@ -75,6 +76,11 @@ public:
     const std::string& recent_output() const { return recent_output_; }
 
     void set_allow_nvs_write(bool allow) { allow_nvs_write_ = allow; }
+    // What the session's owner asks the console for (hazards.hpp): the hazard rule lets through only
+    // the well-formed commands of these requests. Nothing until the owner says (the controller asks
+    // for backend_requests; detection asks for nothing).
+    void set_requests(HazardRequests requests) { requests_ = requests; }
+    HazardRequests requests() const { return requests_; }
     // The controller reports the homing state it learnt from position replies; the guard uses it.
     void set_axes_unhomed(bool unhomed) { axes_unhomed_ = unhomed; }
     // The caller learnt which menu the console is in by other means (e.g. its `?` listing).
@@ -123,6 +129,7 @@ private:
     static constexpr std::size_t recent_output_limit = 8192;
     std::string recent_output_;
     bool allow_nvs_write_ = false;
+    HazardRequests requests_ = request_nothing;
     bool axes_unhomed_ = false;
     ConsoleEventSink events_;
 };

@@ -12,6 +12,7 @@
 #include "birdcage/base/azel.hpp"
 #include "birdcage/base/errors.hpp"
 #include "birdcage/base/plain_types.hpp"
+#include "birdcage/firmware/hazards.hpp"
 #include "birdcage/firmware/variants.hpp"
 
 namespace birdcage {
@@ -76,14 +77,15 @@ struct HazardContext {
     std::string_view menu;       // "root", "mot", "nvs", ... ; empty = unknown
     bool allow_nvs_write = false;
     bool axes_unhomed = false;   // a position reply showed the INT_MAX sentinel
+    // What the caller asks for (hazards.hpp): nothing by default, so a caller that forgets to say
+    // gets a console it cannot move.
+    HazardRequests requests = request_nothing;
 };
 
-// Ok, or Errc::hazard / Errc::not_homed naming the documented hazard. Rules:
-//  - `q` at the root menu (or where the menu is unknown) on quirk_q_at_root_kills_shell firmware;
-//  - argument-less `scan` (ADC scan on an unhomed AZ targets INT_MAX and hangs the console);
-//  - NVS/EEPROM writes: `e <idx> <v>`, `ee <idx> <v>`, and `s` in (or possibly in) NVS, unless allowed;
-//  - `stow`, `reboot`, `def`, `inv ...`, `Q`;
-//  - moves (`a <id> <deg>`, `g ...`, `azscanwxp`) while the axes are known to be unhomed.
+// Ok, or Errc::hazard / Errc::not_homed naming the hazard. The rule is hazards.hpp's
+// (docs/firmware.md §15), judged for the profile's variant (every variant's rules while it is the
+// auto-detect profile) with `context.requests`, plus request_nvs_write where allow_nvs_write says
+// so. A move the caller asked for is still refused (Errc::not_homed) while the axes are unhomed.
 Status hazard_check(const FirmwareProfile& profile, std::string_view command, const HazardContext& context);
 
 // The menu a prompt stands for: the profile's root prompt -> "root", `EE>` -> "eeprom",

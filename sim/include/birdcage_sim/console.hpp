@@ -35,6 +35,7 @@ public:
     bool booting() const;
     const std::vector<Sample>& history() const;
     unsigned hazards() const;
+    const std::vector<std::string>& hazard_commands() const;  // the line of each hazard counted
     const std::vector<std::string>& commands() const;
     double time() const;
     void power_cycle();

@@ -336,7 +336,10 @@ public:
     bool moving() const;
     bool search_running() const;
     std::vector<Sample> history() const;     // true position over simulated time
+    // Command lines the core's hazard rule names (docs/firmware.md §15) sent outside a move request,
+    // and the state-dependent hazards (moves on unhomed axes, the Pro above 75°); at most one per line.
     unsigned hazards_received() const;
+    std::vector<std::string> hazard_commands() const;   // the line of each, in order
     std::vector<std::string> received_commands() const;  // every complete line, in order (empty lines included)
     double sim_time() const;
     // Reboot, also mid-move: motion stops dead, boot log (and boot moves), the search restarts

@@ -167,7 +167,7 @@ Result<Reply> ConsoleSession::transact(std::string_view command, std::chrono::mi
 
 Result<Reply> ConsoleSession::transact(std::string_view command, std::chrono::milliseconds timeout,
                                        const ReplyComplete& complete) {
-    const HazardContext context{menu_, allow_nvs_write_, axes_unhomed_};
+    const HazardContext context{menu_, allow_nvs_write_, axes_unhomed_, requests_};
     if (Status refused = hazard_check(profile_, command, context); !refused) {
         emit(log_, LogLevel::warning, refused.message);
         return {{}, refused};

@@ -63,6 +63,7 @@ Controller::Controller(Transport& transport, ControllerOptions options)
         el_max_ = profile_.el_max;
     }
     session_.set_event_sink(options_.console_events);
+    session_.set_requests(backend_requests);  // its moves, homes, search stop and LNB switch
     driver_ = make_move_driver(
         MoveContext{session_, profile_, state_, wrap_, reader_, options_.log, [this] { return now(); }, el_min_, el_max_});
 }

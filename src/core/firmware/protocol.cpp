@@ -330,36 +330,16 @@ std::string menu_for_prompt(const FirmwareProfile& profile, std::string_view pro
 }
 
 Status hazard_check(const FirmwareProfile& profile, std::string_view command, const HazardContext& context) {
-    const auto words = split_words(command);
-    if (words.empty()) {
-        return Status::ok();
+    const std::optional<VariantId> variant =
+        &profile == &probe_profile() ? std::nullopt : std::optional<VariantId>(profile.id);
+    const HazardRequests requests = context.requests | (context.allow_nvs_write ? request_nvs_write : request_nothing);
+    const HazardRuling ruling = judge_command(variant, context.menu, command, requests);
+    if (ruling.hazard()) {
+        return Status{Errc::hazard, "refused \"" + std::string(command) + "\": `" + std::string(ruling.word) + "` " +
+                                        std::string(hazard_kind_name(ruling.kind)) + ": " + std::string(ruling.reason)};
     }
-    const std::string_view verb = words.front();
-    const std::size_t args = words.size() - 1;
-    auto refuse = [&](std::string why) {
-        return Status{Errc::hazard, "refused \"" + std::string(command) + "\": " + why};
-    };
-
-    if (verb == "q" && args == 0 && profile.has(quirk_q_at_root_kills_shell) &&
-        (context.menu.empty() || context.menu == "root")) {
-        return refuse("q at the root prompt (or an unknown menu) terminates the shell until a power cycle");
-    }
-    if (verb == "scan" && args == 0) {
-        return refuse("argument-less scan drives an unhomed azimuth to INT_MAX and hangs the console");
-    }
-    if (verb == "stow" || verb == "reboot" || verb == "def" || verb == "inv" || verb == "Q") {
-        return refuse("on the never-send list (stow/reboot/def/inv/Q)");
-    }
-    if (!context.allow_nvs_write) {
-        if ((verb == "e" || verb == "ee") && args >= 2) {
-            return refuse("NVS/EEPROM write (set allow_nvs_write to permit)");
-        }
-        if (verb == "s" && args == 0 && (context.menu.empty() || context.menu == "nvs")) {
-            return refuse("s saves NVS to flash (set allow_nvs_write to permit)");
-        }
-    }
-    const bool moves = (verb == "a" && args >= 2) || verb == "g" || verb == "azscanwxp";
-    if (moves && context.axes_unhomed) {
+    const HazardRuling asked = classify_command(variant, context.menu, command);
+    if (asked.granted_by == request_move && context.axes_unhomed) {  // homing is what unhomed axes need
         return Status{Errc::not_homed, "refused \"" + std::string(command) + "\": the axes are not homed"};
     }
     return Status::ok();

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "birdcage/firmware/hazards.hpp"
+#include "birdcage/firmware/menus.hpp"
 
 using namespace birdcage;
 
@@ -114,4 +115,19 @@ TEST_CASE("hazard rule: per menu and variant") {
         CHECK_FALSE(classify_command(unknown_variant, "", word).hazard());
     }
     CHECK(hazard_kind_name(HazardKind::writes_nvs) == "writes NVS");
+}
+
+TEST_CASE("menus: prompts are known by their shape, decorations before and after allowed") {
+    CHECK(prompt_word("MOT>") == "MOT");
+    CHECK(prompt_word("dish:MOT> ") == "MOT");
+    CHECK(prompt_word("[WG]TRK>#") == "TRK");
+    CHECK(prompt_word("(wg) EE>>") == "EE");
+    CHECK(prompt_word(">") == "");
+    CHECK_FALSE(prompt_word("Angle[0] = 180.00"));
+    CHECK_FALSE(prompt_word("help [<command>]"));
+    CHECK_FALSE(prompt_word("a rather long line of output that ends in MOT>"));
+    CHECK(menu_with_prompt_word("EE")->word == "eeprom");
+    CHECK(menu_entered_by("MOT")->prompt_word == "MOT");
+    CHECK(is_root_prompt_word("trk"));
+    CHECK(menu_entered_by("life") == nullptr);  // a MOT> command, not a menu
 }

@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+#include "birdcage/firmware/menus.hpp"
+
+#include <array>
+#include <cctype>
+
+namespace birdcage {
+namespace {
+
+// docs/firmware.md: §6.3 (the G2's twelve root submenus and their prompts), §3.3 and §5.3 (`mot`,
+// `nvs`, `os` on the Trav'lers), §4.3 (`motor`, `ngsearch`), §5.1 (`odu`), §8.3 (`target`, `motor`,
+// `dvb`, `os`, `nvs`). Prompt words outside §6.3 are not documented; a console that shows its menu's
+// name in its prompt (as the G2 does) is recognised by it.
+constexpr std::array<MenuFact, 16> menus{{
+    {"a3981", "A3981", "q"},
+    {"adc", "ADC", "q"},
+    {"dipswitch", "DIPSWITCH", "q"},
+    {"dvb", "DVB", "q"},
+    {"eeprom", "EE", "q"},
+    {"gpio", "GPIO", "q"},
+    {"latlon", "LATLON", "q"},
+    {"mot", "MOT", "q"},
+    {"motor", "MOTOR", "q"},
+    {"ngsearch", "NGSEARCH", "q"},
+    {"nvs", "NVS", "q"},
+    {"odu", "", "q", true},
+    {"os", "OS", "q"},
+    {"peak", "PEAK", "q"},
+    {"step", "STEP", "q"},
+    {"target", "TARGET", "q"},
+}};
+
+bool same_word(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) {
+        return false;
+    }
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool is_word_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; }
+
+// A decoration is short printable text; a longer run before `>` is a line of output, not a prompt.
+constexpr std::size_t max_decoration = 12;
+
+}  // namespace
+
+std::span<const MenuFact> documented_menus() { return menus; }
+
+const MenuFact* menu_entered_by(std::string_view word) {
+    for (const MenuFact& menu : menus) {
+        if (same_word(menu.word, word)) {
+            return &menu;
+        }
+    }
+    return nullptr;
+}
+
+const MenuFact* menu_with_prompt_word(std::string_view prompt_word) {
+    if (prompt_word.empty()) {
+        return nullptr;
+    }
+    for (const MenuFact& menu : menus) {
+        if (!menu.prompt_word.empty() && same_word(menu.prompt_word, prompt_word)) {
+            return &menu;
+        }
+    }
+    return nullptr;
+}
+
+bool is_root_prompt_word(std::string_view prompt_word) { return same_word(prompt_word, "TRK"); }
+
+std::optional<std::string> prompt_word(std::string_view line) {
+    while (!line.empty() && line.back() == ' ') {
+        line.remove_suffix(1);
+    }
+    // Marks after the `>` (`MOT>#`, `MOT>>`): up to three of them.
+    for (int marks = 0; marks < 3 && line.size() > 1; ++marks) {
+        const char c = line.back();
+        const bool mark = c == '#' || c == '$' || c == ':' || c == '%' || (c == '>' && line[line.size() - 2] == '>');
+        if (!mark) {
+            break;
+        }
+        line.remove_suffix(1);
+    }
+    if (line.empty() || line.back() != '>') {
+        return std::nullopt;
+    }
+    line.remove_suffix(1);
+    std::size_t start = line.size();
+    while (start > 0 && is_word_char(line[start - 1])) {
+        --start;
+    }
+    const std::string_view decoration = line.substr(0, start);
+    if (decoration.size() > max_decoration) {
+        return std::nullopt;
+    }
+    for (char c : decoration) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte < 0x20 || byte >= 0x7f || c == '>' || c == '<') {
+            return std::nullopt;
+        }
+    }
+    return std::string(line.substr(start));
+}
+
+}  // namespace birdcage

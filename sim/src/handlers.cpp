@@ -671,7 +671,41 @@ void dvb_fixed_reply(Engine& e, const Args& args)
 // §6.3: "the channel parameters"; the layout and values are INVENTED.
 void dvb_channel(Engine& e, const Args&)
 {
-    e.print_line(format("Freq:1450000  SymRate:20000  Pol:%s  Lock:0", e.lnb_supply == LnbSupply::odu_13v ? "V" : "H"));
+    const bool at_13v = e.lnb_supply == LnbSupply::odu_13v;
+    if (!e.captured_g2()) {
+        e.print_line(format("Freq:1450000  SymRate:20000  Pol:%s  Lock:0", at_13v ? "V" : "H"));  // INVENTED
+        return;
+    }
+    // The captured table (§6.7), taken after `lnbdc odu`. Its row 5 at 18 V is not captured: the
+    // boot's `Enabled LNB ODU 18V` suggests the same label with the other voltage (INF).
+    static constexpr const char* head[] = {
+        "Power Mode:           ON",
+        "Search Transponders:  ON",
+        "Auto Search Mode:     1",
+        "Shuffle Mode:         ON",
+        "Frequency List:       Non-Stacked",
+        "",
+        "Num  Parameter            Current                  Default",
+        "1    Frequency            1090640 (kHz)            974000 (kHz)",
+        "2    Symbol Rate          0 (PeakScanEnabled)      20000 (ksps)",
+        "3    Trans_Mod_CRate      blind_scan               blind_scan",
+        "4    Blind Scan Mode      ___trb_dvb_dss_____      ___trb_dvb_dss_____",
+    };
+    static constexpr const char* tail[] = {
+        "6    LNB Tone (ODU)       off                      off",
+        "7    Roll-off             0.35                     0.35",
+        "8    LPF Cutoff           0 (auto)                 0 (MHz)",
+        "9    Carrier Offset       0 (kHz)                  0 (kHz)",
+        "10   FreqSearchRange      5000 (kHz)               5000 (kHz)",
+        "11   DCII Mode            dcii_qpsk_comb           dcii_qpsk_comb",
+        "12   Spectral Inv         scan                     scan",
+        "13   PScnSymRtRngMin      18000 (ksps)             18000 (ksps)",
+        "14   PScnSymRtRngMax      24000 (ksps)             24000 (ksps)",
+        "15   SignalDetectMode      off                     off",
+    };
+    for (const char* line : head) e.print_line(line);
+    e.print_line(format("5    LNB Polarity         ODU:%s                  ---", at_13v ? "13V" : "18V"));
+    for (const char* line : tail) e.print_line(line);
 }
 
 void hazard_only(Engine& e, const Args&) { e.count_hazard(); }

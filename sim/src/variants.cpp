@@ -26,6 +26,7 @@ bool unlisted_on(const Options& options) { return options.unlisted_commands; }
 
 bool captured_only(const Options& options) { return options.g2_console == G2Console::captured; }
 bool reconstructed_only(const Options& options) { return options.g2_console == G2Console::reconstructed; }
+bool reconstructed_unlisted_on(const Options& options) { return reconstructed_only(options) && unlisted_on(options); }
 
 constexpr Command g2_mot_commands[] = {
     {"a", h::angle, nullptr, "Go to angle [[[motor] [[+|-]angle]]]"},
@@ -66,7 +67,8 @@ constexpr Command g2_dvb_commands[] = {
     {"config", h::dvb_config, nullptr, "BCM configuration"},
     {"qls", h::dvb_quick_lock, nullptr, "Quick lock status"},
     {"def", h::hazard_only, nullptr, "Restore defaults"},
-    {"dis", h::dvb_channel, nullptr, "Channel parameters", unlisted_on, false},
+    {"dis", h::dvb_channel, nullptr, "Display channel parameters", captured_only},
+    {"dis", h::dvb_channel, nullptr, "Channel parameters", reconstructed_unlisted_on, false},
     {"snr", h::dvb_stream, nullptr, "SNR", captured_only},
     {"agc", h::dvb_stream, nullptr, "AGC", captured_only},
     {"lnbv", h::dvb_stream, nullptr, "LNB voltage", captured_only},

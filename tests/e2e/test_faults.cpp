@@ -164,10 +164,13 @@ TEST_CASE("faults: the dish reboots mid-move, the backend re-initialises and res
     CHECK(rig.dish().hazards_received() == 0);
 }
 
-// A G2 boot of about 25 simulated seconds (2 s between boot lines, then homing to AZ 0, EL 65).
+// A G2 boot of about 25 simulated seconds (2 s between boot lines, then homing to AZ 0, EL 65):
+// a G2 whose boot homes (the captured unit's does not; §6.2 leaves it a switch), so that the
+// position after the boot differs from the last reading.
 TEST_CASE("faults: while the dish reboots p gives its last reading, s BUSY and _ why, P is kept and S drops it", "[e2e][faults]") {
     auto options = g2_at(100.0, 30.0, 10.0);
     options.boot_line_gap = 2.0;
+    options.g2_boot_homes = true;
     e2e::Rig rig(options, kG2, {"-C", "leapfrog=0", "-C", "time_scale=10"});
     e2e::RotctldConnection client(rig.port());
     REQUIRE(reports_true_position(client, rig.dish()));

@@ -80,8 +80,8 @@ TEST_CASE("G2: v RSSI follows where the dish points, and V LNB changes the sky i
     const std::string levels = client.ask("v ?", 1);
     CHECK(levels.find("RSSI") != std::string::npos);
     CHECK(levels.find("LNB") != std::string::npos);
-    // The emulated tuner's `dis` lists no LNB row the backend can read: unknown, not an assumed 18.
-    CHECK(client.ask("v LNB", 1).find("RPRT -11") != std::string::npos);
+    // Read from the tuner's `dis` listing at open: the boot default of a freshly powered dish.
+    CHECK(reading(client, "LNB") == 18.0);
 
     REQUIRE(client.ask("V LNB 13", 1).find("RPRT 0") != std::string::npos);
     CHECK(reading(client, "LNB") == 13.0);
@@ -128,15 +128,31 @@ TEST_CASE("G2: the LNB supply after open is the dish's or unknown and never an a
     e2e::Rig rig(options, kG2, {}, [](birdcage::sim::Emulator& dish) { e2e::type_into(dish, {"dvb", "lnbdc odu", "q"}); });
     e2e::RotctldConnection client(rig.port());
     CHECK(sent(rig, "dis"));   // asked, one-shot
-    const std::string after_open = client.ask("v LNB", 1);
-    INFO(after_open);
-    CHECK(after_open.find("18") == std::string::npos);
-    CHECK(after_open.find("RPRT -11") != std::string::npos);
+    CHECK(reading(client, "LNB") == 13.0);   // the dish's own supply, not the boot default
+    REQUIRE(client.ask("V LNB 18", 1).find("RPRT 0") != std::string::npos);
+    CHECK(reading(client, "LNB") == 18.0);
     REQUIRE(client.ask("V LNB 13", 1).find("RPRT 0") != std::string::npos);
     CHECK(reading(client, "LNB") == 13.0);
     rig.dish().power_cycle();
     REQUIRE(e2e::wait_until([&] { return client.ask("_", 1).find("recovered 1") != std::string::npos; }, 60s));
-    CHECK(reading(client, "LNB") == 18.0);   // the boot default again (`Enabled LNB STB`)
+    CHECK(reading(client, "LNB") == 18.0);   // the boot default again (`Enabled LNB ODU 18V`)
+    no_streaming_or_hazard(rig);
+}
+
+// A tuner whose listing has no LNB row the backend can read (the reconstructed console's `dis`):
+// unknown, never the boot default assumed.
+TEST_CASE("G2: an LNB supply the tuner does not list is unknown after open", "[e2e][receiver]") {
+    auto options = e2e::dish_options(Variant::carryout_g2, 174.0, 43.0);
+    options.g2_console = birdcage::sim::G2Console::reconstructed;
+    options.unlisted_commands = true;
+    e2e::Rig rig(options, kG2, {}, [](birdcage::sim::Emulator& dish) { e2e::type_into(dish, {"dvb", "lnbdc odu", "q"}); });
+    e2e::RotctldConnection client(rig.port());
+    CHECK(sent(rig, "dis"));
+    const std::string after_open = client.ask("v LNB", 1);
+    INFO(after_open);
+    CHECK(after_open.find("RPRT -11") != std::string::npos);
+    REQUIRE(client.ask("V LNB 13", 1).find("RPRT 0") != std::string::npos);
+    CHECK(reading(client, "LNB") == 13.0);
     no_streaming_or_hazard(rig);
 }
 

@@ -156,6 +156,9 @@ public:
                 out << "op resync: " << status_field(synced) << " menu=" << birdcage::golden::quoted(session_.menu()) << '\n';
             } else if (op == "home") {
                 out << "op home: " << status_field(controller_.home()) << '\n';
+            } else if (op == "request-moves") {
+                session_.set_requests(session_.requests() | birdcage::request_move);
+                out << "op request-moves\n";
             } else if (op == "allow-nvs-write") {
                 session_.set_allow_nvs_write(true);
                 out << "op allow-nvs-write\n";

@@ -77,11 +77,14 @@ Clock::time_point Controller::now() const { return options_.clock.now(); }
 // A ready line heard as the latest output (by a poll, or by the synchroniser) is acted on at once:
 // no poke, because each moment lets the TV search swing the dish further (docs/reliability.md).
 Result<bool> Controller::wait_for_boot() {
+    auto at_ready_line = [this](const std::string& ready_line) -> Result<bool> {
+        emit(options_.log, LogLevel::warning, "dish booted (its ready line \"" + ready_line + "\"): stopping its TV search at once");
+        return {true, Status::ok()};
+    };
     if (session_.just_booted()) {
         const std::string ready_line = session_.last_boot_line();
         session_.clear_reboot_seen();
-        emit(options_.log, LogLevel::warning, "dish booted (its ready line \"" + ready_line + "\"): stopping its TV search at once");
-        return {true, Status::ok()};
+        return at_ready_line(ready_line);
     }
     session_.clear_reboot_seen();
     const auto synced = session_.synchronise(console_sync_settings(profile_, boot_budget_));
@@ -90,9 +93,7 @@ Result<bool> Controller::wait_for_boot() {
                                                       " console did not come into sync: " + synced.status.message}};
     }
     if (!synced.value.ready_line.empty()) {
-        emit(options_.log, LogLevel::warning,
-             "dish booted (its ready line \"" + synced.value.ready_line + "\"): stopping its TV search at once");
-        return {true, Status::ok()};
+        return at_ready_line(synced.value.ready_line);
     }
     if (synced.value.boot_heard) {
         emit(options_.log, LogLevel::warning, "dish booted (last boot output \"" + synced.value.last_boot_line + "\")");

@@ -117,13 +117,18 @@ private:
     std::size_t reads_ = 0;
 };
 
-// After `prompt`, at one of its places in `output`, comes no console text: on the prompt's own
+// After `prompt` and its decoration marks, at one of its places in `output`, comes no console text: on the prompt's own
 // line neither clean printable text (one space aside) nor mostly printable text around noise
 // bytes; no later line of mostly printable bytes. Line noise (random bytes, most of them
 // unprintable, possibly with a `TRK>` among them) may follow. Any place will do: a reply read
 // after a poke starts a line of its own, wherever the output before it stopped.
 bool ends_text_at(std::string_view output, std::size_t at, std::string_view prompt) {
-    const std::string_view rest = output.substr(at + prompt.size());
+    std::string_view rest = output.substr(at + prompt.size());
+    // The prompt as the console printed it: up to two decoration marks after its '>' (`TRK>$`).
+    constexpr std::string_view marks = "$#:%>~";
+    for (int count = 0; count < 2 && !rest.empty() && marks.find(rest.front()) != std::string_view::npos; ++count) {
+        rest.remove_prefix(1);
+    }
     std::size_t text = 0;
     std::size_t noise = 0;
     bool prompt_line = true;

@@ -5,15 +5,24 @@
 // mid-pass while a Gpredict-like client tracks through the stock rotctld with the backend
 // preloaded. A program, not a test: it measures and prints, asserts nothing.
 //
-//   reboot_bench [--variants hal000,hal205] [--runs N] [--scale K] [--pass NAME]
-//                [--from S] [--reboot-at S] [--to S] [--no-reboot]
+//   reboot_bench [--variants hal000,hal205] [--boot-moves park,home-return,none] [--runs N]
+//                [--scale K] [--pass NAME] [--from S] [--reboot-at S] [--to S] [--late-from S]
+//                [--no-reboot]
 //
 // Per run it measures, on the emulator's true position and its console traffic:
 //   * the wall time from the dish's ready line (`NoGPS`) to the command that stops its TV search
 //     (`kill Search`; HAL 2.05: `s` in its `ngsearch` menu);
-//   * the RMS of the dish against the satellite over the window, with the reboot in it;
+//   * the RMS of the dish against the satellite over the window, with the reboot in it, and the
+//     same without the samples from the power cut to the ready line (the dish is not there to
+//     command then: what its firmware does in that time is outside the backend's control);
 //   * the RMS before the reboot and after the dish is back on the satellite (within 1 deg), so
-//     what was learnt before the reboot (lead, pointing mode, motion, orbit) shows if it is lost.
+//     what was learnt before the reboot (lead, pointing mode, motion, orbit) shows if it is lost;
+//   * the RMS from --late-from to the end of the window, the same stretch of the pass in a run with
+//     the reboot and in one without (--no-reboot): tracking there differs from tracking before the
+//     reboot because the pass does (the satellite climbs and speeds up), so this is the comparison
+//     that tells lost state from geometry.
+// --boot-moves runs each reading of the Trav'ler's unknown power-up calibration (sim/README.md,
+// `travler_boot_moves`; docs/firmware.md §3.2).
 // The default pass and window put the reboot where the emulated calibration (AZ 0, EL 45, an
 // INVENTED boot move, sim/src/variants.cpp) is short: sso-85 rising through AZ 17-25 toward the
 // culmination, so the reboot's cost is the boot and the search, not a turn of the cable wrap.
@@ -60,10 +69,12 @@ const std::vector<Dish>& dishes() {
 
 struct Settings {
     std::vector<std::string> variants{"hal000", "hal205"};
+    std::vector<std::string> boot_moves{"park"};
     int runs = 3;
     double scale = 1.0;
     std::string pass = "sso-85";
     double from = 300.0, reboot_at = 370.0, to = 440.0;   // pass clock, seconds
+    double late_from = 400.0;   // every reading is back on the satellite by then
     bool reboot = true;
 };
 
@@ -98,6 +109,9 @@ private:
 struct RunResult {
     double ready_to_stop_s = NAN;   // wall time, NoGPS to the search stop
     double rms_deg = 0.0, before_deg = 0.0, after_deg = 0.0, max_deg = 0.0;
+    double available_deg = 0.0;     // the window without the power cut to the ready line
+    double late_deg = 0.0;          // --late-from to the end of the window
+    double ready_after_s = NAN;     // pass seconds from the power cut to the ready line
     double back_after_s = NAN;      // pass seconds from the reboot until the dish is within 1 deg again
     int error_streak = 0;
     bool disengaged = false;
@@ -111,13 +125,14 @@ double rms(const std::vector<double>& errors) {
     return errors.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(errors.size()));
 }
 
-RunResult run_once(const Dish& d, const Settings& s) {
+RunResult run_once(const Dish& d, birdcage::sim::TravlerBootMoves boot_moves, const Settings& s) {
     const bench::Pass pass = bench::Pass::load(std::string(BIRDCAGE_BENCH_PASSES_DIR) + "/" + s.pass + ".csv");
     // The client engages 30 s before the window, as docs/gpredict.md tells users to.
     const double start = s.from - 30.0;
     const bench::Direction at_start = pass.at(start);
     auto options = e2e::dish_options(d.variant, at_start.az, std::clamp(at_start.el, d.el_min, d.el_max), s.scale);
     options.pace_at_line_rate = true;
+    options.travler_boot_moves = boot_moves;
     Traffic traffic;
     options.trace = [&traffic](bool from_client, std::string_view bytes) { traffic.record(from_client, bytes); };
     char scale_conf[48], latitude_conf[48];
@@ -154,6 +169,7 @@ RunResult run_once(const Dish& d, const Settings& s) {
                 dish_text += chunk.bytes;
                 if (dish_text.find(d.ready_line) != std::string::npos) {
                     ready_at = chunk.at;
+                    r.ready_after_s = std::chrono::duration<double>(chunk.at - cycled_at).count() * s.scale;
                 }
             } else if (chunk.from_client && ready_at) {
                 client_text += chunk.bytes;
@@ -172,7 +188,7 @@ RunResult run_once(const Dish& d, const Settings& s) {
     // Ground truth: the emulator's history, held between samples, on the pass clock.
     const std::vector<birdcage::sim::Sample> history = rig.dish().history();
     std::size_t h = 0;
-    std::vector<double> all, before, after;
+    std::vector<double> all, before, after, available, late;
     bool back = !s.reboot;
     constexpr double grid_s = 0.1;
     for (int i = 0; s.from + i * grid_s <= s.to; ++i) {
@@ -187,6 +203,13 @@ RunResult run_once(const Dish& d, const Settings& s) {
         const double error = bench::angle_between(sat, {history[h].az, history[h].el});
         all.push_back(error);
         r.max_deg = std::max(r.max_deg, error);
+        // A ready line never seen counts the rest of the window as unavailable.
+        if (!s.reboot || t < s.reboot_at || (!std::isnan(r.ready_after_s) && t >= s.reboot_at + r.ready_after_s)) {
+            available.push_back(error);
+        }
+        if (t >= s.late_from) {
+            late.push_back(error);
+        }
         if (!s.reboot || t < s.reboot_at) {
             before.push_back(error);
         } else {
@@ -210,6 +233,8 @@ RunResult run_once(const Dish& d, const Settings& s) {
     r.rms_deg = rms(all);
     r.before_deg = rms(before);
     r.after_deg = rms(after);
+    r.available_deg = rms(available);
+    r.late_deg = rms(late);
     return r;
 }
 
@@ -234,6 +259,10 @@ Settings parse(int argc, char** argv) {
         };
         if (arg == "--variants") {
             s.variants = split(value());
+        } else if (arg == "--boot-moves") {
+            s.boot_moves = split(value());
+        } else if (arg == "--late-from") {
+            s.late_from = std::stod(value());
         } else if (arg == "--runs") {
             s.runs = std::stoi(value());
         } else if (arg == "--scale") {
@@ -250,7 +279,8 @@ Settings parse(int argc, char** argv) {
             s.reboot = false;
         } else {
             throw std::runtime_error("unknown argument " + arg +
-                                     " (--variants, --runs, --scale, --pass, --from, --reboot-at, --to, --no-reboot)");
+                                     " (--variants, --boot-moves, --runs, --scale, --pass, --from, --reboot-at, --to,"
+                                     " --late-from, --no-reboot)");
         }
     }
     return s;
@@ -261,18 +291,26 @@ Settings parse(int argc, char** argv) {
 int main(int argc, char** argv) {
     try {
         const Settings s = parse(argc, argv);
-        std::printf("variant run ready_to_stop_s rms_deg before_deg after_deg max_deg back_after_s error_streak disengaged\n");
+        std::printf("variant boot_moves run ready_after_s ready_to_stop_s rms_deg available_deg before_deg after_deg "
+                    "late_deg max_deg back_after_s error_streak disengaged\n");
         for (const std::string& name : s.variants) {
             const auto d = std::find_if(dishes().begin(), dishes().end(), [&](const Dish& x) { return x.name == name; });
             if (d == dishes().end()) {
                 throw std::runtime_error("unknown variant " + name + " (hal000, hal205)");
             }
-            for (int run = 1; run <= s.runs; ++run) {
-                const RunResult r = run_once(*d, s);
-                std::printf("%s %d %.3f %.2f %.2f %.2f %.1f %.1f %d %s\n", name.c_str(), run, r.ready_to_stop_s, r.rms_deg,
-                            r.before_deg, r.after_deg, r.max_deg, r.back_after_s, r.error_streak,
-                            r.disengaged ? "yes" : "no");
-                std::fflush(stdout);
+            for (const std::string& reading : s.boot_moves) {
+                const auto moves = birdcage::sim::parse_travler_boot_moves(reading);
+                if (!moves) {
+                    throw std::runtime_error("unknown boot moves " + reading + " (park, home-return, none)");
+                }
+                for (int run = 1; run <= s.runs; ++run) {
+                    const RunResult r = run_once(*d, *moves, s);
+                    std::printf("%s %s %d %.1f %.3f %.2f %.2f %.2f %.2f %.2f %.1f %.1f %d %s\n", name.c_str(), reading.c_str(),
+                                run, r.ready_after_s, r.ready_to_stop_s, r.rms_deg, r.available_deg, r.before_deg,
+                                r.after_deg, r.late_deg, r.max_deg, r.back_after_s, r.error_streak,
+                                r.disengaged ? "yes" : "no");
+                    std::fflush(stdout);
+                }
             }
         }
     } catch (const std::exception& e) {

@@ -220,6 +220,13 @@ const std::vector<Flag>& flags()
         {"--hal205-marker", "nogps|no-lnb-voltage", "HAL 2.05 boot-complete line (default nogps)", [](Options& o, auto f, auto v) {
              o.hal205_boot_marker = choice<BootMarker>(f, v, {{"nogps", BootMarker::no_gps}, {"no-lnb-voltage", BootMarker::no_lnb_voltage}});
          }},
+        {"--travler-boot-moves", "park|home-return|none",
+         "Trav'ler power-up calibration moves (default park: AZ 0, EL 45; home-return: AZ to 0 and back; none)",
+         [](Options& o, auto f, auto v) {
+             const auto moves = birdcage::sim::parse_travler_boot_moves(v);
+             if (!moves) throw UsageError{std::string(f) + ": expected park|home-return|none, got '" + std::string(v) + "'"};
+             o.travler_boot_moves = *moves;
+         }},
         {"--hal205-mot", "yes|no", "HAL 2.05 accepts `mot` as well as `motor` (default no)",
          [](Options& o, auto f, auto v) { o.hal205_accepts_mot = yes_no(f, v); }},
         {"--pro-q-returns-to-idu", "yes|no", "Pro `q` at the ODU root returns to the IDU (default no)",

@@ -346,12 +346,20 @@ constexpr Menu pro_idu_root{"IDU", pro_idu_commands, nullptr, true};  // INVENTE
 std::vector<BootStep> travler_boot(const Engine& engine)
 {
     using K = BootStep::Kind;
-    // §3.2: calibration moves, then the marker. Moves and timing INVENTED.
-    std::vector<BootStep> steps = {
-        {K::pause, "", 0, 0.0, 2.0},
-        {K::move, "", axis_az, 0.0},
-        {K::move, "", axis_el, 45.0},
-    };
+    // §3.2: calibration, then the marker. What calibration moves is a switch (TravlerBootMoves);
+    // the 2 s before it are INVENTED.
+    std::vector<BootStep> steps = {{K::pause, "", 0, 0.0, 2.0}};
+    switch (engine.options.travler_boot_moves) {
+    case TravlerBootMoves::park:
+        steps.push_back({K::move, "", axis_az, 0.0});
+        steps.push_back({K::move, "", axis_el, 45.0});
+        break;
+    case TravlerBootMoves::home_return:
+        steps.push_back({K::move, "", axis_az, 0.0});
+        steps.push_back({K::move, "", axis_az, engine.motors.axis(axis_az).position()});
+        break;
+    case TravlerBootMoves::none: break;
+    }
     if (engine.profile.variant == Variant::travler_hal000) {
         steps.push_back({K::line, "NoGPS"});
     } else if (engine.profile.variant == Variant::travler_hal205) {
@@ -447,6 +455,23 @@ std::optional<G2Console> parse_g2_console(std::string_view name)
     if (name == "captured") return G2Console::captured;
     if (name == "reconstructed") return G2Console::reconstructed;
     return std::nullopt;
+}
+
+std::optional<TravlerBootMoves> parse_travler_boot_moves(std::string_view name)
+{
+    for (TravlerBootMoves moves : {TravlerBootMoves::park, TravlerBootMoves::home_return, TravlerBootMoves::none})
+        if (name == travler_boot_moves_name(moves)) return moves;
+    return std::nullopt;
+}
+
+const char* travler_boot_moves_name(TravlerBootMoves moves)
+{
+    switch (moves) {
+    case TravlerBootMoves::park: return "park";
+    case TravlerBootMoves::home_return: return "home-return";
+    case TravlerBootMoves::none: return "none";
+    }
+    return "park";
 }
 
 std::optional<AzMapping> parse_az_mapping(std::string_view name)

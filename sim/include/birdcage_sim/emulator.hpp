@@ -33,6 +33,17 @@ enum class OutOfRange { clamp, reject };     // §14 HAL0.4, G2.6; §3.4 "unreli
 enum class MoveAck { immediate, after_motion };  // §14 G2.3
 enum class PromptStyle { named, bare };      // Trav'ler/Carryout 2003 prompts, §14 HAL0.1, CO.2
 enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete line, §4.2
+// What a Trav'ler (HAL 0.0.00, 2.05, Pro) does with its motors at power-up, before its ready line
+// (§3.2, §5.2, §14 HAL0.9). The sources say only that it calibrates, "finding its position and wrap
+// limits", and of the Pro that it "may initialize and home (does not happen on all dishes)":
+//  park         AZ to 0, then EL to 45, and it stays there (the emulator's reading before this
+//               switch; the end point is INVENTED);
+//  home_return  AZ to its stop at 0 and back to where it was (a wrap-limit search that ends where it
+//               began; INVENTED that it returns);
+//  none         no move (the dish that does not home).
+enum class TravlerBootMoves { park, home_return, none };
+std::optional<TravlerBootMoves> parse_travler_boot_moves(std::string_view name);  // "park", "home-return", "none"
+const char* travler_boot_moves_name(TravlerBootMoves);
 // How an absolute azimuth target maps onto the mechanical travel (§14 G2.4; §2, §3.4, §3.5):
 //  nearest       0..360 to the wrap branch nearest the axis; an in-travel value beyond 0..360 as is;
 //  literal       the number is a mechanical angle; outside the travel: the out-of-range behaviour.
@@ -219,6 +230,7 @@ struct Options {
     // prompt (`TRK>nvs`, §6.1): no space.
     bool prompt_space = false;
     BootMarker hal205_boot_marker = BootMarker::no_gps;  // §4.2
+    TravlerBootMoves travler_boot_moves = TravlerBootMoves::park;  // §3.2, §14 HAL0.9
     bool hal205_accepts_mot = false;  // §14 HAL2.05.4: does `mot` work besides `motor`?
     // §14 Pro.2: does `q` at the ODU root return to the IDU console? The Pro client sends
     // `odu`, `q`, CR, `mot` (§5.6), which only works if it does not.

@@ -210,9 +210,9 @@ RunResult run_once(const Dish& d, birdcage::sim::TravlerBootMoves boot_moves, co
         if (t >= s.late_from) {
             late.push_back(error);
         }
-        if (!s.reboot || t < s.reboot_at) {
+        if (t < s.reboot_at) {
             before.push_back(error);
-        } else {
+        } else if (s.reboot) {
             // Back once within 1 deg for 5 s: the boot, the search and the return are over.
             if (!back && error <= 1.0) {
                 bool holds = true;

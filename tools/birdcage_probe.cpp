@@ -25,6 +25,7 @@
 #include "birdcage/console/detect.hpp"
 #include "birdcage/console/synchroniser.hpp"
 #include "birdcage/firmware/menus.hpp"
+#include "birdcage/firmware/prompt.hpp"
 #include "birdcage/firmware/variants.hpp"
 #include "birdcage_version.hpp"
 #include "cli_args.hpp"

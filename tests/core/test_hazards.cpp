@@ -11,6 +11,7 @@
 
 #include "birdcage/firmware/hazards.hpp"
 #include "birdcage/firmware/menus.hpp"
+#include "birdcage/firmware/prompt.hpp"
 
 using namespace birdcage;
 
@@ -130,4 +131,19 @@ TEST_CASE("menus: prompts are known by their shape, decorations before and after
     CHECK(menu_entered_by("MOT")->prompt_word == "MOT");
     CHECK(is_root_prompt_word("trk"));
     CHECK(menu_entered_by("life") == nullptr);  // a MOT> command, not a menu
+}
+
+// The probe and the backend's framer once each had a prompt rule; they disagreed on echoes and
+// listing words (`mot>`), on a third mark after '>' and on trailing blanks. One rule now.
+TEST_CASE("menus: the probe's prompt word follows the framer's prompt rule") {
+    for (const char* text : {"MOT>", "WG TRK>", "[G2]MOT>$", "dish:TRK>$ ", "#>", "TRK>>", "mot>", "Gmot>", "MOT>#$%",
+                             "MOT>  ", "TRK>nvs", "Enter <a3981>", "a very long banner TRK>", "A3981>", "ee>"}) {
+        INFO(text);
+        CHECK(prompt_word(text).has_value() == looks_like_prompt(text));
+        if (const auto word = prompt_word(text)) {
+            CHECK(*word + ">" == prompt_text(text));
+        }
+    }
+    CHECK_FALSE(prompt_word("mot>"));      // an echo or a listing word, not a prompt
+    CHECK_FALSE(prompt_word("MOT>#$%"));   // at most two marks after '>'
 }

@@ -9,8 +9,10 @@
 // console's output ends at the G2 root prompt with G2 evidence in it.
 #include "birdcage/console/detect.hpp"
 #include "birdcage/console/synchroniser.hpp"
+#include "birdcage/firmware/prompt.hpp"
 #include "birdcage/firmware/variants.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -123,12 +125,9 @@ private:
 // unprintable, possibly with a `TRK>` among them) may follow. Any place will do: a reply read
 // after a poke starts a line of its own, wherever the output before it stopped.
 bool ends_text_at(std::string_view output, std::size_t at, std::string_view prompt) {
-    std::string_view rest = output.substr(at + prompt.size());
-    // The prompt as the console printed it: up to two decoration marks after its '>' (`TRK>$`).
-    constexpr std::string_view marks = "$#:%>~";
-    for (int count = 0; count < 2 && !rest.empty() && marks.find(rest.front()) != std::string_view::npos; ++count) {
-        rest.remove_prefix(1);
-    }
+    // The prompt as the console printed it, its decoration marks after '>' (`TRK>$`) included: the
+    // prompt rule's own reading (birdcage/firmware/prompt.hpp).
+    std::string_view rest = output.substr(at + std::max(prompt.size(), birdcage::leading_prompt_length(output.substr(at))));
     std::size_t text = 0;
     std::size_t noise = 0;
     bool prompt_line = true;

@@ -9,6 +9,7 @@
 
 #include "birdcage/firmware/hazards.hpp"
 #include "birdcage/firmware/menus.hpp"
+#include "birdcage/firmware/prompt.hpp"
 
 namespace probe {
 namespace {

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "birdcage/firmware/prompt.hpp"   // the prompt rule the framer applies
 #include "birdcage/firmware/variants.hpp"
 
 namespace birdcage {
@@ -57,21 +58,5 @@ private:
     std::string expected_echo_;
     bool echo_pending_ = false;
 };
-
-// A prompt known by its shape (framing rule 3 in framer.cpp): its documented text, an optional run
-// of uppercase letters, digits or '_' followed by '>' (`TRK>`), with an optional decoration before
-// it (at most 12 characters, no '<', not ending in a letter or digit: `WG `, `[G2]`, `dish:`) and up
-// to two of `$#:%>~` after it, then at most one space. `Enter <a3981> - ...` and `mot>` are not.
-struct PromptShape {
-    std::string_view documented;   // `TRK>` of `WG TRK> `: what the menus are known by
-    std::string_view decorated;    // the prompt as printed, without its trailing space
-};
-std::optional<PromptShape> prompt_shape(std::string_view text);
-bool looks_like_prompt(std::string_view text);
-// The length of the prompt `text` starts with (`TRK>`, `WG TRK>`, `[G2]MOT>$`), its trailing space
-// not counted; 0 when it starts with none. `documented`, if given, receives its documented text.
-std::size_t leading_prompt_length(std::string_view text, std::string_view* documented = nullptr);
-// The documented text of the prompt `text` is (`TRK>` for `[G2]TRK>`); empty when it is none.
-std::string prompt_text(std::string_view text);
 
 }  // namespace birdcage

@@ -3,11 +3,10 @@
 
 // The console menus the firmware facts name (docs/firmware.md §3.3, §4.3, §5.1, §6.3, §8.3): the word
 // that enters each from the root, the word its prompt shows, and the word that leaves it. A program
-// that must know where a console is (birdcage-probe) recognises prompts by their shape against this
-// table and enters no word that is not in it.
+// that must know where a console is (birdcage-probe) looks the word of a prompt (prompt.hpp) up in
+// this table and enters no word that is not in it.
 #pragma once
 
-#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -31,11 +30,5 @@ const MenuFact* menu_entered_by(std::string_view word);
 const MenuFact* menu_with_prompt_word(std::string_view prompt_word);
 // A documented root prompt word: `TRK` (the G2's root, §6.3).
 bool is_root_prompt_word(std::string_view prompt_word);
-
-// The word of a prompt, recognised by its shape rather than its exact bytes: an optional short
-// decoration (a product tag, `dish:`, `#`), the word (letters, digits, `_`; empty for a bare `>`),
-// `>`, up to three marks (`#`, `$`, `:`, `%`, `>`), then nothing but spaces. "MOT>", "dish:MOT> "
-// and "MOT>#" give "MOT", ">" gives "", a text line nullopt.
-std::optional<std::string> prompt_word(std::string_view line);
 
 }  // namespace birdcage

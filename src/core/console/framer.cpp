@@ -12,7 +12,8 @@
 //     `MOT>`, `A3981>`, `>`), known by its shape rather than its exact bytes: a short decoration
 //     may stand before it (a product tag such as `WG `, `[G2]`, `dish:`, ending in neither a
 //     letter nor a digit) and up to two of `$#:%>~` after it, then at most one space
-//     (prompt_shape()). The documented text is what the framer reports: a console that tags its
+//     (prompt_shape(), include/birdcage/firmware/prompt.hpp: the one rule, which birdcage-probe
+//     uses too). The documented text is what the framer reports: a console that tags its
 //     prompts is in the same menus. The firmware prints it last and then waits, so it is recognised only
 //     (a) as the whole unterminated line at the end of a chunk, when nothing followed it yet, or
 //     (b) as a whole line of its own, or (c) as the start of a line that runs into an unprintable
@@ -34,8 +35,6 @@ namespace {
 
 bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || byte == '\t'; }
 
-bool is_prompt_word_char(char c) { return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_'; }
-
 constexpr std::array<std::string_view, 2> fault_markers{"MOTOR STALLED", "Motor Home Failure"};
 
 bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
@@ -47,66 +46,7 @@ bool contains_any(std::string_view line, std::span<const std::string_view> marke
     return false;
 }
 
-constexpr std::size_t max_decoration_before = 12;
-constexpr std::size_t max_prompt_word = 16;
-constexpr std::size_t max_decoration_after = 2;
-
-bool is_decoration_after_char(char c) { return std::string_view("$#:%>~").find(c) != std::string_view::npos; }
-bool is_letter_or_digit(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'); }
-
 }  // namespace
-
-// `documented` receives the prompt's documented text (`TRK>`).
-std::size_t leading_prompt_length(std::string_view text, std::string_view* documented) {
-    const std::size_t close = text.find('>');
-    if (close == std::string_view::npos) {
-        return 0;
-    }
-    std::size_t word = close;
-    while (word > 0 && close - word < max_prompt_word && is_prompt_word_char(text[word - 1])) {
-        --word;
-    }
-    const std::string_view before = text.substr(0, word);
-    // Help lines such as `Enter <a3981> - ...` hold a `<` before their `>`; a tag ends apart from
-    // the prompt's word, so `mot>` (an echo, a listing word) is no prompt.
-    if (before.size() > max_decoration_before || before.find('<') != std::string_view::npos ||
-        (!before.empty() && is_letter_or_digit(before.back()))) {
-        return 0;
-    }
-    for (char c : before) {
-        if (!is_text_byte(static_cast<unsigned char>(c))) {
-            return 0;
-        }
-    }
-    std::size_t end = close + 1;
-    while (end < text.size() && end - close - 1 < max_decoration_after && is_decoration_after_char(text[end])) {
-        ++end;
-    }
-    if (documented) {
-        *documented = text.substr(word, close + 1 - word);
-    }
-    return end;
-}
-
-std::optional<PromptShape> prompt_shape(std::string_view text) {
-    std::string_view documented;
-    const std::size_t length = leading_prompt_length(text, &documented);
-    if (length == 0) {
-        return std::nullopt;
-    }
-    const std::string_view rest = text.substr(length);
-    if (!rest.empty() && rest != " ") {
-        return std::nullopt;
-    }
-    return PromptShape{documented, text.substr(0, length)};
-}
-
-bool looks_like_prompt(std::string_view text) { return prompt_shape(text).has_value(); }
-
-std::string prompt_text(std::string_view text) {
-    const auto shape = prompt_shape(text);
-    return shape ? std::string(shape->documented) : std::string();
-}
 
 ConsoleFramer::ConsoleFramer(const FirmwareProfile& profile) : profile_(profile) {}
 

@@ -44,11 +44,6 @@ bool same_word(std::string_view a, std::string_view b) {
     return true;
 }
 
-bool is_word_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; }
-
-// A decoration is short printable text; a longer run before `>` is a line of output, not a prompt.
-constexpr std::size_t max_decoration = 12;
-
 }  // namespace
 
 std::span<const MenuFact> documented_menus() { return menus; }
@@ -75,39 +70,5 @@ const MenuFact* menu_with_prompt_word(std::string_view prompt_word) {
 }
 
 bool is_root_prompt_word(std::string_view prompt_word) { return same_word(prompt_word, "TRK"); }
-
-std::optional<std::string> prompt_word(std::string_view line) {
-    while (!line.empty() && line.back() == ' ') {
-        line.remove_suffix(1);
-    }
-    // Marks after the `>` (`MOT>#`, `MOT>>`): up to three of them.
-    for (int marks = 0; marks < 3 && line.size() > 1; ++marks) {
-        const char c = line.back();
-        const bool mark = c == '#' || c == '$' || c == ':' || c == '%' || (c == '>' && line[line.size() - 2] == '>');
-        if (!mark) {
-            break;
-        }
-        line.remove_suffix(1);
-    }
-    if (line.empty() || line.back() != '>') {
-        return std::nullopt;
-    }
-    line.remove_suffix(1);
-    std::size_t start = line.size();
-    while (start > 0 && is_word_char(line[start - 1])) {
-        --start;
-    }
-    const std::string_view decoration = line.substr(0, start);
-    if (decoration.size() > max_decoration) {
-        return std::nullopt;
-    }
-    for (char c : decoration) {
-        const auto byte = static_cast<unsigned char>(c);
-        if (byte < 0x20 || byte >= 0x7f || c == '>' || c == '<') {
-            return std::nullopt;
-        }
-    }
-    return std::string(line.substr(start));
-}
 
 }  // namespace birdcage

@@ -291,11 +291,12 @@ Status ServiceWorker::resume(AzEl target) {
         return accept_target(target, options_.clock.now());
     }
     const auto now = options_.clock.now();
-    if (steering_predictively() && predictor_.predict(now)) {
+    const std::optional<Prediction> prediction = predictor_.predict(now);
+    if (steering_predictively() && prediction) {
         return steer();
     }
     return controller_->set_target(target,
-                                   azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
+                                   azimuth_direction_hint(prediction, controller_->last_position(),
                                                           previous_client_target_, target, controller_->el_min()),
                                    predictor_.pass_ahead(now));
 }

@@ -5,6 +5,7 @@
 // I/O-free Console in simulated time: the default and every alternative.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -187,6 +188,43 @@ TEST_CASE("boot: input is accepted right after the last boot line (default), dro
     deaf.advance(0.002);
     CHECK(send(deaf, "\r") == "\r\nTRK>");
     CHECK(deaf.commands() == std::vector<std::string>{"q", "", ""});  // received, not acted on
+}
+
+TEST_CASE("boot: the Trav'ler's power-up calibration moves, one reading per switch value", "[console][switch][boot]")
+{
+    struct Reading {
+        TravlerBootMoves moves;
+        double lowest_az, end_az, end_el;   // mechanical AZ reached on the way, and where the boot leaves the dish
+    };
+    for (const Reading& r : {Reading{TravlerBootMoves::park, 0.0, 0.0, 45.0},
+                             Reading{TravlerBootMoves::home_return, 0.0, 120.0, 30.0},
+                             Reading{TravlerBootMoves::none, 120.0, 120.0, 30.0}}) {
+        INFO(travler_boot_moves_name(r.moves));
+        for (Variant variant : {Variant::travler_hal000, Variant::travler_hal205}) {
+            Options options = options_for(variant);
+            options.already_booted = false;
+            options.start_az = 120.0;
+            options.start_el = 30.0;
+            options.travler_boot_moves = r.moves;
+            Console console(options);
+            double lowest = console.mechanical_az();
+            std::string boot;
+            while (boot.find("NoGPS") == std::string::npos && console.time() < 600.0) {
+                console.advance(0.01);
+                boot += console.take_output();
+                lowest = std::min(lowest, console.mechanical_az());
+            }
+            CHECK(boot == "NoGPS\r\n");
+            CHECK(lowest == Approx(r.lowest_az).margin(0.01));
+            CHECK(console.mechanical_az() == Approx(r.end_az).margin(0.01));
+            CHECK(console.position().el == Approx(r.end_el).margin(0.01));
+            // The 2 s before any move is the same in every reading; a reading without moves is ready then.
+            if (r.moves == TravlerBootMoves::none) CHECK(console.time() == Approx(2.0).margin(0.02));
+            else CHECK(console.time() > 5.0);
+        }
+    }
+    CHECK(parse_travler_boot_moves("home-return") == TravlerBootMoves::home_return);
+    CHECK_FALSE(parse_travler_boot_moves("calibrate"));
 }
 
 TEST_CASE("boot: the captured G2 keeps a CR typed after Boot Complete and answers it after TRK>", "[console][switch][boot][g2]")

@@ -62,12 +62,14 @@ def listening(port: int) -> bool:
 class Rig:
     """An emulated dish (or none: Hamlib's dummy rotator) behind a preloaded rotctld."""
 
-    def __init__(self, workdir: Path, model: int, variant: str | None, conf: str = ""):
+    def __init__(self, workdir: Path, model: int, variant: str | None, conf: str = "",
+                 time_scale: float = TIME_SCALE, port: int | None = None):
         self.workdir = workdir
         self.model = model
         self.variant = variant
         self.conf = conf
-        self.port = free_port()
+        self.time_scale = time_scale
+        self.port = port or free_port()
         self.processes: list[subprocess.Popen] = []
         self.rotctld: subprocess.Popen | None = None
 
@@ -76,21 +78,21 @@ class Rig:
                 "-t", str(self.port)]
         env = dict(os.environ)
         if self.variant:
-            link = self.workdir / f"{self.variant}.tty"
+            link = self.workdir / f"{self.variant}-{self.port}.tty"
             sim = subprocess.Popen(
                 [required_path("BIRDCAGE_SIM"), "--variant", self.variant, "--link", str(link),
-                 "--time-scale", str(TIME_SCALE), "--az", "100", "--el", "30"],
-                stdout=open(self.workdir / f"{self.variant}.sim.log", "w"), stderr=subprocess.STDOUT)
+                 "--time-scale", f"{self.time_scale:g}", "--az", "100", "--el", "30"],
+                stdout=open(self.workdir / f"{self.variant}-{self.port}.sim.log", "w"), stderr=subprocess.STDOUT)
             self.processes.append(sim)
             wait_until(link.exists, 10, f"the emulator's pty {link}")
-            args += ["-r", str(link), "-C", f"time_scale={TIME_SCALE}" + (f",{self.conf}" if self.conf else "")]
+            args += ["-r", str(link), "-C", f"time_scale={self.time_scale:g}" + (f",{self.conf}" if self.conf else "")]
             env["LD_PRELOAD"] = required_path("BIRDCAGE_PRELOAD")
         self.start_rotctld(args, env)
         return self
 
     def start_rotctld(self, args: list[str], env: dict[str, str]) -> None:
         self._rotctld_args, self._rotctld_env = args, env
-        log = open(self.workdir / f"rotctld-{self.model}.log", "a")
+        log = open(self.workdir / f"rotctld-{self.model}-{self.port}.log", "a")
         self.rotctld = subprocess.Popen(args, env=env, stdout=log, stderr=subprocess.STDOUT)
         self.processes.append(self.rotctld)
         wait_until(lambda: listening(self.port) or self.rotctld.poll() is not None, 60, "rotctld to listen")
@@ -114,6 +116,29 @@ class Rig:
                     process.kill()
                     process.wait()
 
+    def ask(self, *commands: str) -> list[list[str]]:
+        """Asks rotctld directly, beside the server under test: what the rotator says, not what the
+        server made of it. One reply (its lines up to RPRT) per command."""
+        replies = []
+        with socket.create_connection(("127.0.0.1", self.port), timeout=10) as connection:
+            stream = connection.makefile("rw")
+            for command in commands:
+                stream.write(f"+{command}\n")
+                stream.flush()
+                lines = []
+                while not (line := stream.readline().rstrip("\n")).startswith("RPRT"):
+                    lines.append(line)
+                assert line == "RPRT 0", f"rotctld answered {command!r} with {line}"
+                replies.append(lines)
+        return replies
+
+    def position(self) -> tuple[float, float]:
+        lines = self.ask("p")[0]
+        return float(lines[1].split(":")[1]), float(lines[2].split(":")[1])
+
+    def moving(self) -> bool:
+        return "MOVING" in self.ask("s")[0][1]
+
 
 @pytest.fixture(scope="session")
 def workdir():
@@ -123,8 +148,8 @@ def workdir():
 
 
 @contextlib.contextmanager
-def rig(workdir: Path, model: int, variant: str | None, conf: str = ""):
-    r = Rig(workdir, model, variant, conf)
+def rig(workdir: Path, model: int, variant: str | None, conf: str = "", time_scale: float = TIME_SCALE):
+    r = Rig(workdir, model, variant, conf, time_scale)
     try:
         yield r.start()
     finally:
@@ -135,6 +160,13 @@ def rig(workdir: Path, model: int, variant: str | None, conf: str = ""):
 def g2(workdir):
     # pointing=none: predictive pointing would aim a scan's stepping targets ahead of themselves.
     with rig(workdir, 90105, "g2", "pointing=none") as r:
+        yield r
+
+
+@pytest.fixture(scope="module")
+def g2_real(workdir):
+    """A G2 at real speed: a 200 degree azimuth leg lasts about 3 s, long enough to stop it midway."""
+    with rig(workdir, 90105, "g2", "pointing=none", time_scale=1) as r:
         yield r
 
 

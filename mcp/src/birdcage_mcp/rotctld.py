@@ -46,7 +46,7 @@ HAMLIB_ERRORS = {
 
 # The commands this client sends, by their first word. Nothing here reaches the firmware except
 # through the backend, whose session layer refuses the firmware's hazard commands.
-ALLOWED = {"p", "P", "S", "K", "R", "s", "_", "v", "V", "1", "\\dump_state"}
+ALLOWED = {"p", "P", "S", "K", "R", "s", "_", "v", "V", "1"}
 
 SAFE_ARGUMENT = re.compile(r"^[A-Za-z0-9_.?+-]+$")
 
@@ -94,6 +94,8 @@ class Rotctld:
         self._reader: asyncio.StreamReader | None = None
         self._writer: asyncio.StreamWriter | None = None
         self._lock = asyncio.Lock()
+        # Counts the connections made: a new one may find another rotator behind the same port.
+        self.connections = 0
 
     @property
     def address(self) -> str:
@@ -104,6 +106,7 @@ class Rotctld:
             self._reader, self._writer = await asyncio.wait_for(
                 asyncio.open_connection(self.host, self.port), self.timeout
             )
+            self.connections += 1
         except (OSError, asyncio.TimeoutError) as error:
             code = getattr(error, "errno", None)
             reason = os.strerror(code).lower() if code else (str(error) or "no answer")

@@ -4,8 +4,8 @@
 """birdcage-mcp: an MCP server (stdio) that drives a rotator through a running rotctld.
 
 It is a rotctld client, so it runs beside Gpredict or any other client and drives any Hamlib
-rotator; the Winegard extras (signal, LNB, sky scan, the backend's own description) are used where
-the birdcage backend offers them. It has no raw-console tool: every command goes through rotctld
+rotator; the Winegard extras (signal, LNB, sky scan, the backend's own description) are offered
+where the rotator answers for them. It has no raw-console tool: every command goes through rotctld
 to the backend, whose session layer refuses the firmware's hazard commands.
 """
 
@@ -14,39 +14,32 @@ from __future__ import annotations
 import argparse
 import asyncio
 import csv
-import functools
 import json
-import math
 import os
 import re
 import tempfile
 import time
 from datetime import datetime, timezone
 from importlib.metadata import PackageNotFoundError, version
-from typing import Annotated, Any
+from typing import Annotated, Literal
 
-from mcp.server.mcpserver import Context, MCPServer
+from mcp.server.mcpserver import Context
 from mcp.server.mcpserver.exceptions import ResourceError, ToolError
+from mcp_types import ToolAnnotations
 from pydantic import Field
 
-from .rotctld import Rotctld, RotctldError, RotctldRefused
+from .app import BirdcageServer, tool_errors
+from .models import (ConfResult, HomeResult, InfoResult, LimitsResult, LnbResult, MoveResult, ParkResult, Peak,
+                     Position, ScanResult, SignalResult, StatusResult, StopResult)
+from .motion import ARRIVAL_TOLERANCE_DEG, POLL_INTERVAL_S, same_position, settle, wait_stopped
+from .rotator import ENAVAIL, ENIMPL, NOT_OFFERED, Birdcage, check_in_range
+from .rotctld import RotctldError, RotctldRefused
 from .scan import axis, find_peaks, serpentine
 
 try:
     __version__ = version("birdcage-mcp")
 except PackageNotFoundError:  # running from a source tree
     __version__ = "0"
-
-NOT_OFFERED = "not offered by this rotator"
-ENAVAIL = -11
-ENIMPL = -4
-# Two readings this close are the same position (rotctld prints two decimals).
-SAME_POSITION_DEG = 0.011
-# A reading this close to where the dish was sent counts as arrived (the skyscan tool's default).
-ARRIVAL_TOLERANCE_DEG = 0.2
-POLL_INTERVAL_S = 0.05
-# A rotator that has not moved for this long and reports no motion has stopped short of the target.
-STILL_FOR_S = 1.5
 
 CONF_FROM_INFO = {
     # key: (regex on the backend's `_` text, how to turn the match into the value)
@@ -57,280 +50,168 @@ CONF_FROM_INFO = {
     "el_max": (r"; el limits (-?[\d.]+)\.\.(-?[\d.]+)", lambda m: m.group(2)),
     "az_mapping": (r"; azimuth mapping (\w+)", lambda m: m.group(1)),
 }
-WINEGARD_CONF_KEYS = [
-    "variant", "pointing", "deadband", "deadband_share", "leapfrog", "time_scale", "az_mapping",
-    "pass_model", "latitude", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max",
-]
+ConfKey = Literal["variant", "pointing", "deadband", "deadband_share", "leapfrog", "time_scale", "az_mapping",
+                  "pass_model", "latitude", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max"]
+Volts = Literal[13, 18]
+
+# What each tool does to the dish, for the client (MCP tool annotations). Reading tools change
+# nothing; a move is not destructive (the dish can be sent back) and repeating it changes nothing
+# more; homing drives the axes to their stops and relearns where they are. None of them reaches beyond this rotator.
+READS = ToolAnnotations(read_only_hint=True, open_world_hint=False)
+MOVES = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent_hint=True, open_world_hint=False)
+SETS = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent_hint=True, open_world_hint=False)
+HOMES = ToolAnnotations(read_only_hint=False, destructive_hint=True, idempotent_hint=True, open_world_hint=False)
+SCANS = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent_hint=False, open_world_hint=False)
 
 
-def azimuth_difference(a: float, b: float) -> float:
-    return abs(math.remainder(a - b, 360.0))
-
-
-class Birdcage:
-    """What the tools share: the rotctld connection and what was learned about the rotator."""
-
-    def __init__(self, host: str, port: int):
-        self.rot = Rotctld(host, port)
-
-    # ---- what the rotator is ----
-
-    async def levels(self) -> list[str]:
-        try:
-            return await self.rot.levels()
-        except RotctldRefused:
-            return []
-
-    async def caps(self) -> dict[str, str]:
-        reply = await self.rot.ask("1")
-        return {k: v for k, v in reply.pairs}
-
-    async def info_text(self) -> str:
-        try:
-            return (await self.rot.ask("_")).value("Info")
-        except RotctldRefused as error:
-            if error.code in (ENAVAIL, ENIMPL):
-                return ""
-            raise
-
-    async def require_receiver(self, what: str) -> None:
-        """Signal and LNB exist only as the birdcage backend's extension levels."""
-        if "RSSI" not in await self.levels():
-            raise ToolError(
-                f"{what} is {NOT_OFFERED}: rotctld lists no RSSI/LNB levels (`v ?`); they come with the "
-                "birdcage backend's Winegard models (a Carryout G2 has the tuner)"
-            )
-
-    async def limits(self) -> dict[str, Any]:
-        state = await self.rot.ask("\\dump_state")
-        limits: dict[str, Any] = {
-            "model": int(state.value("Rotor Model")),
-            "az_min": float(state.value("Minimum Azimuth")),
-            "az_max": float(state.value("Maximum Azimuth")),
-            "el_min": float(state.value("Minimum Elevation")),
-            "el_max": float(state.value("Maximum Elevation")),
-            "source": "rotctld's range check (dump_state)",
-        }
-        info = await self.info_text()
-        if match := re.search(r"; el limits (-?[\d.]+)\.\.(-?[\d.]+)", info):
-            # The backend clamps targets to the variant's (or el_min/el_max's) range, which is
-            # narrower than the wide range its caps give rotctld's own check.
-            limits["protocol_el_min"], limits["protocol_el_max"] = limits["el_min"], limits["el_max"]
-            limits["el_min"], limits["el_max"] = float(match.group(1)), float(match.group(2))
-            limits["source"] = "the birdcage backend's elevation limits (`_`); azimuth: rotctld's range check"
-        if match := re.search(r"cable wrap (-?[\d.]+)\.\.(-?[\d.]+)", info):
-            limits["cable_wrap_mechanical"] = [float(match.group(1)), float(match.group(2))]
-        return limits
-
-    async def status(self) -> list[str]:
-        try:
-            reply = await self.rot.ask("s")
-        except RotctldRefused as error:
-            if error.code in (ENAVAIL, ENIMPL):
-                return []
-            raise
-        # Hamlib 4.5.4's rotctld prints each flag twice ("BUSY MOVING BUSY MOVING").
-        return list(dict.fromkeys(reply.value("Status flags").split()))
-
-
-def tool_errors(function):
-    """Turns a rotctld failure into the tool's error text."""
-
-    @functools.wraps(function)
-    async def wrapper(*args, **kwargs):
-        try:
-            return await function(*args, **kwargs)
-        except RotctldError as error:
-            raise ToolError(str(error)) from None
-
-    return wrapper
-
-
-def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
+def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
     bird = Birdcage(host, port)
-    server = MCPServer(
+    server = BirdcageServer(
+        bird,
         "birdcage",
         version=__version__,
         instructions=(
             f"Drives a rotator (antenna mount, e.g. a Winegard dish with the birdcage backend) through rotctld at "
             f"{host}:{port}. Angles are degrees: azimuth clockwise from north, elevation above the horizon. "
-            "Read get_limits before moving; move_to waits until the dish has settled and says when a target was "
-            "clamped. Signal, LNB and sky_scan need a Winegard G2 behind the birdcage backend."
+            "Read get_limits before moving: a target outside them is refused. move_to waits until the dish has "
+            "settled and says when another command interrupted it; stop waits until the dish is at rest. Signal, "
+            "LNB and sky_scan are offered only for a rotator with a tuner (a Winegard G2 behind the birdcage backend)."
         ),
     )
 
-    async def position_dict() -> dict[str, float]:
+    async def position_now() -> Position:
         az, el = await bird.rot.position()
-        return {"azimuth": az, "elevation": el}
+        return Position(azimuth=az, elevation=el)
 
-    @server.tool()
+    @server.tool(annotations=READS)
     @tool_errors
-    async def get_position() -> dict[str, float]:
+    async def get_position() -> Position:
         """The rotator's current azimuth and elevation in degrees (rotctld `p`)."""
-        return await position_dict()
+        return await position_now()
 
-    @server.tool()
+    @server.tool(annotations=MOVES)
     @tool_errors
     async def move_to(
-        azimuth: Annotated[float, Field(description="target azimuth, degrees clockwise from north (0..360)")],
-        elevation: Annotated[float, Field(description="target elevation, degrees above the horizon")],
+        azimuth: Annotated[float, Field(description="target azimuth, degrees clockwise from north, within the "
+                                                    "rotator's range (get_limits; e.g. -180..540 on a Winegard)")],
+        elevation: Annotated[float, Field(description="target elevation, degrees above the horizon, within the "
+                                                      "rotator's range (get_limits; e.g. 18..65 on a Carryout G2)")],
         ctx: Context,
         wait: Annotated[bool, Field(description="wait until the dish has settled (default true)")] = True,
         timeout_s: Annotated[float, Field(description="longest wait for the move, seconds", gt=0, le=900)] = 180,
-    ) -> dict[str, Any]:
+    ) -> MoveResult:
         """Points the rotator at (azimuth, elevation) and, unless wait is false, waits until it has
-        settled. Reports where it ended up and whether the target was clamped to the rotator's limits."""
-        limits = await bird.limits()
-        notes = []
-        predictive = "; pointing predictive" in await bird.info_text()
-        expected_el = min(max(elevation, limits["el_min"]), limits["el_max"])
-        if expected_el != elevation:
-            notes.append(f"elevation {elevation:g} is outside {limits['el_min']:g}..{limits['el_max']:g}: "
-                         f"clamped to {expected_el:g}")
-        try:
-            await bird.rot.ask("P", f"{azimuth:.2f}", f"{elevation:.2f}")
-        except RotctldRefused as error:
-            raise ToolError(
-                f"the rotator refused az {azimuth:g} el {elevation:g} ({error}); rotctld accepts azimuth "
-                f"{limits.get('az_min'):g}..{limits.get('az_max'):g} and elevation "
-                f"{limits.get('protocol_el_min', limits['el_min']):g}..{limits.get('protocol_el_max', limits['el_max']):g}"
-            ) from None
-        result: dict[str, Any] = {"requested": {"azimuth": azimuth, "elevation": elevation}}
-        clamped = bool(notes)
-        if not wait:
-            result.update(settled=False, position=await position_dict(), clamped=clamped, notes=notes)
-            return result
+        settled. A target outside the rotator's range is refused (the range is named), never clamped.
+        Answers where the dish is and how the move ended: arrived, or interrupted (by stop, another
+        move_to or another rotctld client: it says which), or at rest short of the target."""
+        await bird.check_target(azimuth, elevation)
+        requested = Position(azimuth=azimuth, elevation=elevation)
+        serial = bird.claim_motion(f"move_to(azimuth={azimuth:g}, elevation={elevation:g})")
         started = time.monotonic()
-        az, el = await settle(ctx, azimuth % 360.0, expected_el, timeout_s)
-        result["seconds"] = round(time.monotonic() - started, 2)
-        result["position"] = {"azimuth": az, "elevation": el}
-        result["settled"] = True
-        at_target = (azimuth_difference(az, azimuth % 360.0) <= ARRIVAL_TOLERANCE_DEG
-                     and abs(el - expected_el) <= ARRIVAL_TOLERANCE_DEG)
-        if not at_target:
-            if predictive:
-                notes.append(f"the rotator rests at az {az:.2f} el {el:.2f}, not at the target: the backend's "
-                             "predictive pointing (made for following a pass) took the targets for a moving "
-                             "satellite and aimed ahead; for separate moves run rotctld with -C pointing=none")
-            else:
-                clamped = True
-                notes.append(f"the rotator stopped at az {az:.2f} el {el:.2f}, not at the target: clamped to its "
-                             "limits (e.g. the backend's az_min/az_max) or stopped")
-        result["at_target"] = at_target
-        result["clamped"] = clamped
-        result["notes"] = notes
-        return result
+        await bird.rot.ask("P", f"{azimuth:.2f}", f"{elevation:.2f}")
+        if not wait:
+            return MoveResult(requested=requested, outcome="moving", position=await position_now(), settled=False,
+                              at_target=False)
+        end = await settle(bird, ctx, serial, azimuth % 360.0, elevation, timeout_s)
+        position = Position(azimuth=end.azimuth, elevation=end.elevation)
+        notes = end.notes
+        if end.outcome == "interrupted":
+            notes = [f"interrupted by {end.interrupted_by}; the dish was at az {end.azimuth:.2f} el {end.elevation:.2f}"
+                     + ("" if end.settled else " and still moving")]
+        return MoveResult(
+            requested=requested, outcome=end.outcome, position=position, settled=end.settled,
+            at_target=same_position((end.azimuth, end.elevation), (azimuth % 360.0, elevation), ARRIVAL_TOLERANCE_DEG),
+            interrupted_by=end.interrupted_by, seconds=round(time.monotonic() - started, 2), notes=notes)
 
-    async def settle(ctx: Context, az_target: float, el_target: float, timeout_s: float) -> tuple[float, float]:
-        """Polls `p` until two successive readings agree with the target, or the rotator has been still
-        and not MOVING for STILL_FOR_S (stopped short: clamped or stopped). Sends progress meanwhile."""
-        deadline = time.monotonic() + timeout_s
-        last: tuple[float, float] | None = None
-        agreeing = 0
-        still_since = time.monotonic()
-        start: tuple[float, float] | None = None
-        reported = 0.0  # progress notifications must increase
-        while time.monotonic() < deadline:
-            az, el = await bird.rot.position()
-            start = start or (az, el)
-            near = azimuth_difference(az, az_target) <= ARRIVAL_TOLERANCE_DEG and abs(el - el_target) <= ARRIVAL_TOLERANCE_DEG
-            agreeing = agreeing + 1 if near else 0
-            # p can read the target while the backend still reports MOVING (a leg finishing, e.g. the
-            # elevation one after the azimuth one): settled means both agree.
-            if agreeing >= 2 and "MOVING" not in await bird.status():
-                return az, el
-            if last is None or azimuth_difference(az, last[0]) > SAME_POSITION_DEG or abs(el - last[1]) > SAME_POSITION_DEG:
-                still_since = time.monotonic()
-                if last is not None:
-                    # Degrees travelled on both axes together: the G2 moves one axis after the other.
-                    total = azimuth_difference(start[0], az_target) + abs(start[1] - el_target)
-                    done = round(total - azimuth_difference(az, az_target) - abs(el - el_target), 2)
-                    if done > reported:
-                        reported = done
-                        await ctx.report_progress(done, round(total, 2), f"az {az:.2f} el {el:.2f}")
-            elif time.monotonic() - still_since >= STILL_FOR_S and "MOVING" not in await bird.status():
-                return az, el
-            last = (az, el)
-            await asyncio.sleep(POLL_INTERVAL_S)
-        raise ToolError(f"the rotator did not settle within {timeout_s:g} s (last at az {last[0]:.2f} el {last[1]:.2f})"
-                        if last else f"no position within {timeout_s:g} s")
-
-    @server.tool()
+    @server.tool(annotations=MOVES)
     @tool_errors
-    async def stop() -> dict[str, Any]:
-        """Stops the rotator (rotctld `S`). On a Winegard dish a leg already under way finishes; the
-        rest of the move is dropped."""
+    async def stop(
+        wait_s: Annotated[float, Field(description="longest wait for the dish to come to rest, seconds", ge=0,
+                                       le=10)] = 5,
+    ) -> StopResult:
+        """Stops the rotator (rotctld `S`) and waits, at most wait_s, until it is at rest. A Winegard
+        finishes the leg under way (the firmware has no abort for it) and drops the rest of the move.
+        Answers "stopped" only when the rotator reports no motion, with where it stopped; otherwise
+        "stopping", with where it is and where the leg under way ends when known."""
+        target = await bird.reported_target()
+        bird.claim_motion("stop")
         await bird.rot.ask("S")
-        return {"stopped": True, "position": await position_dict()}
+        return await wait_stopped(bird, wait_s, target)
 
-    @server.tool()
+    @server.tool(annotations=MOVES)
     @tool_errors
-    async def park() -> dict[str, Any]:
-        """Sends the rotator to its park position (rotctld `K`); returns at once, the dish moves on."""
+    async def park() -> ParkResult:
+        """Sends the rotator to its park position (rotctld `K`); returns at once, the dish moves on
+        (get_status says when it is at rest)."""
+        bird.claim_motion("park")
         try:
             await bird.rot.ask("K")
         except RotctldRefused as error:
             if error.code in (ENAVAIL, ENIMPL):
                 raise ToolError(f"park is {NOT_OFFERED} ({error})") from None
             raise
-        return {"parking": True, "position": await position_dict()}
+        return ParkResult(parking=True, position=await position_now())
 
-    @server.tool()
+    @server.tool(annotations=HOMES)
     @tool_errors
-    async def home() -> dict[str, Any]:
+    async def home() -> HomeResult:
         """Homes the rotator's axes (rotctld `R 1`; a Carryout G2 runs its homing routine, get_status
         says BUSY meanwhile). Returns at once."""
+        bird.claim_motion("home")
         try:
             await bird.rot.ask("R", 1)
         except RotctldRefused as error:
             if error.code in (ENAVAIL, ENIMPL):
                 raise ToolError(f"homing is {NOT_OFFERED} ({error}); only the Carryout G2 homes") from None
             raise
-        return {"homing": True, "status": await bird.status()}
+        return HomeResult(homing=True, status=await bird.status() or [])
 
-    @server.tool()
+    @server.tool(annotations=READS)
     @tool_errors
-    async def get_status() -> dict[str, Any]:
+    async def get_status() -> StatusResult:
         """The rotator's status flags (rotctld `s`: e.g. MOVING, BUSY while homing; none at rest)
         and its position."""
-        flags = await bird.status()
-        return {"flags": flags, "moving": "MOVING" in flags, "busy": "BUSY" in flags, "position": await position_dict()}
+        flags = await bird.status() or []
+        return StatusResult(flags=flags, moving="MOVING" in flags, busy="BUSY" in flags, position=await position_now())
 
-    async def info_dict() -> dict[str, Any]:
+    async def info_result() -> InfoResult:
         caps = await bird.caps()
         levels = await bird.levels()
-        return {
-            "rotctld": bird.rot.address,
-            "model": int(caps.get("Caps dump for model", "0") or 0),
-            "manufacturer": caps.get("Mfg name", ""),
-            "model_name": caps.get("Model name", ""),
-            "backend_version": caps.get("Backend version", ""),
-            "info": await bird.info_text(),
-            "levels": levels,
-            "winegard_extras": "RSSI" in levels,
-        }
+        offer = await bird.offer()
+        return InfoResult(
+            rotctld=bird.rot.address,
+            model=int(caps.get("Caps dump for model", "0") or 0),
+            manufacturer=caps.get("Mfg name", ""),
+            model_name=caps.get("Model name", ""),
+            backend_version=caps.get("Backend version", ""),
+            info=await bird.info_text(),
+            levels=levels,
+            winegard_extras="RSSI" in levels,
+            tools=server.ordered(offer),
+        )
 
-    @server.tool()
+    @server.tool(annotations=READS)
     @tool_errors
-    async def get_info() -> dict[str, Any]:
+    async def get_info() -> InfoResult:
         """What the rotator is: model, manufacturer, backend version, the backend's own description
-        (rotctld `_`: for a Winegard dish its variant, limits, cable wrap, pointing mode, faults) and
-        its extension levels."""
-        return await info_dict()
+        (rotctld `_`: for a Winegard dish its variant, limits, cable wrap, pointing mode, faults), its
+        extension levels and the tools offered for it."""
+        return await info_result()
 
-    @server.tool()
+    @server.tool(annotations=READS)
     @tool_errors
-    async def get_limits() -> dict[str, Any]:
-        """The range targets are held to: azimuth and elevation minimum and maximum in degrees."""
-        return await bird.limits()
+    async def get_limits() -> LimitsResult:
+        """The range a target must lie in (azimuth and elevation minimum and maximum, degrees): the
+        rotator's caps, narrowed by the birdcage backend's elevation limits. Targets outside are refused."""
+        return LimitsResult(**await bird.limits())
 
-    @server.tool()
+    @server.tool(annotations=READS)
     @tool_errors
     async def read_signal(
         samples: Annotated[int, Field(description="reads averaged (20 ms each)", ge=1, le=100)] = 10,
-    ) -> dict[str, Any]:
+    ) -> SignalResult:
         """Signal strength from a Winegard G2's tuner (ADC counts, the average of `samples` reads).
-        Not offered by other rotators."""
+        Offered only for a rotator with a tuner."""
         await bird.require_receiver("read_signal")
         try:
             await bird.rot.ask("V", "RSSI_SAMPLES", samples)
@@ -340,16 +221,14 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
                 raise ToolError(f"read_signal is {NOT_OFFERED}: this dish has no tuner the backend can read "
                                 f"(only the Carryout G2 has one) ({error})") from None
             raise
-        return {"rssi": value, "samples": samples, "position": await position_dict()}
+        return SignalResult(rssi=value, samples=samples, position=await position_now())
 
-    @server.tool()
+    @server.tool(annotations=SETS)
     @tool_errors
     async def set_lnb(
-        volts: Annotated[int, Field(description="13 (vertical polarisation) or 18 (horizontal, the boot default)")],
-    ) -> dict[str, Any]:
-        """Sets a Winegard G2's LNB supply: 13 V or 18 V. Not offered by other rotators."""
-        if volts not in (13, 18):
-            raise ToolError(f"volts must be 13 or 18, not {volts}")
+        volts: Annotated[Volts, Field(description="13 (vertical polarisation) or 18 (horizontal, the boot default)")],
+    ) -> LnbResult:
+        """Sets a Winegard G2's LNB supply: 13 V or 18 V. Offered only for a rotator with a tuner."""
         await bird.require_receiver("set_lnb")
         try:
             await bird.rot.ask("V", "LNB", volts)
@@ -359,18 +238,16 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
                 raise ToolError(f"set_lnb is {NOT_OFFERED}: this dish has no tuner (only the Carryout G2 has one) "
                                 f"({error})") from None
             raise
-        return {"lnb_volts": now}
+        return LnbResult(lnb_volts=now)
 
-    @server.tool()
+    @server.tool(annotations=READS)
     @tool_errors
     async def get_conf(
-        key: Annotated[str, Field(description="a conf parameter of the birdcage backend, e.g. pointing, el_min, variant")],
-    ) -> dict[str, Any]:
+        key: Annotated[ConfKey, Field(description="a conf parameter of the birdcage backend")],
+    ) -> ConfResult:
         """A conf parameter's running value, as far as rotctld can tell it. rotctld 4.5 has no command that
         reads a conf parameter back, so the value comes from the backend's own description (`_`); the
         keys it covers: variant, pointing, leapfrog, el_min, el_max, az_mapping."""
-        if not re.fullmatch(r"[a-z_]+", key):
-            raise ToolError(f"{key!r} is not a conf parameter name")
         info = await bird.info_text()
         if not info.startswith("Winegard"):
             raise ToolError(f"get_conf is {NOT_OFFERED}: it reads the birdcage backend's description, and this "
@@ -378,17 +255,15 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         if key in CONF_FROM_INFO:
             pattern, convert = CONF_FROM_INFO[key]
             if match := re.search(pattern, info):
-                return {"key": key, "value": convert(match), "source": "the backend's description (`_`)"}
+                return ConfResult(key=key, value=convert(match), source="the backend's description (`_`)")
             raise ToolError(f"the backend's description does not state {key} now: {info}")
-        if key in WINEGARD_CONF_KEYS:
-            raise ToolError(
-                f"{key} cannot be read back through rotctld 4.5 (its protocol can set a conf parameter, `C`, but not "
-                f"read one); it is what rotctld was started with (`-C {key}=...`) or the model's default "
-                f"(`rotctl -m <model> -L` lists the defaults). Readable here: {', '.join(CONF_FROM_INFO)}"
-            )
-        raise ToolError(f"unknown conf parameter {key!r}; the birdcage backend's are: {', '.join(WINEGARD_CONF_KEYS)}")
+        raise ToolError(
+            f"{key} cannot be read back through rotctld 4.5 (its protocol can set a conf parameter, `C`, but not "
+            f"read one); it is what rotctld was started with (`-C {key}=...`) or the model's default "
+            f"(`rotctl -m <model> -L` lists the defaults). Readable here: {', '.join(CONF_FROM_INFO)}"
+        )
 
-    @server.tool()
+    @server.tool(annotations=SCANS)
     @tool_errors
     async def sky_scan(
         az_min: Annotated[float, Field(description="first azimuth column, degrees")],
@@ -398,9 +273,9 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         step: Annotated[float, Field(description="grid step on both axes, degrees", gt=0, le=90)],
         ctx: Context,
         samples: Annotated[int, Field(description="reads averaged per point", ge=1, le=100)] = 10,
-        lnb_volts: Annotated[int | None, Field(description="LNB supply to set first: 13 or 18 (default: leave it)")] = None,
+        lnb_volts: Annotated[Volts | None, Field(description="LNB supply to set first: 13 or 18 (default: leave it)")] = None,
         csv_path: Annotated[str | None, Field(description="where to write the CSV (default: a new file in the temp directory)")] = None,
-    ) -> dict[str, Any]:
+    ) -> ScanResult:
         """Scans a grid of the sky with a Winegard G2: moves through it column by column (serpentine),
         reads the signal at each point, writes `az,el,value,time` rows to a CSV as it goes and reports
         progress per point. Returns the peaks (local maxima above the floor + 6 robust sigma, one per 4
@@ -408,25 +283,20 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
         birdcage-skyscan program; rotctld should run with `-C pointing=none`."""
         if az_min > az_max or el_min > el_max:
             raise ToolError("az_min must not exceed az_max, nor el_min el_max")
-        if lnb_volts not in (None, 13, 18):
-            raise ToolError(f"lnb_volts must be 13 or 18, not {lnb_volts}")
+        await bird.require_receiver("sky_scan")
+        limits = await bird.limits()
+        for name, value in (("az_min", az_min), ("az_max", az_max)):
+            check_in_range(name, value, limits["az_min"], limits["az_max"])
+        for name, value in (("el_min", el_min), ("el_max", el_max)):
+            check_in_range(name, value, limits["el_min"], limits["el_max"], "the dish's range")
         plan = serpentine(axis(az_min, az_max, step), axis(el_min, el_max, step))
         if len(plan) > 20000:
             raise ToolError(f"{len(plan)} points is too many for one call (at most 20000); use a larger step")
-        await bird.require_receiver("sky_scan")
-        info = await bird.info_text()
-        if "; pointing predictive" in info:
+        if "; pointing predictive" in await bird.info_text():
             raise ToolError("rotctld runs the G2 in predictive pointing, which takes a scan's stepping targets for a "
                             "slow satellite and aims ahead of them: restart rotctld with `-C pointing=none` to scan")
-        limits = await bird.limits()
-        if el_min < limits["el_min"] or el_max > limits["el_max"]:
-            raise ToolError(f"elevations {el_min:g}..{el_max:g} leave the dish's range "
-                            f"{limits['el_min']:g}..{limits['el_max']:g}")
         try:
             await bird.rot.ask("v", "LNB")  # a dish without a tuner refuses every receiver level
-            await bird.rot.ask("V", "RSSI_SAMPLES", samples)
-            if lnb_volts is not None:
-                await bird.rot.ask("V", "LNB", lnb_volts)
         except RotctldRefused as error:
             raise ToolError(f"sky_scan is {NOT_OFFERED}: {error} (only the Carryout G2 has a tuner)") from None
         if csv_path is None:
@@ -434,53 +304,64 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
             handle, csv_path = tempfile.mkstemp(prefix=f"birdcage-skyscan-{stamp}-", suffix=".csv")
             os.close(handle)
         csv_path = os.path.abspath(csv_path)
+        try:  # before anything reaches the dish: an unwritable path is the caller's to fix
+            file = open(csv_path, "w", newline="")
+        except OSError as error:
+            raise ToolError(f"cannot write the scan's CSV to {csv_path}: {error.strerror or error}; nothing was "
+                            "moved (give a csv_path in a writable directory, or none for a temp file)") from None
         rows: list[tuple[float, float, float]] = []
         started = time.monotonic()
-        try:
-            with open(csv_path, "w", newline="") as file:
-                writer = csv.writer(file, lineterminator="\n")
-                writer.writerow(["az", "el", "value", "time"])
-                file.flush()
+        with file:
+            await bird.rot.ask("V", "RSSI_SAMPLES", samples)
+            if lnb_volts is not None:
+                await bird.rot.ask("V", "LNB", lnb_volts)
+            writer = csv.writer(file, lineterminator="\n")
+            writer.writerow(["az", "el", "value", "time"])
+            file.flush()
+            try:
                 for n, (az, el) in enumerate(plan):
+                    serial = bird.claim_motion("sky_scan")
                     await bird.rot.ask("P", f"{az:.2f}", f"{el:.2f}")
-                    await arrive(az, el)
+                    await arrive(serial, az, el, n, len(plan), csv_path)
                     value = float((await bird.rot.ask("v", "RSSI", timeout=30)).lines[0])
                     rows.append((az, el, value))
                     writer.writerow([f"{az:.2f}", f"{el:.2f}", f"{value:g}",
                                      datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")])
                     file.flush()
                     await ctx.report_progress(n + 1, len(plan), f"az {az:.2f} el {el:.2f} value {value:g}")
-        except (asyncio.CancelledError, Exception):
-            # Whatever ended the scan early, the dish should not keep going to the last point.
-            try:
-                await asyncio.shield(bird.rot.ask("S"))
-            except Exception:
-                pass
-            raise
+            except (asyncio.CancelledError, Exception):
+                # Whatever ended the scan early, the dish should not keep going to the last point.
+                try:
+                    await asyncio.shield(bird.rot.ask("S"))
+                except Exception:
+                    pass
+                raise
         floor, peaks = find_peaks(rows)
         strongest = max(rows, key=lambda row: row[2])
-        return {
-            "points": len(rows),
-            "seconds": round(time.monotonic() - started, 1),
-            "csv": csv_path,
-            "floor": floor,
-            "peaks": [{"value": v, "azimuth": a, "elevation": e} for v, a, e in peaks],
+        return ScanResult(
+            points=len(rows),
+            seconds=round(time.monotonic() - started, 1),
+            csv=csv_path,
+            floor=floor,
+            peaks=[Peak(value=v, azimuth=a, elevation=e) for v, a, e in peaks],
             # A small grid on a satellite has too little floor for the peak threshold: say where it was strongest.
-            "strongest": {"value": strongest[2], "azimuth": strongest[0], "elevation": strongest[1]},
-            "plot": f"tools/skyscan_plot.py {csv_path} --out scan.png (from the birdcage source tree)",
-        }
+            strongest=Peak(value=strongest[2], azimuth=strongest[0], elevation=strongest[1]),
+            plot=f"tools/skyscan_plot.py {csv_path} --out scan.png (from the birdcage source tree)",
+        )
 
-    async def arrive(az: float, el: float) -> None:
+    async def arrive(serial: int, az: float, el: float, n: int, points: int, csv_path: str) -> None:
         """Two successive `p` within ARRIVAL_TOLERANCE_DEG of the point; a dish at rest elsewhere
-        for 5 s was aimed elsewhere."""
+        for 5 s was aimed elsewhere; another command of this server ends the scan."""
         deadline = time.monotonic() + 180
         agreeing = 0
         last = None
         still_since = time.monotonic()
         while time.monotonic() < deadline:
+            if bird.motion_serial != serial:
+                raise ToolError(f"the scan was interrupted by {bird.motion_by} at point {n + 1} of {points} "
+                                f"(az {az:g} el {el:g}); the rows so far are in {csv_path}")
             now_az, now_el = await bird.rot.position()
-            near = azimuth_difference(now_az, az) <= ARRIVAL_TOLERANCE_DEG and abs(now_el - el) <= ARRIVAL_TOLERANCE_DEG
-            agreeing = agreeing + 1 if near else 0
+            agreeing = agreeing + 1 if same_position((now_az, now_el), (az, el), ARRIVAL_TOLERANCE_DEG) else 0
             if agreeing >= 2:
                 return
             if (now_az, now_el) != last:
@@ -496,7 +377,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
                      description="The rotator's azimuth and elevation now")
     async def position_resource() -> str:
         try:
-            return json.dumps(await position_dict())
+            return (await position_now()).model_dump_json()
         except RotctldError as error:
             raise ResourceError(str(error)) from None
 
@@ -512,7 +393,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> MCPServer:
                      description="Model, backend version, the backend's description and extension levels")
     async def info_resource() -> str:
         try:
-            return json.dumps(await info_dict())
+            return (await info_result()).model_dump_json()
         except RotctldError as error:
             raise ResourceError(str(error)) from None
 

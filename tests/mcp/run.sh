@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Copyright (C) 2026 the birdcage authors
-# birdcage-mcp's tests (mcp/tests) as one ctest: installs the package with its test extras from
-# PyPI into a venv in the build directory, then runs pytest against the build tree's emulator and
-# backend behind the distribution's rotctld.
+# birdcage-mcp's tests (this directory) as one ctest: installs the package (mcp/) with its test
+# extras from PyPI into a venv in the build directory, then runs pytest against the build tree's
+# emulator and backend behind the distribution's rotctld.
 #
 #   tests/mcp/run.sh --python PYTHON3 --venv DIR --sim BIRDCAGE_SIM --preload LD_PRELOAD [pytest args]
 #
@@ -37,6 +37,9 @@ if ! "$venv/bin/python" -m pip install --quiet --disable-pip-version-check "$cop
     echo "run.sh: this test needs network access to PyPI (or a pip configured with a reachable index)" >&2
     exit 1
 fi
-cd "$copy"
-BIRDCAGE_SIM=$sim BIRDCAGE_PRELOAD=$preload BIRDCAGE_MCP=$venv/bin/birdcage-mcp \
-    exec "$venv/bin/python" -m pytest -p no:cacheprovider -v "$@" tests
+here=$root/tests/mcp
+# Nothing written into the source tree: no cache, no bytecode; the rootdir is this directory, so
+# pytest reads no configuration from elsewhere in the tree.
+cd "$(dirname "$venv")"
+BIRDCAGE_SIM=$sim BIRDCAGE_PRELOAD=$preload BIRDCAGE_MCP=$venv/bin/birdcage-mcp PYTHONDONTWRITEBYTECODE=1 \
+    exec "$venv/bin/python" -m pytest -p no:cacheprovider --rootdir "$here" -c /dev/null -v "$@" "$here"

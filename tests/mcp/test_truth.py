@@ -12,7 +12,7 @@ import time
 import anyio
 import pytest
 
-from conftest import Rig, session_for
+from conftest import Rig, rig, session_for
 from test_server import TOOLS, call, call_error
 
 pytestmark = pytest.mark.anyio
@@ -93,7 +93,7 @@ async def test_move_to_interrupted_by_stop_says_interrupted(g2_real):
         moved, stopped = await concurrently(session, ("move_to", {"azimuth": 300.0, "elevation": 50.0}),
                                             ("stop", {}), g2_real)
         assert moved["outcome"] == "interrupted" and moved["interrupted_by"] == "stop", moved
-        assert "clamped" not in moved and moved["at_target"] is False
+        assert moved["clamped"] is False and moved["at_target"] is False
         assert "interrupted by stop" in moved["notes"][0]
         assert stopped["state"] == "stopped"
         assert near(rest(g2_real), (stopped["position"]["azimuth"], stopped["position"]["elevation"]), 0.02)
@@ -124,7 +124,8 @@ async def test_move_to_interrupted_by_another_client_says_so(g2_real):
             with anyio.fail_after(10):
                 while not g2.moving():
                     await anyio.sleep(0.01)
-            g2.ask("P 150.00 40.00")  # as Gpredict would
+            await anyio.sleep(0.3)
+            g2.ask("P 150.00 40.00")  # as Gpredict would, while the dish turns
         moved = answers["move"]
         assert moved["outcome"] == "interrupted", moved
         assert moved["interrupted_by"] == "another rotctld client's target az 150.00 el 40.00"
@@ -148,6 +149,20 @@ async def test_targets_outside_the_range_are_refused_with_the_limits_named(g2):
         assert text == "move_to: azimuth must be a number, got 'north'"
         text = await call_error(session, "move_to", {"elevation": 40.0})
         assert text == "move_to: azimuth is required"
+
+
+async def test_a_target_the_backend_clamps_says_clamped_and_where(workdir):
+    # az_min/az_max (backend conf) clamp azimuth targets; rotctld cannot read them back, but the
+    # backend's description names the target it took.
+    with rig(workdir, 90105, "g2", "pointing=none,az_min=90,az_max=270") as g2:
+        async with session_for(g2.port) as session:
+            moved = await call(session, "move_to", {"azimuth": 300.0, "elevation": 30.0})
+            assert moved["outcome"] == "clamped" and moved["clamped"] is True and moved["at_target"] is False, moved
+            assert moved["notes"] == ["the backend clamped the target to az 270.00 el 30.00 (its az_min/az_max conf, "
+                                      "which rotctld cannot read back)"]
+            assert near(rest(g2), (270.0, 30.0))
+            moved = await call(session, "move_to", {"azimuth": 200.0, "elevation": 40.0})
+            assert moved["outcome"] == "arrived" and moved["clamped"] is False, moved
 
 
 async def test_the_dummy_rotators_range_comes_from_its_caps(dummy):

@@ -18,14 +18,16 @@ class Position(BaseModel):
 
 class MoveResult(BaseModel):
     requested: Position
-    outcome: Literal["arrived", "moving", "interrupted", "stopped_short"] = Field(
-        description="arrived: settled at the target; moving: wait was false, the dish is on its way; "
+    outcome: Literal["arrived", "clamped", "moving", "interrupted", "stopped_short"] = Field(
+        description="arrived: settled at the target; clamped: settled where the backend clamped the target "
+        "to (its az_min/az_max conf); moving: wait was false, the dish is on its way; "
         "interrupted: another command (stop, a new move, another rotctld client) took over; "
         "stopped_short: at rest elsewhere with no other command seen (notes say what is known)"
     )
     position: Position = Field(description="where the dish was when the tool answered")
     settled: bool = Field(description="the dish had come to rest (not MOVING) when the tool answered")
     at_target: bool
+    clamped: bool = Field(False, description="the backend took another target than the one sent (az_min/az_max)")
     interrupted_by: str | None = Field(None, description="what interrupted the move, when outcome is interrupted")
     seconds: float | None = Field(None, description="from the command to the answer")
     notes: list[str] = []

@@ -6,8 +6,10 @@ tools it supports, and which command of this server last set it moving."""
 
 from __future__ import annotations
 
+import asyncio
 import math
 import re
+import time
 from typing import Any
 
 from mcp.server.mcpserver.exceptions import ToolError
@@ -15,13 +17,17 @@ from mcp.server.mcpserver.exceptions import ToolError
 from .rotctld import Rotctld, RotctldError, RotctldRefused
 
 NOT_OFFERED = "not offered by this rotator"
+# How long the backend's description may take to name a target just sent.
+ACCEPT_WAIT_S = 0.5
 ENAVAIL = -11
 ENIMPL = -4
 
 # Tools every rotator gets; the others depend on what it answers (Birdcage.offer).
 CORE_TOOLS = ("get_position", "move_to", "get_status", "get_info", "get_limits")
 RECEIVER_TOOLS = ("read_signal", "set_lnb", "sky_scan")
-ALL_TOOLS = (*CORE_TOOLS, "stop", "park", "home", "get_conf", *RECEIVER_TOOLS)
+# In the order the server registers them.
+ALL_TOOLS = ("get_position", "move_to", "stop", "park", "home", "get_status", "get_info", "get_limits", "read_signal",
+             "set_lnb", "get_conf", "sky_scan")
 
 
 def number_text(value: float) -> str:
@@ -75,6 +81,20 @@ class Birdcage:
         if match := re.search(r"; target az (-?[\d.]+) el (-?[\d.]+)", await self.info_text()):
             return float(match.group(1)), float(match.group(2))
         return None
+
+    async def accepted_target(self, before: tuple[float, float] | None,
+                              sent: tuple[float, float]) -> tuple[float, float] | None:
+        """The target the backend took from a `P` just sent: the one `_` names once it no longer names
+        the one before (the description follows the backend's worker within a cycle or two). It differs
+        from `sent` when the backend clamped it (its az_min/az_max conf). None: no birdcage backend."""
+        deadline = time.monotonic() + ACCEPT_WAIT_S
+        while True:
+            named = await self.reported_target()
+            if named is None or named != before or time.monotonic() >= deadline:
+                return named
+            if abs(math.remainder(named[0] - sent[0], 360.0)) < 0.01 and abs(named[1] - sent[1]) < 0.01:
+                return named
+            await asyncio.sleep(0.02)
 
     async def has_tuner(self) -> bool | None:
         """True/False from what rotctld answers; None when it cannot tell now (dish busy, rotctld away)."""

@@ -31,7 +31,7 @@ from pydantic import Field
 from .app import BirdcageServer, tool_errors
 from .models import (ConfResult, HomeResult, InfoResult, LimitsResult, LnbResult, MoveResult, ParkResult, Peak,
                      Position, ScanResult, SignalResult, StatusResult, StopResult)
-from .motion import ARRIVAL_TOLERANCE_DEG, POLL_INTERVAL_S, same_position, settle, wait_stopped
+from .motion import ARRIVAL_TOLERANCE_DEG, POLL_INTERVAL_S, SAME_POSITION_DEG, same_position, settle, wait_stopped
 from .rotator import ENAVAIL, ENIMPL, NOT_OFFERED, Birdcage, check_in_range
 from .rotctld import RotctldError, RotctldRefused
 from .scan import axis, find_peaks, serpentine
@@ -101,26 +101,39 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
         timeout_s: Annotated[float, Field(description="longest wait for the move, seconds", gt=0, le=900)] = 180,
     ) -> MoveResult:
         """Points the rotator at (azimuth, elevation) and, unless wait is false, waits until it has
-        settled. A target outside the rotator's range is refused (the range is named), never clamped.
-        Answers where the dish is and how the move ended: arrived, or interrupted (by stop, another
-        move_to or another rotctld client: it says which), or at rest short of the target."""
+        settled. A target outside the rotator's range is refused (the range is named); this server never
+        clamps. Answers where the dish is and how the move ended: arrived; clamped (the birdcage backend
+        took a nearer target, from its az_min/az_max conf); interrupted (by stop, another move_to or
+        another rotctld client: it says which); or at rest short of the target."""
         await bird.check_target(azimuth, elevation)
         requested = Position(azimuth=azimuth, elevation=elevation)
+        sent = (azimuth % 360.0, elevation)
+        before = await bird.reported_target()
         serial = bird.claim_motion(f"move_to(azimuth={azimuth:g}, elevation={elevation:g})")
         started = time.monotonic()
         await bird.rot.ask("P", f"{azimuth:.2f}", f"{elevation:.2f}")
+        goal = await bird.accepted_target(before, sent)
+        notes = []
+        # az_min/az_max clamp the azimuth alone (an elevation outside the range was refused above): a
+        # target named with another elevation is another client's.
+        clamped = goal is not None and not same_position(goal, sent) and abs(goal[1] - sent[1]) <= SAME_POSITION_DEG
+        if clamped:
+            notes.append(f"the backend clamped the target to az {goal[0]:.2f} el {goal[1]:.2f} (its az_min/az_max "
+                         "conf, which rotctld cannot read back)")
+        goal = goal if clamped else sent
         if not wait:
             return MoveResult(requested=requested, outcome="moving", position=await position_now(), settled=False,
-                              at_target=False)
-        end = await settle(bird, ctx, serial, azimuth % 360.0, elevation, timeout_s)
+                              at_target=False, clamped=clamped, notes=notes)
+        end = await settle(bird, ctx, serial, goal[0], goal[1], timeout_s)
         position = Position(azimuth=end.azimuth, elevation=end.elevation)
-        notes = end.notes
+        outcome = "clamped" if clamped and end.outcome == "arrived" else end.outcome
+        notes += end.notes
         if end.outcome == "interrupted":
-            notes = [f"interrupted by {end.interrupted_by}; the dish was at az {end.azimuth:.2f} el {end.elevation:.2f}"
-                     + ("" if end.settled else " and still moving")]
+            notes.append(f"interrupted by {end.interrupted_by}; the dish was at az {end.azimuth:.2f} el "
+                         f"{end.elevation:.2f}" + ("" if end.settled else " and still moving"))
         return MoveResult(
-            requested=requested, outcome=end.outcome, position=position, settled=end.settled,
-            at_target=same_position((end.azimuth, end.elevation), (azimuth % 360.0, elevation), ARRIVAL_TOLERANCE_DEG),
+            requested=requested, outcome=outcome, position=position, settled=end.settled,
+            at_target=same_position((end.azimuth, end.elevation), sent, ARRIVAL_TOLERANCE_DEG), clamped=clamped,
             interrupted_by=end.interrupted_by, seconds=round(time.monotonic() - started, 2), notes=notes)
 
     @server.tool(annotations=MOVES)

@@ -40,6 +40,12 @@ def check_in_range(name: str, value: float, low: float, high: float, what: str =
         raise ToolError(f"{name} {number_text(value)} is outside {what} {low:g}..{high:g}; nothing was sent")
 
 
+def named_target(info: str) -> tuple[float, float] | None:
+    if match := re.search(r"; target az (-?[\d.]+) el (-?[\d.]+)", info):
+        return float(match.group(1)), float(match.group(2))
+    return None
+
+
 class Birdcage:
     """What the tools share: the rotctld connection and what was learned about the rotator."""
 
@@ -78,9 +84,7 @@ class Birdcage:
 
     async def reported_target(self) -> tuple[float, float] | None:
         """The target the birdcage backend is working towards (`_` names it until a stop clears it)."""
-        if match := re.search(r"; target az (-?[\d.]+) el (-?[\d.]+)", await self.info_text()):
-            return float(match.group(1)), float(match.group(2))
-        return None
+        return named_target(await self.info_text())
 
     async def accepted_target(self, before: tuple[float, float] | None,
                               sent: tuple[float, float]) -> tuple[float, float] | None:
@@ -89,10 +93,14 @@ class Birdcage:
         from `sent` when the backend clamped it (its az_min/az_max conf). None: no birdcage backend."""
         deadline = time.monotonic() + ACCEPT_WAIT_S
         while True:
-            named = await self.reported_target()
-            if named is None or named != before or time.monotonic() >= deadline:
+            info = await self.info_text()
+            if not info.startswith("Winegard"):
+                return None
+            named = named_target(info)
+            if named is not None and (named != before or
+                                      (abs(math.remainder(named[0] - sent[0], 360.0)) < 0.01 and abs(named[1] - sent[1]) < 0.01)):
                 return named
-            if abs(math.remainder(named[0] - sent[0], 360.0)) < 0.01 and abs(named[1] - sent[1]) < 0.01:
+            if time.monotonic() >= deadline:
                 return named
             await asyncio.sleep(0.02)
 

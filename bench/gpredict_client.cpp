@@ -3,13 +3,11 @@
 
 #include "gpredict_client.hpp"
 
-#include "harness.hpp"
+#include "rotctl_client.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <thread>
 
 namespace bench {
@@ -130,12 +128,21 @@ void GpredictClient::timer_tick() {
 }
 
 void GpredictClient::io_loop(double end) {
-    e2e::RotctldConnection connection(port_);
+    // Gpredict speaks the plain protocol, one connection, no probe.
+    birdcage::rotctl::Client connection("127.0.0.1", port_,
+                                        {.protocol = birdcage::rotctl::Protocol::plain, .timeout = std::chrono::seconds(10),
+                                         .probe = false});
+    (void)connection.connect();
     auto elapsed_ms = [](Clock::time_point since) {
         return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
     };
     while (!stop_ && pass_now() < end) {
         const auto loop_start = Clock::now();
+        if (!connection.connected()) {
+            // The library closes a link that went out of step (a reply past its deadline); Gpredict's
+            // socket stays open through such a loop, so this client opens it again at once.
+            (void)connection.connect();
+        }
         std::optional<Direction> target;
         bool io_error = false;
         {
@@ -148,12 +155,10 @@ void GpredictClient::io_loop(double end) {
             }
         }
         if (target) {
-            char command[64];
-            std::snprintf(command, sizeof command, "P %.2f %.2f", target->az, target->el);
             const auto sent_at = Clock::now();
-            const std::string reply = connection.ask(command, 1);
+            const int code = connection.set_position(target->az, target->el);
             record_.set_round_trip_ms.push_back(elapsed_ms(sent_at));
-            if (reply.rfind("RPRT 0", 0) == 0) {
+            if (code == 0) {
                 std::lock_guard lock(mutex_);
                 new_target_ = false;  // Gpredict retries a failed P on the next loop
                 record_.sent_targets.push_back({pass_now(), *target});
@@ -165,14 +170,11 @@ void GpredictClient::io_loop(double end) {
         sleep_sim(settings_.io_sleep_s);
         const birdcage::sim::Pose truth_before = dish_.true_position();
         const auto asked_at = Clock::now();
-        const std::string reply = connection.ask("p", 2);
+        double az = 0, el = 0;
+        const int code = connection.get_position(az, el);
         record_.p_round_trip_ms.push_back(elapsed_ms(asked_at));
         const birdcage::sim::Pose truth_after = dish_.true_position();
-        char* rest = nullptr;
-        const double az = std::strtod(reply.c_str(), &rest);
-        const bool parsed = rest != reply.c_str() && *rest == '\n';
-        const double el = parsed ? std::strtod(rest + 1, nullptr) : 0.0;
-        if (parsed && reply.rfind("RPRT", 0) != 0) {
+        if (code == 0) {
             record_.p_error_deg.push_back(
                 distance_to_path({az, el}, {truth_before.az, truth_before.el}, {truth_after.az, truth_after.el}));
             record_.read_backs.push_back({pass_now(), {az, el}, {truth_before.az, truth_before.el},
@@ -196,7 +198,7 @@ void GpredictClient::io_loop(double end) {
         disengaged = !engaged_;
     }
     if (disengaged) {
-        (void)connection.ask("S", 1);   // Gpredict stops the rotator when it disengages
+        (void)connection.stop();   // Gpredict stops the rotator when it disengages
     }
 }
 

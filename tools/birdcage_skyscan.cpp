@@ -7,10 +7,7 @@
 #include "birdcage_version.hpp"
 #include "cli_args.hpp"
 
-#include <arpa/inet.h>
-#include <netdb.h>
-#include <sys/socket.h>
-#include <unistd.h>
+#include "rotctl_client.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -24,6 +21,7 @@
 #include <thread>
 
 namespace sc = birdcage::skyscan;
+namespace rc = birdcage::rotctl;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -65,56 +63,6 @@ int usage_error(const std::string& message) {
     return 2;
 }
 
-class Rotctld {
-public:
-    bool connect_to(const std::string& host, int port) {
-        addrinfo hints{};
-        hints.ai_family = AF_UNSPEC;
-        hints.ai_socktype = SOCK_STREAM;
-        addrinfo* found = nullptr;
-        if (getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) return false;
-        for (addrinfo* a = found; a != nullptr; a = a->ai_next) {
-            fd_ = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
-            if (fd_ >= 0 && ::connect(fd_, a->ai_addr, a->ai_addrlen) == 0) break;
-            if (fd_ >= 0) ::close(fd_);
-            fd_ = -1;
-        }
-        freeaddrinfo(found);
-        return fd_ >= 0;
-    }
-    ~Rotctld() {
-        if (fd_ >= 0) ::close(fd_);
-    }
-    // Sends one command and returns `lines` reply lines; an `RPRT` line ends the reply early.
-    std::optional<std::vector<std::string>> ask(const std::string& command, int lines) {
-        const std::string out = command + "\n";
-        if (::send(fd_, out.data(), out.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(out.size())) return std::nullopt;
-        std::vector<std::string> reply;
-        while (static_cast<int>(reply.size()) < lines) {
-            const auto nl = pending_.find('\n');
-            if (nl != std::string::npos) {
-                reply.push_back(pending_.substr(0, nl));
-                pending_.erase(0, nl + 1);
-                if (reply.back().rfind("RPRT", 0) == 0) break;
-                continue;
-            }
-            char buffer[512];
-            const ssize_t got = ::recv(fd_, buffer, sizeof buffer, 0);
-            if (got <= 0) return std::nullopt;
-            pending_.append(buffer, static_cast<std::size_t>(got));
-        }
-        return reply;
-    }
-
-private:
-    int fd_ = -1;
-    std::string pending_;
-};
-
-bool is_error(const std::vector<std::string>& reply) {
-    return !reply.empty() && reply.front().rfind("RPRT", 0) == 0 && reply.front() != "RPRT 0";
-}
-
 std::string utc_now() {
     const std::time_t now = std::time(nullptr);
     std::tm tm{};
@@ -138,16 +86,16 @@ double az_distance(double a, double b) { return std::fabs(std::remainder(a - b, 
 // A dish that rests elsewhere for this long has been aimed elsewhere (pointing=predictive).
 constexpr auto resting_elsewhere = std::chrono::seconds(5);
 
-bool arrive(Rotctld& rot, const sc::Point& target, double tolerance) {
+bool arrive(rc::Client& rot, const sc::Point& target, double tolerance) {
     const auto deadline = Clock::now() + std::chrono::minutes(3);
     int agreeing = 0;
     std::pair<double, double> last{-1000, -1000};
     auto last_change = Clock::now();
     while (Clock::now() < deadline) {
-        const auto p = rot.ask("p", 2);
-        if (!p) return false;
-        if (p->size() == 2 && !is_error(*p)) {
-            const double az = std::atof((*p)[0].c_str()), el = std::atof((*p)[1].c_str());
+        double az = 0, el = 0;
+        const int got = rot.get_position(az, el);
+        if (!rot.connected()) return false;
+        if (got == 0) {
             agreeing = az_distance(az, target.az) <= tolerance && std::fabs(el - target.el) <= tolerance ? agreeing + 1 : 0;
             if (agreeing >= 2) return true;
             if (std::pair{az, el} != last) {
@@ -267,19 +215,20 @@ int main(int argc, char** argv) {
     }
     std::ostream& out = out_path.empty() ? std::cout : file;
 
-    Rotctld rot;
-    if (!rot.connect_to(host, port)) {
-        std::cerr << "birdcage-skyscan: cannot connect to rotctld at " << host << ":" << port << "\n";
+    // The plain protocol: a scan takes minutes to hours, and nothing of the extended one is needed.
+    rc::Client rot(host, port, rc::Options{.protocol = rc::Protocol::plain, .timeout = std::chrono::minutes(3)});
+    if (std::string why; !rot.connect(&why)) {
+        std::cerr << "birdcage-skyscan: cannot connect to rotctld at " << host << ":" << port << " (" << why << ")\n";
         return 1;
     }
-    if (const auto r = rot.ask("V RSSI_SAMPLES " + std::to_string(samples), 1); !r || is_error(*r)) {
-        std::cerr << "birdcage-skyscan: rotctld refused RSSI_SAMPLES (" << (r && !r->empty() ? r->front() : "no answer")
+    if (const int r = rot.set_level(rc::level::rssi_samples, samples); r != 0) {
+        std::cerr << "birdcage-skyscan: rotctld refused RSSI_SAMPLES (" << rc::error_name(r) << ": " << rc::error_text(r)
                   << "); is the birdcage backend loaded and the dish a G2?\n";
         return 1;
     }
     if (lnb) {
-        if (const auto r = rot.ask("V LNB " + std::to_string(*lnb), 1); !r || is_error(*r)) {
-            std::cerr << "birdcage-skyscan: setting the LNB supply failed\n";
+        if (const int r = rot.set_level(rc::level::lnb, *lnb); r != 0) {
+            std::cerr << "birdcage-skyscan: setting the LNB supply failed (" << rc::error_text(r) << ")\n";
             return 1;
         }
     }
@@ -288,19 +237,18 @@ int main(int argc, char** argv) {
     for (std::size_t n = 0; n < todo.size(); ++n) {
         const sc::Point& point = todo[n];
         char target[64];
-        std::snprintf(target, sizeof target, "P %.2f %.2f", point.az, point.el);
-        const auto moved = rot.ask(target, 1);
-        if (!moved || is_error(*moved) || !arrive(rot, point, tolerance)) {
-            std::cerr << "\nbirdcage-skyscan: the dish did not reach " << target + 2 << "\n";
+        std::snprintf(target, sizeof target, "%.2f %.2f", point.az, point.el);
+        if (rot.set_position(point.az, point.el) != 0 || !arrive(rot, point, tolerance)) {
+            std::cerr << "\nbirdcage-skyscan: the dish did not reach " << target << "\n";
             return 1;
         }
-        const auto reading = rot.ask("v RSSI", 1);
-        if (!reading || reading->empty() || is_error(*reading)) {
-            std::cerr << "\nbirdcage-skyscan: no RSSI at " << target + 2 << " ("
-                      << (reading && !reading->empty() ? reading->front() : "connection lost") << ")\n";
+        double value = 0;
+        if (const int r = rot.get_level(rc::level::rssi, value); r != 0) {
+            std::cerr << "\nbirdcage-skyscan: no RSSI at " << target << " ("
+                      << (rot.connected() ? rc::error_text(r) : "connection lost") << ")\n";
             return 1;
         }
-        const sc::Row row{point.az, point.el, std::atof(reading->front().c_str()), utc_now()};
+        const sc::Row row{point.az, point.el, value, utc_now()};
         out << sc::format_row(row) << "\n";
         out.flush();
         const double elapsed = std::chrono::duration<double>(Clock::now() - started).count();

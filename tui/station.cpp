@@ -3,10 +3,9 @@
 
 #include "station.hpp"
 
-#include <hamlib/rotator.h>
-
 #include <algorithm>
 #include <cstdio>
+#include <sstream>
 
 namespace birdcage::tui {
 
@@ -18,9 +17,9 @@ using Clock = std::chrono::steady_clock;
 constexpr auto kPollPeriod = 200ms;
 constexpr auto kSignalPeriod = 1s;
 constexpr auto kInfoPeriod = 3s;
-constexpr auto kFirstRetry = 250ms;
-// A restarted rotctld is back within seconds; a longer wait would only delay noticing it.
-constexpr auto kLongestRetry = 2s;
+constexpr int RIG_OK = 0;
+const int kLinkLost = rotctl::code(rotctl::Errc::io);
+using rotctl::error_text;
 
 std::string seconds_text(std::chrono::milliseconds ms) {
     char text[32];
@@ -125,8 +124,7 @@ void Station::run() {
 void Station::connect_once() {
     std::string why;
     if (!client_.connect(&why)) {
-        const auto delay = backoff_;
-        backoff_ = std::min<std::chrono::milliseconds>(backoff_ * 2, kLongestRetry);
+        const auto delay = backoff_.next();
         update([&](Snapshot& s) {
             s.link = s.connects == 0 ? LinkState::connecting : LinkState::reconnecting;
             s.link_detail = why + "; retrying in " + seconds_text(delay);
@@ -142,17 +140,19 @@ void Station::connect_once() {
         wake_.wait_for(lock, delay, [this] { return stopping_; });
         return;
     }
-    backoff_ = kFirstRetry;
+    backoff_.reset();
     last_info_read_ = Clock::now();
     // What does not change while the link stays up: read once per connection.
-    int code = 0;
-    std::string info = client_.get_info(code);
-    if (code != RIG_OK) {
+    std::string info;
+    if (client_.get_info(info) != RIG_OK) {
         info.clear();
     }
-    const RotatorCaps caps = client_.caps();
-    const Limits limits = client_.limits();
-    const auto levels = client_.ext_levels();
+    RotatorCaps caps;
+    (void)client_.get_caps(caps);
+    Limits limits;
+    (void)client_.get_limits(limits);
+    std::vector<std::string> levels;
+    (void)client_.ext_levels(levels);
     if (client_.peer_closed()) {
         client_.disconnect();
         return;
@@ -164,7 +164,7 @@ void Station::connect_once() {
         s.info = info;
         s.caps = caps;
         s.limits = limits;
-        s.levels = levels.value_or(std::vector<std::string>{});
+        s.levels = levels;
         s.rssi.reset();
         s.lnb.reset();
         s.signal_error.clear();
@@ -192,7 +192,7 @@ bool Station::link_lost(int code) {
 void Station::poll() {
     // rotctld gone between two polls: say so now rather than after a call that runs into it.
     if (client_.peer_closed()) {
-        link_lost(-RIG_EIO);
+        link_lost(kLinkLost);
         return;
     }
     double az = 0, el = 0;
@@ -216,8 +216,8 @@ void Station::poll() {
     std::optional<std::string> info;
     if (Clock::now() - last_info_read_ >= kInfoPeriod) {
         last_info_read_ = Clock::now();
-        int info_code = 0;
-        std::string text = client_.get_info(info_code);
+        std::string text;
+        const int info_code = client_.get_info(text);
         if (link_lost(info_code)) {
             return;
         }
@@ -236,7 +236,7 @@ void Station::poll() {
     if (read_signal) {
         last_signal_read_ = Clock::now();
         double value = 0;
-        const int rssi_code = client_.get_level("RSSI", value);
+        const int rssi_code = client_.get_level(rotctl::level::rssi, value);
         if (link_lost(rssi_code)) {
             return;
         }
@@ -246,7 +246,7 @@ void Station::poll() {
         if (rssi_code == RIG_OK) {
             rssi = value;
         }
-        if (client_.get_level("LNB", value) == RIG_OK) {
+        if (client_.get_level(rotctl::level::lnb, value) == RIG_OK) {
             lnb = value;
         }
     }
@@ -280,7 +280,7 @@ void Station::poll() {
 void Station::execute(const Command& command) {
     const std::string what = describe(command);
     if (client_.peer_closed()) {
-        link_lost(-RIG_EIO);
+        link_lost(kLinkLost);
         update([&](Snapshot& s) { s.last_result = what + ": not sent, rotctld closed the connection"; });
         return;
     }
@@ -311,6 +311,20 @@ void Station::execute(const Command& command) {
             s.lnb = command.a;
         }
     });
+}
+
+std::string squeeze_flags(const std::string& flags) {
+    // Hamlib 4.5.4 names several flags alike (MOVING_AZ and MOVING_EL are both "MOVING", so a
+    // G2 homing reads "BUSY MOVING BUSY MOVING"): each name once.
+    std::istringstream words(flags);
+    std::vector<std::string> seen;
+    std::string text;
+    for (std::string w; words >> w;) {
+        if (std::find(seen.begin(), seen.end(), w) != seen.end()) continue;
+        seen.push_back(w);
+        text += (text.empty() ? "" : " ") + w;
+    }
+    return text.empty() ? "idle" : text;
 }
 
 } // namespace birdcage::tui

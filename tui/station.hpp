@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-// The rotator as the screen sees it: a worker thread owns the RotctldClient, polls position and
+// The rotator as the screen sees it: a worker thread owns the rotctld client (src/client/), polls position and
 // status, runs the user's commands one at a time, and reconnects with backoff when rotctld goes
 // away. The screen only reads snapshots and queues commands, so a slow reply never freezes it.
 #pragma once
 
-#include "rotctld_client.hpp"
+#include "rotctl_client.hpp"
 
 #include <chrono>
 #include <condition_variable>
@@ -20,6 +20,9 @@
 #include <vector>
 
 namespace birdcage::tui {
+
+using Limits = rotctl::Limits;
+using RotatorCaps = rotctl::Caps;
 
 enum class LinkState { connecting, connected, reconnecting };
 
@@ -78,7 +81,7 @@ private:
     void wait_for(std::chrono::milliseconds period);
     template <class F> void update(F&& change);
 
-    RotctldClient client_;
+    rotctl::Client client_;
     std::string address_;
     mutable std::mutex mutex_;
     std::condition_variable wake_;
@@ -86,12 +89,16 @@ private:
     std::deque<Command> queue_;
     bool signal_wanted_ = false;
     bool stopping_ = false;
-    std::chrono::milliseconds backoff_{250};
+    // A restarted rotctld is back within seconds; a longer wait would only delay noticing it.
+    rotctl::Backoff backoff_{std::chrono::milliseconds(250), std::chrono::seconds(2)};
     std::chrono::steady_clock::time_point last_signal_read_{};
     std::chrono::steady_clock::time_point last_info_read_{};
     std::thread worker_;
 };
 
 std::string describe(const Command& command);
+
+// The status flags as shown: repeated names once, "idle" for none.
+std::string squeeze_flags(const std::string& flags);
 
 } // namespace birdcage::tui

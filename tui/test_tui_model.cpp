@@ -3,7 +3,6 @@
 
 // The TUI's model (RotctldClient, Station) against the stock rotctld with the backend preloaded and
 // the emulated dish: what the screens show comes from these answers.
-#include "rotctld_client.hpp"
 #include "scan_launcher.hpp"
 #include "station.hpp"
 
@@ -32,7 +31,7 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 
 TEST_CASE("the client reads a G2's position, status, info, caps and levels through rotctld") {
     e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 100.0, 30.0, 20.0), 90105, {"-C", "time_scale=20"});
-    tui::RotctldClient client("127.0.0.1", rig.port());
+    birdcage::rotctl::Client client("127.0.0.1", rig.port());
     std::string why;
     REQUIRE(client.connect(&why));
 
@@ -41,15 +40,16 @@ TEST_CASE("the client reads a G2's position, status, info, caps and levels throu
     CHECK(az == Approx(100.0).margin(0.05));
     CHECK(el == Approx(30.0).margin(0.05));
 
-    const tui::RotatorCaps caps = client.caps();
+    tui::RotatorCaps caps;
+    REQUIRE(client.get_caps(caps) == 0);
     CHECK(caps.model.find("G2") != std::string::npos);
     CHECK(caps.can_reset);
     CHECK(caps.can_park);
 
-    const auto levels = client.ext_levels();
-    REQUIRE(levels);
-    CHECK(contains(*levels, "RSSI"));
-    CHECK(contains(*levels, "LNB"));
+    std::vector<std::string> levels;
+    REQUIRE(client.ext_levels(levels) == 0);
+    CHECK(contains(levels, "RSSI"));
+    CHECK(contains(levels, "LNB"));
     double rssi = -1;
     CHECK(client.get_level("RSSI", rssi) == 0);
     CHECK(rssi >= 0.0);
@@ -62,9 +62,8 @@ TEST_CASE("the client reads a G2's position, status, info, caps and levels throu
     CHECK(caps.levels[2].name == "LNB");
     CHECK(caps.levels[2].range == "13..18/5");
 
-    int code = -1;
-    const std::string info = client.get_info(code);
-    CHECK(code == 0);
+    std::string info;
+    CHECK(client.get_info(info) == 0);
     CHECK(info.find("[g2,") != std::string::npos);   // the variant in force
 
     std::string flags = "?";
@@ -72,21 +71,25 @@ TEST_CASE("the client reads a G2's position, status, info, caps and levels throu
     CHECK(flags.empty());   // at rest
     CHECK(tui::squeeze_flags(flags) == "idle");
     CHECK(tui::squeeze_flags("BUSY MOVING BUSY MOVING ") == "BUSY MOVING");
-    const tui::Limits limits = client.limits();
+    tui::Limits limits;
+    REQUIRE(client.get_limits(limits) == 0);
     CHECK(limits.max_el > limits.min_el);
     CHECK_FALSE(client.peer_closed());
 }
 
 TEST_CASE("a Trav'ler lists the levels but has no RSSI, and the station says so") {
     e2e::Rig rig(e2e::dish_options(Variant::travler_hal205, 100.0, 30.0, 20.0), 90102, {"-C", "time_scale=20"});
-    tui::RotctldClient client("127.0.0.1", rig.port());
+    birdcage::rotctl::Client client("127.0.0.1", rig.port());
     std::string why;
     REQUIRE(client.connect(&why));
     double rssi = 0;
     CHECK(client.get_level("RSSI", rssi) != 0);
-    int code = -1;
-    CHECK(client.get_info(code).find("[hal205,") != std::string::npos);
-    CHECK(client.caps().model.find("Trav") != std::string::npos);
+    std::string info;
+    CHECK(client.get_info(info) == 0);
+    CHECK(info.find("[hal205,") != std::string::npos);
+    tui::RotatorCaps caps;
+    CHECK(client.get_caps(caps) == 0);
+    CHECK(caps.model.find("Trav") != std::string::npos);
     client.disconnect();
 
     // The signal screen: the levels are listed (the models share them), the reading says why not.

@@ -10,7 +10,6 @@
 #endif
 
 #include <algorithm>
-#include <arpa/inet.h>
 #include <cerrno>
 #include <cmath>
 #include <numbers>
@@ -20,13 +19,10 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
 #include <poll.h>
 #include <spawn.h>
 #include <sstream>
 #include <stdexcept>
-#include <sys/socket.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -265,38 +261,14 @@ int listening_tcp_port(pid_t pid) {
     return 0;
 }
 
-namespace {
-int connect_loopback(int port) {
-    const int fd = socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    addr.sin_port = htons(static_cast<uint16_t>(port));
-    if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-        close(fd);
-        return -1;
-    }
-    const int one = 1;
-    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-    return fd;
-}
-} // namespace
-
-RotctldConnection::RotctldConnection(int port) : fd_(connect_loopback(port)) {
-    if (fd_ < 0) {
-        throw std::runtime_error("cannot connect to rotctld on port " + std::to_string(port));
+RotctldConnection::RotctldConnection(int port)
+    : client_("127.0.0.1", port, birdcage::rotctl::Options{.protocol = birdcage::rotctl::Protocol::plain, .probe = false}) {
+    if (std::string why; !client_.connect(&why)) {
+        throw std::runtime_error("cannot connect to rotctld on port " + std::to_string(port) + ": " + why);
     }
 }
 
-RotctldConnection::~RotctldConnection() {
-    if (fd_ >= 0) {
-        close(fd_);
-    }
-}
-
-bool RotctldConnection::send_raw(const std::string& bytes) {
-    return send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(bytes.size());
-}
+bool RotctldConnection::send_raw(const std::string& bytes) { return client_.send_raw(bytes); }
 
 std::string RotctldConnection::ask(const std::string& command, int lines, std::chrono::milliseconds timeout) {
     if (!send_raw(command + "\n")) {
@@ -306,66 +278,16 @@ std::string RotctldConnection::ask(const std::string& command, int lines, std::c
 }
 
 std::string RotctldConnection::read_lines(int lines, std::chrono::milliseconds timeout) {
-    const auto deadline = Clock::now() + timeout;
-    auto complete_lines = [this] {
-        int n = 0;
-        for (char c : pending_) {
-            n += c == '\n';
-        }
-        return n;
-    };
-    while (complete_lines() < lines) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-        if (left.count() <= 0) {
-            break;
-        }
-        pollfd p{fd_, POLLIN, 0};
-        if (poll(&p, 1, static_cast<int>(left.count())) <= 0) {
-            break;
-        }
-        char buf[4096];
-        const ssize_t n = recv(fd_, buf, sizeof buf, 0);
-        if (n <= 0) {
-            break;
-        }
-        pending_.append(buf, static_cast<std::size_t>(n));
-    }
-    // Hand back exactly the requested lines; anything after them stays for the next call.
-    std::size_t end = 0;
-    for (int i = 0; i < lines; ++i) {
-        const std::size_t nl = pending_.find('\n', end);
-        if (nl == std::string::npos) {
-            end = pending_.size();
-            break;
-        }
-        end = nl + 1;
-    }
-    std::string reply = pending_.substr(0, end);
-    pending_.erase(0, end);
-    return reply;
+    return client_.read_lines(lines, timeout);
 }
 
 RotctldConnection::Position RotctldConnection::get_position(std::chrono::milliseconds timeout) {
     Position out;
-    if (!send_raw("p\n")) {
-        out.error = "connection closed";
-        return out;
-    }
-    std::string first = read_lines(1, timeout);
-    while (!first.empty() && (first.back() == '\n' || first.back() == '\r')) {
-        first.pop_back();
-    }
-    if (first.empty() || first.rfind("RPRT", 0) == 0) {
-        out.error = first.empty() ? "no reply" : first;
-        return out;
-    }
-    const std::string second = read_lines(1, timeout);
-    try {
-        out.az = std::stod(first);
-        out.el = std::stod(second);
-        out.ok = true;
-    } catch (const std::exception&) {
-        out.error = "unparsable: " + first + " / " + second;
+    client_.set_timeout(timeout);
+    const int code = client_.get_position(out.az, out.el);
+    out.ok = code == 0;
+    if (!out.ok) {
+        out.error = client_.connected() ? "RPRT " + std::to_string(code) : "no reply";
     }
     return out;
 }

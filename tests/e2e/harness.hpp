@@ -7,6 +7,8 @@
 
 #include <birdcage_sim/emulator.hpp>
 
+#include "rotctl_client.hpp"
+
 #include <chrono>
 #include <functional>
 #include <map>
@@ -68,11 +70,11 @@ bool settled_at(birdcage::sim::Emulator& dish, double az, double el, double tole
 // Every number in a rotctl reply, in order.
 std::vector<double> numbers(const std::string& text);
 
-// A line-oriented rotctld client over one TCP connection (like Gpredict's).
+// A line-oriented rotctld client over one TCP connection (like Gpredict's), in the plain protocol;
+// the tests read rotctld's raw lines through it. The library's Client is client().
 class RotctldConnection {
 public:
     explicit RotctldConnection(int port);
-    ~RotctldConnection();
     RotctldConnection(const RotctldConnection&) = delete;
     RotctldConnection& operator=(const RotctldConnection&) = delete;
     // Sends one command line and reads until `lines` reply lines have arrived (or the timeout).
@@ -88,10 +90,10 @@ public:
         std::string error;   // e.g. "RPRT -5"; empty when nothing arrived
     };
     Position get_position(std::chrono::milliseconds timeout = std::chrono::seconds(5));
+    birdcage::rotctl::Client& client() { return client_; }
 
 private:
-    int fd_ = -1;
-    std::string pending_;
+    birdcage::rotctl::Client client_;
 };
 
 // Types console lines into the dish as a user at a terminal would (each line ends with CR), before

@@ -23,7 +23,7 @@
 // off the satellite, sends a fresh target every cycle from AOS (a wide run starts at AOS, a dish run
 // 6 deg below the floor). Azimuth stays 0-360 in both. The oracle runs once, with the dish's limits.
 //
-// --client current replaces the Gpredict-like client by one without look-ahead (bench/gpredict_client.hpp,
+// --client current replaces the Gpredict-like client by one without look-ahead (testbed/gpredict_client.hpp,
 // ClientSettings::look_ahead): it sends the satellite's direction as it is whenever that has moved a
 // threshold from its last target. The run names and the summary's `client` column say so.
 //

@@ -61,6 +61,7 @@ extern "C" void on_quit_signal(int) { quit_signal = 1; }
 enum class Screen { dashboard, control, signal, info };
 constexpr const char* kScreenNames[] = {"Dashboard", "Control", "Signal", "Info"};
 constexpr double kSteps[] = {0.1, 1.0, 5.0, 10.0};
+constexpr int kMinColumns = 80, kMinLines = 24;
 
 enum Colour : short { kGood = 1, kTarget, kBad, kAccent };
 
@@ -80,9 +81,6 @@ struct Ui {
     int step_index = 1;
     Prompt prompt;
     std::string message;
-    // The last position this screen sent: quick successive jogs add up even before rotctld has
-    // answered the first (the snapshot's target follows only then).
-    std::optional<std::pair<double, double>> sent;
     tui::ScanLauncher scan;
     std::string scan_file;
     bool colour = false;
@@ -309,8 +307,32 @@ bool has_level(const tui::Snapshot& s, const char* name) {
     return std::find(s.levels.begin(), s.levels.end(), name) != s.levels.end();
 }
 
+// The sky-scan launcher: a process of its own, shown whatever the link does.
+void draw_scan(const Ui& ui, int y) {
+    put(y++, 1, "Sky scan (birdcage-skyscan)", A_BOLD);
+    if (!ui.scan.started) {
+        put(y++, 1, "n: scan a grid around the dish (its CSV goes to the current directory)");
+        return;
+    }
+    if (ui.scan.total > 0) {
+        const int w = std::max(10, COLS - 24);
+        const int filled = ui.scan.done * w / ui.scan.total;
+        put(y, 1, "[" + std::string(static_cast<std::size_t>(filled), '=') +
+                      std::string(static_cast<std::size_t>(w - filled), ' ') + "]");
+        put(y, w + 4, std::to_string(ui.scan.done) + "/" + std::to_string(ui.scan.total));
+        ++y;
+    }
+    put(y++, 1, ui.scan.outcome() + " -> " + ui.scan_file);
+    put(y++, 1, ui.scan.progress);
+}
+
 void draw_signal(const Ui& ui, const tui::Snapshot& s, int top, int height) {
     int y = top;
+    if (s.link != tui::LinkState::connected) {
+        put(y++, 1, "not connected: no RSSI or LNB reading", A_BOLD);
+        draw_scan(ui, y + 1);
+        return;
+    }
     if (!has_level(s, "RSSI")) {
         put(y++, 1, "This rotator lists no RSSI level (`v ?` answered: " +
                         (s.levels.empty() ? std::string("none") : [&] {
@@ -332,17 +354,20 @@ void draw_signal(const Ui& ui, const tui::Snapshot& s, int top, int height) {
         lo = *std::min_element(s.rssi_trend.begin(), s.rssi_trend.end());
         hi = *std::max_element(s.rssi_trend.begin(), s.rssi_trend.end());
     }
-    // The gauge spans 0..a round number above the strongest reading, so it does not jump with noise.
-    const double full = std::max(100.0, std::ceil(hi * 1.2 / 100.0) * 100.0);
+    // The gauge starts at the noise floor (the weakest reading seen, rounded down) and ends at a
+    // round number above the strongest: from 0, the floor alone would fill most of it.
+    const double floor_level = s.rssi_trend.empty() ? 0.0 : std::floor(lo / 10.0) * 10.0;
+    const double full = floor_level + std::max(10.0, std::ceil((hi - floor_level) * 1.2 / 10.0) * 10.0);
     std::string bar(static_cast<std::size_t>(bar_width), '.');
     if (s.rssi) {
-        const int filled = static_cast<int>(std::lround(std::clamp(*s.rssi / full, 0.0, 1.0) * bar_width));
+        const double fraction = (*s.rssi - floor_level) / (full - floor_level);
+        const int filled = static_cast<int>(std::lround(std::clamp(fraction, 0.0, 1.0) * bar_width));
         std::fill(bar.begin(), bar.begin() + filled, '#');
     }
     put(y, 1, "RSSI", A_BOLD);
     put(y, 6, s.rssi ? fixed(*s.rssi, 1, 7) : std::string("   ----"), A_BOLD);
     put(y, 14, "[" + bar + "]", colour(ui, kGood));
-    put(y + 1, 14, "0");
+    put(y + 1, 14, fixed(floor_level, 0));
     put(y + 1, 14 + bar_width - 3, fixed(full, 0, 5));
     y += 2;
     put(y++, 1, "LNB  " + (s.lnb ? fixed(*s.lnb, 0) + " V" + (*s.lnb < 15 ? "  (13 V: vertical)" : "  (18 V: horizontal)")
@@ -368,25 +393,7 @@ void draw_signal(const Ui& ui, const tui::Snapshot& s, int top, int height) {
         put_char(y + chart_rows - 1 - level, col, '*' | colour(ui, kAccent));
     }
     y += chart_rows + 1;
-    // The sky-scan launcher.
-    put(y++, 1, "Sky scan (birdcage-skyscan)", A_BOLD);
-    if (!ui.scan.started) {
-        put(y++, 1, "n: scan a grid around the dish (its CSV goes to the current directory)");
-    } else {
-        if (ui.scan.total > 0) {
-            const int w = std::max(10, COLS - 24);
-            const int filled = ui.scan.done * w / ui.scan.total;
-            put(y, 1, "[" + std::string(static_cast<std::size_t>(filled), '=') +
-                          std::string(static_cast<std::size_t>(w - filled), ' ') + "]");
-            put(y, w + 4, std::to_string(ui.scan.done) + "/" + std::to_string(ui.scan.total));
-            ++y;
-        }
-        std::string state = ui.scan.running() ? "running, x stops it"
-                            : ui.scan.exit_status == 0 ? "done"
-                                                       : "ended with status " + std::to_string(ui.scan.exit_status.value_or(-1));
-        put(y++, 1, state + " -> " + ui.scan_file);
-        put(y++, 1, ui.scan.progress);
-    }
+    draw_scan(ui, y);
 }
 
 std::vector<std::string> log_tail(const std::string& path, std::size_t count) {
@@ -399,8 +406,27 @@ std::vector<std::string> log_tail(const std::string& path, std::size_t count) {
     return {lines.begin(), lines.end()};
 }
 
+void draw_log(const Ui& ui, int y, int bottom) {
+    if (ui.log_path.empty() || y >= bottom) {
+        return;
+    }
+    put(y++, 1, "Log " + ui.log_path, A_BOLD);
+    const auto lines = log_tail(ui.log_path, static_cast<std::size_t>(std::max(0, bottom - y)));
+    if (lines.empty()) {
+        put(y++, 1, "(not readable or empty)");
+    }
+    for (const auto& line : lines) {
+        put(y++, 1, line);
+    }
+}
+
 void draw_info(const Ui& ui, const tui::Snapshot& s, int top, int height) {
     int y = top;
+    if (s.link != tui::LinkState::connected) {
+        put(y++, 1, "not connected: the rotator's model, limits and info are read again when rotctld answers", A_BOLD);
+        draw_log(ui, y + 1, top + height);
+        return;
+    }
     put(y++, 1, "Model    " + (s.caps.model.empty() ? std::string("?") : s.caps.model), A_BOLD);
     put(y++, 1, "Backend  " + s.caps.backend);
     put(y++, 1, "Can      " + std::string(s.caps.can_park ? "park " : "") + (s.caps.can_reset ? "home(R) " : "") +
@@ -426,21 +452,21 @@ void draw_info(const Ui& ui, const tui::Snapshot& s, int top, int height) {
         }
         ++y;
     }
-    if (!ui.log_path.empty() && y < top + height) {
-        put(y++, 1, "Log " + ui.log_path, A_BOLD);
-        const int room = top + height - y;
-        const auto lines = log_tail(ui.log_path, static_cast<std::size_t>(std::max(0, room)));
-        if (lines.empty()) {
-            put(y++, 1, "(not readable or empty)");
-        }
-        for (const auto& line : lines) {
-            put(y++, 1, line);
-        }
-    }
+    draw_log(ui, y, top + height);
 }
 
 void draw(Ui& ui, const tui::Snapshot& s) {
     erase();
+    // Below 80x24 the screens overlap and the key bar is cut: say so, as cgps does, and keep going
+    // (q still quits; a larger window brings the screens back).
+    if (COLS < kMinColumns || LINES < kMinLines) {
+        put(0, 0, "terminal too small (need " + std::to_string(kMinColumns) + "x" + std::to_string(kMinLines) + ", have " +
+                      std::to_string(COLS) + "x" + std::to_string(LINES) + ")", A_BOLD);
+        put(1, 0, "enlarge it, or q to quit");
+        curs_set(0);
+        refresh();
+        return;
+    }
     // Row 0: who and how the link is; row 1: the screens.
     const bool up = s.link == tui::LinkState::connected;
     std::string title = " birdcage-tui  rotctld " + ui.station.address() + "  link: " + link_word(s);
@@ -470,7 +496,10 @@ void draw(Ui& ui, const tui::Snapshot& s) {
         move(LINES - 2, std::min(COLS - 1, static_cast<int>(ui.prompt.label.size() + ui.prompt.text.size())));
         curs_set(1);
     } else {
-        std::string line = !ui.message.empty() ? ui.message : s.busy.empty() ? s.last_result : "busy: " + s.busy;
+        std::string line = !ui.message.empty() ? ui.message
+                           : !s.busy.empty()     ? "busy: " + s.busy
+                           : !s.last_result.empty() || up ? s.last_result
+                                                          : "not connected";
         put(LINES - 2, 0, line);
         curs_set(0);
     }
@@ -484,24 +513,9 @@ void draw(Ui& ui, const tui::Snapshot& s) {
 
 // ---- keys ---------------------------------------------------------------------------------------
 
-double wrap_azimuth(double az, const tui::Limits& limits) {
-    if (limits.min_az <= 0.0 && limits.max_az >= 360.0) {
-        az = std::fmod(az, 360.0);
-        return az < 0 ? az + 360.0 : az;
-    }
-    return std::clamp(az, limits.min_az, limits.max_az);
-}
-
-void jog(Ui& ui, const tui::Snapshot& s, double daz, double del) {
-    const auto base = ui.sent ? ui.sent : s.target ? s.target : s.position;
-    if (!base) {
-        ui.message = "no position yet: nothing to jog from";
-        return;
-    }
-    const double az = wrap_azimuth(base->first + daz, s.limits);
-    const double el = std::clamp(base->second + del, s.limits.min_el, s.limits.max_el);
-    ui.station.submit({tui::Command::Kind::move, az, el, {}});
-    ui.sent = std::make_pair(az, el);
+void jog(Ui& ui, double daz, double del) {
+    // The station takes the dish's position when the jog runs (a fresh `p`), not from this screen.
+    ui.station.submit({tui::Command::Kind::jog, daz, del, {}});
     ui.message.clear();
 }
 
@@ -511,15 +525,17 @@ void submit_go(Ui& ui, const tui::Snapshot& s, const std::string& text) {
     std::istringstream in(cleaned);
     double az = 0, el = 0;
     std::string rest;
-    if (!(in >> az >> el) || (in >> rest)) {
+    if (!(in >> az >> el) || (in >> rest) || !std::isfinite(az) || !std::isfinite(el)) {
         ui.message = "type AZ EL in degrees, e.g. 200 35";
         return;
     }
-    const double sent_az = std::clamp(az, s.limits.min_az, s.limits.max_az);
-    const double sent_el = std::clamp(el, s.limits.min_el, s.limits.max_el);
-    ui.station.submit({tui::Command::Kind::move, sent_az, sent_el, {}});
-    ui.sent = std::make_pair(sent_az, sent_el);
-    ui.message = (sent_az != az || sent_el != el) ? "outside the limits: clamped to " + degrees(sent_az) + degrees(sent_el) : "";
+    // The rotator's own range, as rotctld announces it: outside it nothing is sent, nothing clamped.
+    if (const std::string why = tui::out_of_range(s.limits, az, el); !why.empty()) {
+        ui.message = "refused: " + why;
+        return;
+    }
+    ui.station.submit({tui::Command::Kind::move, az, el, {}});
+    ui.message.clear();
 }
 
 void submit_scan(Ui& ui, const std::string& text) {
@@ -574,7 +590,11 @@ void prompt_key(Ui& ui, const tui::Snapshot& s, int key) {
     } else if (key == '\n' || key == '\r' || key == KEY_ENTER) {
         const Prompt done = ui.prompt;
         ui.prompt = {};
-        if (done.purpose == Prompt::Purpose::go) submit_go(ui, s, done.text);
+        if (done.purpose == Prompt::Purpose::go && s.link != tui::LinkState::connected) {
+            ui.message = "not connected: rotctld at " + ui.station.address() + " is not answering";
+        } else if (done.purpose == Prompt::Purpose::go) {
+            submit_go(ui, s, done.text);
+        }
         if (done.purpose == Prompt::Purpose::scan) submit_scan(ui, done.text);
     } else if (key == KEY_BACKSPACE || key == 127 || key == 8) {
         if (!ui.prompt.text.empty()) ui.prompt.text.pop_back();
@@ -591,31 +611,36 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
         return;
     }
     const double step = kSteps[ui.step_index];
+    // Disconnected, every key that would talk to the rotator says so instead of doing nothing.
+    static const std::string kTalks = "gGsS kKhHlLnN";
+    const bool talks = (key > 0 && key < 128 && kTalks.find(static_cast<char>(key)) != std::string::npos) ||
+                       key == KEY_LEFT || key == KEY_RIGHT || key == KEY_UP || key == KEY_DOWN;
+    if (talks && s.link != tui::LinkState::connected) {
+        ui.message = "not connected: rotctld at " + ui.station.address() + " is not answering";
+        return;
+    }
     switch (key) {
     case 'q': case 'Q': ui.quit = true; break;
     case '1': case '2': case '3': case '4': ui.screen = static_cast<Screen>(key - '1'); ui.message.clear(); break;
     case '\t': ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 1) % 4); ui.message.clear(); break;
     case KEY_BTAB: ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 3) % 4); ui.message.clear(); break;
-    case KEY_LEFT: jog(ui, s, -step, 0); break;
-    case KEY_RIGHT: jog(ui, s, step, 0); break;
-    case KEY_UP: jog(ui, s, 0, step); break;
-    case KEY_DOWN: jog(ui, s, 0, -step); break;
+    case KEY_LEFT: jog(ui, -step, 0); break;
+    case KEY_RIGHT: jog(ui, step, 0); break;
+    case KEY_UP: jog(ui, 0, step); break;
+    case KEY_DOWN: jog(ui, 0, -step); break;
     case '+': case '=': ui.step_index = std::min(ui.step_index + 1, 3); ui.message = "step " + fixed(kSteps[ui.step_index], 1) + " deg"; break;
     case '-': case '_': ui.step_index = std::max(ui.step_index - 1, 0); ui.message = "step " + fixed(kSteps[ui.step_index], 1) + " deg"; break;
     case 'g': case 'G': ui.prompt = {Prompt::Purpose::go, "Go to AZ EL: ", ""}; break;
     case 's': case 'S': case ' ':
         ui.station.submit({tui::Command::Kind::stop, 0, 0, {}});
-        ui.sent.reset();
         ui.message.clear();
         break;
     case 'k': case 'K':
         if (s.caps.can_park) ui.station.submit({tui::Command::Kind::park, 0, 0, {}});
-        if (s.caps.can_park) ui.sent.reset();
         ui.message = s.caps.can_park ? "" : "this rotator cannot park";
         break;
     case 'h': case 'H':
         if (s.caps.can_reset) ui.station.submit({tui::Command::Kind::home, 0, 0, {}});
-        if (s.caps.can_reset) ui.sent.reset();
         ui.message = s.caps.can_reset ? "" : "this rotator cannot home (no R)";
         break;
     case 'l': case 'L':

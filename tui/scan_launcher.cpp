@@ -71,6 +71,7 @@ bool ScanLauncher::start(const std::string& program, const std::vector<std::stri
     done = total = 0;
     exit_status.reset();
     started = true;
+    stopped = false;
     return true;
 }
 
@@ -121,7 +122,18 @@ void ScanLauncher::pump() {
 void ScanLauncher::cancel() {
     if (pid_ > 0) {
         ::kill(pid_, SIGTERM);
+        stopped = true;
     }
+}
+
+std::string ScanLauncher::outcome() const {
+    if (running()) {
+        return "running, x stops it";
+    }
+    if (stopped) {
+        return "scan stopped";   // its SIGTERM status (143) is ours, not a failure
+    }
+    return exit_status == 0 ? "done" : "failed with status " + std::to_string(exit_status.value_or(-1));
 }
 
 std::string skyscan_program(const std::string& argv0) {

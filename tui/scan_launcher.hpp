@@ -30,6 +30,9 @@ public:
     int done = 0, total = 0;              // points measured / planned, from the progress line
     std::optional<int> exit_status;       // set once the child has ended (128+N: signal N)
     bool started = false;
+    bool stopped = false;                 // ended by cancel(), not by itself
+    // "running, x stops it", "done", "scan stopped" (cancel), or "failed with status N".
+    std::string outcome() const;
 
 private:
     void take(const std::string& line);

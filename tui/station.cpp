@@ -33,12 +33,26 @@ std::string describe(const Command& command) {
     char text[96];
     switch (command.kind) {
     case Command::Kind::move: std::snprintf(text, sizeof text, "P %.2f %.2f", command.a, command.b); return text;
+    case Command::Kind::jog: std::snprintf(text, sizeof text, "jog %+.2f %+.2f", command.a, command.b); return text;
     case Command::Kind::stop: return "S (stop)";
     case Command::Kind::park: return "K (park)";
     case Command::Kind::home: return "R (home)";
     case Command::Kind::set_level: std::snprintf(text, sizeof text, "V %s %g", command.name.c_str(), command.a); return text;
     }
     return "?";
+}
+
+std::string out_of_range(const Limits& limits, double az, double el) {
+    char text[128];
+    if (!(az >= limits.min_az && az <= limits.max_az)) {
+        std::snprintf(text, sizeof text, "az %.2f is outside %.2f..%.2f", az, limits.min_az, limits.max_az);
+        return text;
+    }
+    if (!(el >= limits.min_el && el <= limits.max_el)) {
+        std::snprintf(text, sizeof text, "el %.2f is outside %.2f..%.2f", el, limits.min_el, limits.max_el);
+        return text;
+    }
+    return {};
 }
 
 Station::Station(std::string host, int port) : client_(std::move(host), port), address_(client_.address()) {
@@ -149,8 +163,16 @@ void Station::connect_once() {
     }
     RotatorCaps caps;
     (void)client_.get_caps(caps);
+    // The range: the caps' (as `\dump_state` announces them where the caps name none), narrowed
+    // to the dish's own elevation range where the backend's `_` names it (the MCP server's rule).
     Limits limits;
-    (void)client_.get_limits(limits);
+    if (caps.limits) {
+        limits = *caps.limits;
+    } else {
+        (void)client_.get_limits(limits);
+    }
+    base_limits_ = limits;
+    limits = rotctl::narrowed_by_info(limits, info);
     std::vector<std::string> levels;
     (void)client_.ext_levels(levels);
     if (client_.peer_closed()) {
@@ -185,6 +207,13 @@ bool Station::link_lost(int code) {
         s.status.reset();
         s.target.reset();
         s.info.clear();
+        // Nor is any reading or answer: the signal screen and the message line start empty.
+        s.position_error.clear();
+        s.rssi.reset();
+        s.rssi_trend.clear();
+        s.lnb.reset();
+        s.signal_error.clear();
+        s.last_result.clear();
     });
     return true;
 }
@@ -260,6 +289,7 @@ void Station::poll() {
         s.status = status;
         if (info) {
             s.info = *info;
+            s.limits = rotctl::narrowed_by_info(base_limits_, *info);
         }
         if (rssi) {
             s.rssi = rssi;
@@ -285,9 +315,26 @@ void Station::execute(const Command& command) {
         return;
     }
     update([&](Snapshot& s) { s.busy = what; });
+    Command sent = command;
+    if (command.kind == Command::Kind::jog) {
+        sent.kind = Command::Kind::move;
+        if (!jog_target(command, sent.a, sent.b)) {
+            return;
+        }
+    }
+    if (sent.kind == Command::Kind::move) {
+        if (const std::string why = out_of_range(snapshot().limits, sent.a, sent.b); !why.empty()) {
+            update([&](Snapshot& s) {
+                s.busy.clear();
+                s.last_result = describe(sent) + ": refused, " + why;
+            });
+            return;
+        }
+    }
     int code = RIG_OK;
-    switch (command.kind) {
-    case Command::Kind::move: code = client_.set_position(command.a, command.b); break;
+    switch (sent.kind) {
+    case Command::Kind::jog: break;   // made a move above
+    case Command::Kind::move: code = client_.set_position(sent.a, sent.b); break;
     case Command::Kind::stop: code = client_.stop(); break;
     case Command::Kind::park: code = client_.park(); break;
     case Command::Kind::home: code = client_.reset(); break;
@@ -297,11 +344,13 @@ void Station::execute(const Command& command) {
         update([&](Snapshot& s) { s.last_result = what + ": the link dropped before rotctld answered"; });
         return;
     }
+    // `_` says what the rotator makes of the command: read it at the next poll, not seconds later.
+    last_info_read_ = {};
     update([&](Snapshot& s) {
         s.busy.clear();
-        s.last_result = what + ": " + (code == RIG_OK ? std::string("ok") : error_text(code));
-        if (command.kind == Command::Kind::move && code == RIG_OK) {
-            s.target = std::make_pair(command.a, command.b);
+        s.last_result = describe(sent) + ": " + (code == RIG_OK ? std::string("ok") : error_text(code));
+        if (sent.kind == Command::Kind::move && code == RIG_OK) {
+            s.target = std::make_pair(sent.a, sent.b);
         }
         if ((command.kind == Command::Kind::stop || command.kind == Command::Kind::park ||
              command.kind == Command::Kind::home) && code == RIG_OK) {
@@ -311,6 +360,25 @@ void Station::execute(const Command& command) {
             s.lnb = command.a;
         }
     });
+}
+
+bool Station::jog_target(const Command& jog, double& az, double& el) {
+    // From where the dish is now, never from a target this client sent earlier: another client
+    // (Gpredict, the MCP server) may have moved it since.
+    double now_az = 0, now_el = 0;
+    const int code = client_.get_position(now_az, now_el);
+    if (code != RIG_OK) {
+        if (!link_lost(code)) {
+            update([&](Snapshot& s) {
+                s.busy.clear();
+                s.last_result = describe(jog) + ": not sent, p answered " + error_text(code);
+            });
+        }
+        return false;
+    }
+    az = now_az + jog.a;
+    el = now_el + jog.b;
+    return true;
 }
 
 std::string squeeze_flags(const std::string& flags) {

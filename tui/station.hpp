@@ -46,15 +46,20 @@ struct Snapshot {
     std::string signal_error;           // what `v RSSI` answered instead of a value
 
     std::string busy;                   // the command in flight
-    std::string last_result;            // "P 200.00 35.00: ok"
+    std::string last_result;            // "P 200.00 35.00: ok"; cleared when the link drops
     std::uint64_t revision = 0;         // grows with every change
 };
 
 struct Command {
-    enum class Kind { move, stop, park, home, set_level } kind;
+    // move: to (a, b); jog: by (a, b) from where the dish reports it is when the jog runs.
+    enum class Kind { move, jog, stop, park, home, set_level } kind;
     double a = 0, b = 0;
     std::string name;
 };
+
+// Why (az, el) is not sent to a rotator with these limits ("az 999.00 is outside -180.00..540.00");
+// empty when it is within them. The front end refuses such a target, it never clamps it.
+std::string out_of_range(const Limits& limits, double az, double el);
 
 class Station {
 public:
@@ -77,6 +82,8 @@ private:
     void connect_once();
     void poll();
     void execute(const Command& command);
+    // The jog's target from a fresh `p`; false (last_result says why) when there is none.
+    bool jog_target(const Command& jog, double& az, double& el);
     bool link_lost(int code);
     void wait_for(std::chrono::milliseconds period);
     template <class F> void update(F&& change);
@@ -87,6 +94,7 @@ private:
     std::condition_variable wake_;
     Snapshot snapshot_;
     std::deque<Command> queue_;
+    Limits base_limits_;   // the caps' range, before `_` narrows it
     bool signal_wanted_ = false;
     bool stopping_ = false;
     // A restarted rotctld is back within seconds; a longer wait would only delay noticing it.

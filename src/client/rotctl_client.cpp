@@ -257,23 +257,17 @@ int Client::stop() { return ask("S").code; }
 int Client::park() { return ask("K").code; }
 int Client::reset(int what) { return ask("R " + std::to_string(what)).code; }
 
-int Client::get_status(std::string& flags) {
-    const Reply r = ask("s", Shape::values(1));
+int Client::ask_text(const std::string& command, std::string& text) {
+    const Reply r = ask(command, Shape::values(1));
     if (r.ok()) {
         const auto v = r.values();
-        flags = v.empty() ? std::string() : v.front();
+        text = v.empty() ? std::string() : v.front();
     }
     return r.code;
 }
 
-int Client::get_info(std::string& info) {
-    const Reply r = ask("_", Shape::values(1));
-    if (r.ok()) {
-        const auto v = r.values();
-        info = v.empty() ? std::string() : v.front();
-    }
-    return r.code;
-}
+int Client::get_status(std::string& flags) { return ask_text("s", flags); }
+int Client::get_info(std::string& info) { return ask_text("_", info); }
 
 int Client::get_limits(Limits& limits) {
     const Reply r = ask_plain("\\dump_state", Shape::until_done());

@@ -108,6 +108,7 @@ private:
     bool fill(std::chrono::steady_clock::time_point deadline);
     Reply exchange(const std::string& line, Protocol protocol, Shape shape);
     Reply lost();
+    int ask_text(const std::string& command, std::string& text);   // one line's value
 
     std::string host_;
     int port_;

@@ -3,6 +3,7 @@
 
 #include "rotctl_protocol.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <sstream>
@@ -202,6 +203,16 @@ Caps parse_dump_caps(const std::vector<std::string>& lines) {
     Caps c;
     std::string mfg, model;
     bool in_levels = false;
+    Limits range;
+    int range_lines = 0;
+    auto take = [&](const std::string& line, std::string_view key, double& into) {
+        if (starts_with(line, key)) {
+            if (const auto v = parse_number(std::string_view(line).substr(key.size()))) {
+                into = *v;
+                ++range_lines;
+            }
+        }
+    };
     for (const std::string& raw : lines) {
         const std::string got = trim(raw);
         // "Extra levels:", then per level its name alone on a line and "Label:", "Range:" lines.
@@ -221,9 +232,36 @@ Caps parse_dump_caps(const std::vector<std::string>& lines) {
         if (starts_with(got, "Backend version:")) c.backend = trim(got.substr(16));
         caps_flag(got, "Can Park:", c.can_park) || caps_flag(got, "Can Reset:", c.can_reset) ||
             caps_flag(got, "Can get Status:", c.can_status);
+        take(got, "Min Azimuth:", range.min_az);
+        take(got, "Max Azimuth:", range.max_az);
+        take(got, "Min Elevation:", range.min_el);
+        take(got, "Max Elevation:", range.max_el);
+    }
+    if (range_lines == 4) {
+        c.limits = range;
     }
     c.model = trim(mfg + " " + model);
     return c;
+}
+
+Limits narrowed_by_info(Limits limits, const std::string& info) {
+    const auto at = info.find("; el limits ");
+    if (at == std::string::npos) {
+        return limits;
+    }
+    const std::string rest = info.substr(at + 12);
+    const auto dots = rest.find("..");
+    if (dots == std::string::npos) {
+        return limits;
+    }
+    const auto end = rest.find_first_of(";, ", dots + 2);
+    const auto lo = parse_number(rest.substr(0, dots));
+    const auto hi = parse_number(rest.substr(dots + 2, end == std::string::npos ? std::string::npos : end - dots - 2));
+    if (lo && hi && *lo <= *hi) {
+        limits.min_el = std::max(limits.min_el, *lo);
+        limits.max_el = std::min(limits.max_el, *hi);
+    }
+    return limits;
 }
 
 std::optional<double> parse_number(std::string_view text) {

@@ -73,8 +73,13 @@ struct Caps {
         std::string name, label, range;   // "LNB", "LNB supply (V)", "13..18/5"
     };
     std::vector<Level> levels;            // the backend's extension levels
+    std::optional<Limits> limits;         // "Min Azimuth:" .. "Max Elevation:"
 };
 Caps parse_dump_caps(const std::vector<std::string>& lines);
+
+// The birdcage backend's `_` names the dish's own elevation range ("; el limits 18.00..65.00"),
+// narrower than the caps' 0..90: `limits` narrowed to it when `info` names it.
+Limits narrowed_by_info(Limits limits, const std::string& info);
 
 // A number a value line carries ("100.00", "Azimuth: 100.00"); nullopt when it is not one.
 std::optional<double> parse_number(std::string_view text);

@@ -713,7 +713,10 @@ struct RegisteredModel {
     std::string macro_name;
 };
 
-void fill_caps(RegisteredModel& m, const birdcage::FirmwareProfile& p) {
+// can_home: the model answers `R 1` by homing. A variant without a homing command gets no reset in
+// its caps (`\dump_caps` says "Can Reset: N", and Hamlib answers `R` with RIG_ENAVAIL as before);
+// the probe model learns its variant only at open, so it keeps it.
+void fill_caps(RegisteredModel& m, const birdcage::FirmwareProfile& p, bool can_home) {
     fill_conf(m.conf, p);
     m.macro_name = "ROT_MODEL_WINEGARD_" + std::string(p.short_name);
     m.model_name = std::string(p.display_name);
@@ -756,7 +759,7 @@ void fill_caps(RegisteredModel& m, const birdcage::FirmwareProfile& p) {
     c.get_position = winegard_get_position;
     c.stop = winegard_stop;
     c.park = winegard_park;
-    c.reset = winegard_reset;
+    c.reset = can_home ? winegard_reset : nullptr;
     c.get_info = winegard_get_info;
     c.get_status = winegard_get_status;
     c.macro_name = m.macro_name.c_str();
@@ -776,9 +779,10 @@ extern "C" int initrots4_winegard(void* /*be_handle*/) {
     static std::array<RegisteredModel, kRegisteredVariants.size() + 1> models;
     static const bool filled = [] {
         for (std::size_t i = 0; i < kRegisteredVariants.size(); ++i) {
-            fill_caps(models[i], birdcage::profile(kRegisteredVariants[i]));
+            const birdcage::FirmwareProfile& p = birdcage::profile(kRegisteredVariants[i]);
+            fill_caps(models[i], p, !p.home_commands.empty());
         }
-        fill_caps(models.back(), birdcage::probe_profile());
+        fill_caps(models.back(), birdcage::probe_profile(), true);
         return true;
     }();
     (void)filled;

@@ -3,7 +3,7 @@
 
 // OrbitModel on the SGP4 passes of bench/passes (site 45° N, bench/generate_passes.py): exact
 // directions, then a Gpredict-like threshold client with its look-ahead (docs/tracking.md §5,
-// bench/gpredict_client.cpp), and the refusals: manual pointing, a jump to another satellite.
+// testbed/gpredict_client.cpp), and the refusals: manual pointing, a jump to another satellite.
 // Pure and deterministic: no threads, no sleeping; every time is built here.
 #include <catch2/catch.hpp>
 

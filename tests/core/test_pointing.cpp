@@ -66,7 +66,7 @@ Prediction must_predict(const TargetPredictor& predictor, double t) {
     return *p;
 }
 
-// A Gpredict-like client (gtk-rot-ctrl.c, bench/gpredict_client.cpp) in closed loop with a naive
+// A Gpredict-like client (gtk-rot-ctrl.c, testbed/gpredict_client.cpp) in closed loop with a naive
 // dish that jumps to each target: every `cycle_s` it compares the satellite with the dish it reads
 // back and, when either axis is more than `threshold` off, sends the satellite's position at the
 // edge of the threshold ahead (a binary search down to a quarter cycle), rounded to two decimals.

@@ -305,7 +305,7 @@ TEST_CASE("steering: manual pointing by single targets ends exactly at the last 
 
 TEST_CASE("steering: a Gpredict-like pass after manual moves still gets predictive aims") {
     // Manual moves first, then a client tracking a satellite (1 s cycle, 0.5 deg threshold, a lead
-    // to the threshold's edge to a quarter cycle, as bench/gpredict_client.cpp), against a dish that
+    // to the threshold's edge to a quarter cycle, as testbed/gpredict_client.cpp), against a dish that
     // goes to each aim at once. The same client against a dish that goes to each target as sent
     // (pointing=none) is the baseline: predictive aims must lead the last target and beat it.
     const auto sat = [](double t) { return AzEl{normalize_azimuth(120.0 + 0.6 * t), 25.0 + 0.2 * t}; };

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-// A client that behaves like Gpredict (bench/gpredict_client.hpp: 1 s cycle, the I/O thread's
+// A client that behaves like Gpredict (testbed/gpredict_client.hpp: 1 s cycle, the I/O thread's
 // P/p loop, disengaging after MAX_ERROR_COUNT erroring cycles and never engaging again) tracking
 // a pass through a dish reboot of realistic length and through an unplugged adapter, on a line
 // with noise and paced at the variant's baud rate. docs/reliability.md quotes the printed figures.

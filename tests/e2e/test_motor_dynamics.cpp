@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-// A pass through a Gpredict-like client (bench/gpredict_client.hpp) on a Trav'ler HAL 2.05 whose
+// A pass through a Gpredict-like client (testbed/gpredict_client.hpp) on a Trav'ler HAL 2.05 whose
 // motor meets the documented timings (docs/firmware.md 3.4: about 6 s for 10 deg, 13.5 s for 90 deg)
 // but starts moving 2 s after each command: the backend has to learn that delay from the dish's
 // readings (docs/tracking.md 1.5) instead of reading the unmoved axis as stopped short and

@@ -106,7 +106,8 @@ TEST_CASE("dump_state limits in Hamlib 4's form, the extended form and Hamlib 3'
 TEST_CASE("dump_caps: model, flags and the extension levels") {
     const Caps c = parse_dump_caps({"Caps dump for model:\t90102", "Model name:\tCarryout G2", "Mfg name:\tWinegard",
                                     "Backend version:\tbirdcage 0.1.0", "Can Park:\tY", "Can Reset:\tN",
-                                    "Can get Status:\tY", "Extra levels:", "\tRSSI", "\t\tLabel:\tSignal strength",
+                                    "Can get Status:\tY", "Min Azimuth:\t-180.00", "Max Azimuth:\t540.00",
+                                    "Min Elevation:\t0.00", "Max Elevation:\t90.00", "Extra levels:", "\tRSSI", "\t\tLabel:\tSignal strength",
                                     "\t\tRange:\t0..1000/0", "\tLNB", "\t\tLabel:\tLNB supply (V)", "Get parameters: "});
     CHECK(c.model == "Winegard Carryout G2");
     CHECK(c.backend == "birdcage 0.1.0");
@@ -116,6 +117,20 @@ TEST_CASE("dump_caps: model, flags and the extension levels") {
     REQUIRE(c.levels.size() == 2);
     CHECK(c.levels[0].name == "RSSI");
     CHECK(c.levels[1].label == "LNB supply (V)");
+    REQUIRE(c.limits);
+    CHECK(c.limits->min_az == -180.0);
+    CHECK(c.limits->max_el == 90.0);
+}
+
+TEST_CASE("the birdcage backend's `_` narrows the elevation range to the dish's own") {
+    const Limits caps{-180, 540, 0, 90};
+    const Limits g2 = narrowed_by_info(caps, "Winegard Carryout G2 [g2, 115200 baud]; initialised; position az 121.00 "
+                                             "el 30.00 (read back); el limits 18.00..65.00; leapfrog off");
+    CHECK(g2.min_el == 18.0);
+    CHECK(g2.max_el == 65.0);
+    CHECK(g2.min_az == -180.0);
+    CHECK(g2.max_az == 540.0);
+    CHECK(narrowed_by_info(caps, "Dummy rotator").max_el == 90.0);
 }
 
 namespace {

@@ -90,6 +90,7 @@ TEST_CASE("a Trav'ler lists the levels but has no RSSI, and the station says so"
     tui::RotatorCaps caps;
     CHECK(client.get_caps(caps) == 0);
     CHECK(caps.model.find("Trav") != std::string::npos);
+    CHECK_FALSE(caps.can_reset);   // it has no homing: the info screen must not offer home(R)
     client.disconnect();
 
     // The signal screen: the levels are listed (the models share them), the reading says why not.
@@ -126,14 +127,64 @@ TEST_CASE("the station moves the dish, and notices rotctld going away") {
     REQUIRE(moved.target);
     CHECK(moved.target->first == 200.0);
     CHECK(moved.last_result == "P 200.00 35.00: ok");
+    station.watch_signal(true);
+    REQUIRE(e2e::wait_until([&] { return station.snapshot().rssi && station.snapshot().lnb; }, 20s));
 
     rig.reset();   // rotctld exits
     CHECK(e2e::wait_until([&] { return station.snapshot().link == tui::LinkState::reconnecting; }, 10s));
-    CHECK_FALSE(station.snapshot().position);   // not shown as if current
+    const tui::Snapshot gone = station.snapshot();
+    CHECK_FALSE(gone.position);   // not shown as if current
+    // Nothing of the dead link stays on any screen: no RSSI, LNB or trend, no last "ok".
+    CHECK_FALSE(gone.rssi);
+    CHECK_FALSE(gone.lnb);
+    CHECK(gone.rssi_trend.empty());
+    CHECK(gone.last_result.empty());
     // Typed while rotctld is away: not queued for later.
     station.submit({tui::Command::Kind::move, 10.0, 10.0, {}});
     CHECK(e2e::wait_until([&] { return station.snapshot().last_result.find("not sent") != std::string::npos; }, 10s));
     CHECK(station.snapshot().link_detail.find("retrying in") != std::string::npos);
+}
+
+TEST_CASE("a jog starts from where the dish is now, not from a target another client has replaced") {
+    // A jog from this client's old target: after `g 174 44` here and Gpredict's `P 120 30`, one
+    // right-arrow sent P 175 44, a 55 deg swing (docs/tui.md, "Keys").
+    e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 100.0, 30.0, 20.0), 90105, {"-C", "time_scale=20"});
+    tui::Station station("127.0.0.1", rig.port());
+    REQUIRE(e2e::wait_until([&] { return station.snapshot().link == tui::LinkState::connected; }, 30s));
+    station.submit({tui::Command::Kind::move, 174.0, 44.0, {}});
+    REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 174.0, 44.0, 0.2); }, 60s));
+
+    e2e::RotctldConnection other(rig.port());   // another client moves the dish
+    REQUIRE(other.ask("P 120 30", 1) == "RPRT 0\n");
+    REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, 30.0, 0.2); }, 60s));
+
+    station.submit({tui::Command::Kind::jog, 1.0, 0.0, {}});
+    REQUIRE(e2e::wait_until([&] { return station.snapshot().last_result.rfind("P ", 0) == 0 &&
+                                         station.snapshot().last_result.find("121.") != std::string::npos; }, 10s));
+    const auto target = station.snapshot().target;
+    REQUIRE(target);
+    CHECK(target->first == Approx(121.0).margin(0.2));
+    CHECK(target->second == Approx(30.0).margin(0.2));
+    CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 121.0, 30.0, 0.3); }, 60s));
+}
+
+TEST_CASE("a target outside the rotator's range is refused with the range named, never clamped") {
+    tui::Limits limits{-180, 540, 0, 90};
+    CHECK(tui::out_of_range(limits, 999, 40) == "az 999.00 is outside -180.00..540.00");
+    CHECK(tui::out_of_range(limits, 200, 95) == "el 95.00 is outside 0.00..90.00");
+    CHECK(tui::out_of_range(limits, 540, 90).empty());
+
+    e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 100.0, 30.0, 20.0), 90105, {"-C", "time_scale=20"});
+    tui::Station station("127.0.0.1", rig.port());
+    REQUIRE(e2e::wait_until([&] { return station.snapshot().link == tui::LinkState::connected; }, 30s));
+    station.submit({tui::Command::Kind::move, 999.0, 40.0, {}});
+    REQUIRE(e2e::wait_until([&] { return !station.snapshot().last_result.empty(); }, 10s));
+    const tui::Snapshot s = station.snapshot();
+    CHECK(s.last_result.find("P 999.00 40.00: refused, az 999.00 is outside ") == 0);
+    CHECK_FALSE(s.target);
+    // Nothing went to rotctld: the dish stays where it was.
+    CHECK(e2e::settled_at(rig.dish(), 100.0, 30.0, 0.2));
+    CHECK_FALSE(rig.dish().moving());
 }
 
 TEST_CASE("the scan launcher runs birdcage-skyscan through rotctld and follows its progress") {
@@ -184,4 +235,21 @@ TEST_CASE("the scan launcher reports a program that cannot run and one that fail
         10s));
     CHECK(scan.exit_status == 1);
     CHECK(scan.progress == "birdcage-skyscan: cannot connect to rotctld");
+    CHECK(scan.outcome() == "failed with status 1");
+}
+
+TEST_CASE("a scan ended with x says it was stopped, not that it failed with status 143") {
+    tui::ScanLauncher scan;
+    std::string why;
+    REQUIRE(scan.start("/bin/sh", {"-c", "exec sleep 60"}, &why));
+    CHECK(scan.outcome() == "running, x stops it");
+    scan.cancel();
+    REQUIRE(e2e::wait_until(
+        [&] {
+            scan.pump();
+            return !scan.running();
+        },
+        10s));
+    CHECK(scan.exit_status == 143);
+    CHECK(scan.outcome() == "scan stopped");
 }

@@ -5,15 +5,19 @@
 # backend preloaded and the emulated G2 (ctest label `tui`):
 #   1. the dashboard shows the dish's position;
 #   2. `g`, `200 35`, Enter moves the dish there (rotctl confirms) and the screen shows it;
-#   3. rotctld killed: the screen says it is reconnecting; rotctld started again on the same port:
-#      the screen is connected again and shows the position;
-#   4. `q` quits with status 0.
+#   3. another client (rotctl) sends P 120 30; one right-arrow then jogs from there (P 121.00 30.00),
+#      not from this screen's old target; `g 999 40` is refused with the range named, nothing sent;
+#   4. at 60x16 the screen says the terminal is too small (need 80x24); at 80x24 the screens return;
+#   5. rotctld killed: the screen says it is reconnecting, `g` and `s` answer "not connected", the
+#      signal screen shows no RSSI or LNB; rotctld started again on the same port: the screen is
+#      connected again and shows the position;
+#   6. `q` quits with status 0.
 # Every wait polls the pane against a deadline; the emulator runs 20 times faster than a dish.
 #
 #   test_tui_tmux.sh --tui PROGRAM --sim PROGRAM --backend LIBRARY [--keep]
 # BIRDCAGE_PRELOAD_FIRST (a sanitizer runtime) goes before the backend in rotctld's LD_PRELOAD.
 set -euo pipefail
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 # shellcheck source=scripts/lib.sh
 . "$root/scripts/lib.sh"
 
@@ -101,7 +105,27 @@ echo "   rotctl p: $az $el"
 awk -v a="$az" -v e="$el" 'BEGIN { exit !((a - 200) ^ 2 <= 0.04 && (e - 35) ^ 2 <= 0.04) }' ||
     fail "rotctl says the dish is at $az $el, not 200 35"
 
-echo "== 3. rotctld restarts"
+echo "== 3. another client moves the dish; a jog starts from where it is; g 999 40 is refused"
+rotctl -m 2 -r "127.0.0.1:$port" P 120 30 >/dev/null || fail "rotctl P 120 30 failed"
+wait_for 90 shows_near 120 30 0.2 || fail "the screen does not show ~120 30 after the other client's P"
+tmux -S "$socket" send-keys -t tui Right
+wait_screen 10 'P 12[01]\.[0-9]{2} (29|30)\.[0-9]{2}: ok' || fail "the jog was not sent from the dish's position (120 30)"
+wait_for 60 shows_near 121 30 0.2 || fail "the dish did not jog to ~121 30"
+tmux -S "$socket" send-keys -t tui g
+wait_screen 5 'Go to AZ EL:' || fail "g opened no prompt"
+tmux -S "$socket" send-keys -t tui '999 40' Enter
+wait_screen 5 'refused: az 999\.00 is outside -?[0-9.]+\.\.[0-9.]+' || fail "g 999 40 was not refused with the range"
+read -r az el <<<"$(rotctl -m 2 -r "127.0.0.1:$port" p | tr '\n' ' ')"
+awk -v a="$az" -v e="$el" 'BEGIN { exit !((a - 121) ^ 2 <= 0.09 && (e - 30) ^ 2 <= 0.09) }' ||
+    fail "after the refused g 999 40 the dish is at $az $el, not 121 30"
+
+echo "== 4. a terminal below 80x24"
+tmux -S "$socket" resize-window -t tui -x 60 -y 16
+wait_screen 5 'terminal too small \(need 80x24, have 60x16\)' || fail "no 'terminal too small' at 60x16"
+tmux -S "$socket" resize-window -t tui -x 80 -y 24
+wait_screen 5 'link: connected' || fail "the screens did not come back at 80x24"
+
+echo "== 5. rotctld restarts"
 kill "$rotctld_pid"
 wait "$rotctld_pid" 2>/dev/null || true
 rotctld_pid=''
@@ -109,13 +133,22 @@ wait_screen 15 'link: RECONNECTING' || fail "the screen does not say it lost rot
 wait_screen 15 'retrying in' || fail "the screen does not say it retries"
 [[ -z $(shown_position) ]] || fail "a position is shown while rotctld is away"
 screen | sed -n '1,3p'
+for key in g s; do
+    tmux -S "$socket" send-keys -t tui $key
+    wait_screen 5 '^not connected: rotctld at ' || fail "'$key' does not answer 'not connected' while rotctld is away"
+    tmux -S "$socket" send-keys -t tui 1   # clears the message
+done
+tmux -S "$socket" send-keys -t tui 3
+wait_screen 5 'not connected: no RSSI or LNB reading' || fail "the signal screen does not say it is not connected"
+! screen | grep -qE 'RSSI +[0-9]|LNB +1[38] V' || fail "the signal screen shows a dead link's RSSI or LNB"
+tmux -S "$socket" send-keys -t tui 1
 start_rotctld
 wait_screen 60 'link: connected' || fail "not connected again after rotctld came back"
 wait_screen 10 'reconnected 1x' || fail "the dashboard does not say it reconnected"
-wait_for 30 shows_near 200 35 0.2 || fail "the position is not shown after the reconnect"
+wait_for 30 shows_near 121 30 0.2 || fail "the position is not shown after the reconnect"
 echo "   shown after the restart: $(shown_position)"
 
-echo "== 4. q quits"
+echo "== 6. q quits"
 tmux -S "$socket" send-keys -t tui q
 wait_screen 10 'birdcage-tui exited' || fail "q did not quit"
 screen | grep -q 'birdcage-tui exited 0' || fail "birdcage-tui did not exit with status 0"

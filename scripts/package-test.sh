@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Copyright (C) 2026 the birdcage authors
 # What CI does with the package, as root on a Debian machine: installs
-# ./birdcage_*.deb (scripts/package.sh builds it) with apt, runs the demo service from the
+# ./birdcage_*_<arch>.deb (scripts/package.sh builds it) with apt, runs the demo service from the
 # installed paths only (birdcage-sim@demo + birdcage-rotctld@demo), moves the emulated dish with
 # the stock rotctl and reads the position back, then purges the package and checks that nothing
 # it installed or created is left.
@@ -13,8 +13,9 @@
 # then a free one instead of the defaults file's 4533, so a busy machine cannot collide with it.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-debs=("$root"/birdcage_*.deb)
-[[ -f ${debs[0]} ]] || { echo "package-test.sh: no birdcage_*.deb in $root (run scripts/package.sh)" >&2; exit 1; }
+# This machine's own architecture: a cross-built package (package.sh --arch) may lie beside it.
+debs=("$root"/birdcage_*_"$(dpkg --print-architecture)".deb)
+[[ -f ${debs[0]} ]] || { echo "package-test.sh: no birdcage_*_$(dpkg --print-architecture).deb in $root (run scripts/package.sh)" >&2; exit 1; }
 [[ $(id -u) -eq 0 ]] || { echo "package-test.sh: installs a package: run as root" >&2; exit 1; }
 unitdir=/lib/systemd/system
 pids=()

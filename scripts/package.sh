@@ -4,22 +4,44 @@
 # Builds the Debian package (debian/, dpkg-buildpackage) into the repository root as
 # birdcage_<version>_<arch>.deb, then runs lintian on it and fails on any error or warning.
 # The tests are not built (DEB_BUILD_OPTIONS=nocheck, BIRDCAGE_BUILD_TESTS=OFF in debian/rules):
-# scripts/test.sh runs them. Then: sudo apt install ./birdcage_*.deb
+# scripts/test.sh runs them. Then: sudo apt install ./birdcage_*_<arch>.deb
 #
-#   scripts/package.sh [--no-lintian]
-# Environment: BIRDCAGE_PACKAGE_BUILD_DIR (default build-deb), where the source is copied and built.
+#   scripts/package.sh [--arch arm64|armhf] [--no-lintian]
+# --arch cross-builds for a Raspberry Pi (arm64: Raspberry Pi OS 64-bit, Pi 3/4/5; armhf: the
+# 32-bit OS) with Debian's cross toolchain; scripts/setup.sh --arch installs it on first use.
+# Environment: BIRDCAGE_PACKAGE_BUILD_DIR (default build-deb, build-deb-<arch> for --arch), where
+# the source is copied and built.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-work=${BIRDCAGE_PACKAGE_BUILD_DIR:-$root/build-deb}
+native=$(dpkg --print-architecture)
+arch=$native
 lintian=1
-case "${1:-}" in
-"") ;;
---no-lintian) lintian=0 ;;
--h | --help) sed -n '4,10s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; exit 0 ;;
-*) echo "package.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
-esac
+while (($#)); do
+    case "$1" in
+    --no-lintian) lintian=0; shift ;;
+    --arch) [[ $# -ge 2 ]] || { echo "package.sh: --arch needs arm64 or armhf" >&2; exit 2; }
+        arch=$2; shift 2 ;;
+    --arch=*) arch=${1#--arch=}; shift ;;
+    -h | --help) sed -n '4,13s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    *) echo "package.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
+    esac
+done
+build_args=()
+setup_args=()
+if [[ $arch == "$native" ]]; then
+    work=${BIRDCAGE_PACKAGE_BUILD_DIR:-$root/build-deb}
+else
+    case $arch in
+    arm64 | armhf) ;;
+    *) echo "package.sh: --arch $arch: only arm64 and armhf are supported" >&2; exit 2 ;;
+    esac
+    work=${BIRDCAGE_PACKAGE_BUILD_DIR:-$root/build-deb-$arch}
+    # The cross profile brings qemu-user-static into the build-dependencies (debian/control).
+    build_args=(-a "$arch" -Pcross)
+    setup_args=(--arch "$arch")
+fi
 
-BIRDCAGE_SETUP_EXTRA="dpkg-dev debhelper help2man lintian ${BIRDCAGE_SETUP_EXTRA:-}" "$root/scripts/setup.sh"
+BIRDCAGE_SETUP_EXTRA="dpkg-dev debhelper help2man lintian ${BIRDCAGE_SETUP_EXTRA:-}" "$root/scripts/setup.sh" "${setup_args[@]}"
 
 # The changelog names the package's version; it must be the one CMake gives every --version.
 cmake_version=$(sed -n '/^project(birdcage/,/)/s/^ *VERSION \([0-9.]*\).*/\1/p' "$root/CMakeLists.txt")
@@ -36,16 +58,15 @@ mkdir -p "$work/src"
 tar -C "$root" --exclude=./.git --exclude='./build*' --exclude=./.cache --exclude='./birdcage_*' -cf - . |
     tar -C "$work/src" -xf -
 jobs=$(nproc); ((jobs <= 2)) || jobs=2
-(cd "$work/src" && DEB_BUILD_OPTIONS="nocheck parallel=$jobs" dpkg-buildpackage -b -us -uc >"$work/build.log" 2>&1) || {
+(cd "$work/src" && DEB_BUILD_OPTIONS="nocheck parallel=$jobs" dpkg-buildpackage -b -us -uc "${build_args[@]}" >"$work/build.log" 2>&1) || {
     tail -40 "$work/build.log" >&2
     echo "package.sh: dpkg-buildpackage failed (whole log: $work/build.log)" >&2
     exit 1
 }
-arch=$(dpkg --print-architecture)
 deb=birdcage_${deb_version}_${arch}.deb
-rm -f "$root"/birdcage_*.deb
+rm -f "$root"/birdcage_*_"$arch".deb
 cp "$work/$deb" "$root/$deb"
-echo "package.sh: built $deb"
+echo "package.sh: built $deb ($(du -k "$root/$deb" | cut -f1) KiB)"
 dpkg-deb --info "$root/$deb" | sed -n 's/^ \(Depends\|Version\|Installed-Size\):/  \1:/p'
 
 if ((lintian)); then

@@ -3,7 +3,24 @@
 # Copyright (C) 2026 the birdcage authors
 # Installs what birdcage needs from Debian's packages (bookworm). Idempotent: installs only what is
 # missing. As root it runs apt-get; otherwise it prints the exact command to run and fails.
+#
+#   scripts/setup.sh [--arch arm64|armhf]...
+# --arch ARCH also installs what a cross build for that Debian architecture needs (Raspberry Pi
+# OS: arm64, armhf): Debian's cross toolchain, the libraries' multiarch -dev packages for ARCH
+# (after dpkg --add-architecture ARCH) and qemu-user-static, which runs the ARM programs at build
+# time (help2man, the test list) and in scripts/arm-test.sh. Nothing ARM is installed without it.
+# BIRDCAGE_SETUP_EXTRA="pkg ..." adds packages of the build machine's own architecture.
 set -euo pipefail
+
+cross=()
+while (($#)); do
+    case "$1" in
+    --arch) [[ $# -ge 2 ]] || { echo "setup: --arch needs arm64 or armhf" >&2; exit 2; }
+        cross+=("$2"); shift 2 ;;
+    --arch=*) cross+=("${1#--arch=}"); shift ;;
+    *) echo "setup: unknown argument '$1'" >&2; exit 2 ;;
+    esac
+done
 
 packages=(
     build-essential cmake pkg-config
@@ -11,11 +28,34 @@ packages=(
     libserialport-dev
     libncurses-dev                  # birdcage-tui
     catch2
+    help2man                        # the section-1 man pages: a source install has all 7 pages
     python3                         # the doc check (tests/docs)
 )
 if [[ "${BIRDCAGE_SETUP_EXTRA:-}" != "" ]]; then
     read -r -a extra <<<"${BIRDCAGE_SETUP_EXTRA}"
     packages+=("${extra[@]}")
+fi
+
+add_arch=()
+for arch in "${cross[@]}"; do
+    case $arch in
+    arm64 | armhf) ;;
+    *) echo "setup: --arch $arch: only arm64 and armhf are supported" >&2; exit 2 ;;
+    esac
+    if [[ $arch != "$(dpkg --print-architecture)" ]]; then
+        dpkg --print-foreign-architectures | grep -qx "$arch" || add_arch+=("$arch")
+        packages+=("crossbuild-essential-$arch" qemu-user-static)
+    fi
+    # The libraries the build links (libncurses: birdcage-tui), for ARCH.
+    # pkg-config:ARCH is the ARCH-linux-gnu-pkg-config that finds them.
+    packages+=("libhamlib-dev:$arch" "libserialport-dev:$arch" "libncurses-dev:$arch" "pkg-config:$arch")
+done
+
+# apt-get update reads the lists of the architectures asked for here only: a foreign
+# architecture another run added, whose index a mirror serves half-synced, cannot break this one.
+update_arch=()
+if ((${#cross[@]})); then
+    for arch in "$(dpkg --print-architecture)" "${cross[@]}"; do update_arch+=(-o "APT::Architectures::=$arch"); done
 fi
 
 missing=()
@@ -29,16 +69,25 @@ if ((${#missing[@]} == 0)); then
 fi
 
 if [[ $(id -u) -eq 0 ]]; then
+    for arch in "${add_arch[@]}"; do
+        echo "setup: dpkg --add-architecture $arch" >&2
+        dpkg --add-architecture "$arch"
+    done
     echo "setup: installing ${missing[*]}" >&2
     export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq
+    # One index that fails to download (a mirror mid-sync) need not stop the install: apt-get
+    # install below fails by itself if what it needs is not in the lists it has.
+    apt-get update -qq "${update_arch[@]}" || echo "setup: apt-get update reported errors; trying the install with the lists it has" >&2
     apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+    for arch in "${add_arch[@]}"; do sudo dpkg --add-architecture "$arch"; done
     echo "setup: installing ${missing[*]} with sudo" >&2
-    sudo DEBIAN_FRONTEND=noninteractive apt-get update -qq
+    sudo DEBIAN_FRONTEND=noninteractive apt-get update -qq "${update_arch[@]}" || echo "setup: apt-get update reported errors; trying the install with the lists it has" >&2
     sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 else
     echo "setup: missing Debian packages. Run:" >&2
+    for arch in "${add_arch[@]}"; do echo "  sudo dpkg --add-architecture $arch" >&2; done
+    ((${#add_arch[@]} == 0)) || echo "  sudo apt-get update" >&2
     echo "  sudo apt-get install ${missing[*]}" >&2
     exit 1
 fi

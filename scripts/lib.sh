@@ -40,3 +40,63 @@ wait_for_listener() {
     done
     kill -0 "$pid" 2>/dev/null
 }
+
+# ---- a stock rotctld with the backend preloaded, against the emulator (trixie-smoke.sh,
+# arm-test.sh). Both run another system's rotctld through its own loader:
+#   LOADER --library-path LIBS --preload BACKEND ROTCTLD ...
+# where LOADER may itself be a command line (qemu-aarch64-static -L / /lib/ld-linux-aarch64.so.1).
+
+# say TEXT: a progress line with the seconds since the script started.
+say() { printf '[%3ds] %s\n' "$SECONDS" "$*"; }
+
+# winegard_models RUNNER...: how many Winegard models `RUNNER... -l` (a preloaded rotctld) lists.
+winegard_models() { "$@" -l 2>/dev/null | grep -c Winegard || true; }
+
+# arrive AZ EL SIM_LOG ROTCTLD_LOG ROTCTL...: polls `ROTCTL... p` until the backend reads AZ EL
+# within 0.1 deg and the emulator's trace (SIM_LOG, --trace) shows the dish's own words for it:
+# the G2's `Angle[0] = AZ.00` / `Angle[1] = EL.00`, or the older consoles' `AZ = AZ.00 EL = EL.00`.
+arrive() {
+    local az=$1 el=$2 sim_log=$3 rotctld_log=$4 reading=
+    shift 4
+    local deadline=$((SECONDS + 60))
+    while ((SECONDS < deadline)); do
+        reading=$("$@" p 2>/dev/null | tr '\n' ' ') || true
+        if awk -v r="$reading" -v az="$az" -v el="$el" 'BEGIN {
+                split(r, v, " "); d = v[1] - az; if (d < 0) d = -d; e = v[2] - el; if (e < 0) e = -e
+                exit !(v[2] != "" && d < 0.1 && e < 0.1) }' &&
+            { { grep -q "Angle\[0\] = $az.00" "$sim_log" && grep -q "Angle\[1\] = $el.00" "$sim_log"; } ||
+                grep -q "AZ = $az.00 EL = $el.00" "$sim_log"; }; then
+            say "p: $reading(at P $az $el; the dish printed it)"
+            return 0
+        fi
+        sleep 0.2
+    done
+    echo "FAIL: the dish did not reach $az $el (last p: $reading); rotctld log:" >&2
+    tail -30 "$rotctld_log" >&2
+    return 1
+}
+
+# track_pass PORT SCALE STEP SECONDS CSV: tracks a pass (bench/passes/*.csv: t,az,el) through a
+# rotctld the way Gpredict does: one connection, and every STEP seconds of pass time a `p` then a
+# `P az el`, from where the pass rises above 20 deg (every dish's lowest elevation is below that)
+# for at most SECONDS of pass time. The pass clock runs SCALE times faster than the wall clock,
+# like the emulated dish. Every command must be answered; prints "COUNT AZ EL" of the last `P`.
+track_pass() {
+    local port=$1 scale=$2 step=$3 seconds=$4 csv=$5 t az el reply sent=0 last=
+    exec 3<>"/dev/tcp/127.0.0.1/$port"
+    while IFS=, read -r t az el; do
+        printf 'p\n' >&3
+        IFS= read -r -t 30 reply <&3 && IFS= read -r -t 30 reply <&3 ||
+            { echo "FAIL: no answer to p at pass t=$t" >&2; exec 3>&-; return 1; }
+        printf 'P %s %s\n' "$az" "$el" >&3
+        IFS= read -r -t 30 reply <&3 || reply="(no answer)"
+        [[ $reply == "RPRT 0" ]] || { echo "FAIL: P $az $el at pass t=$t: $reply" >&2; exec 3>&-; return 1; }
+        sent=$((sent + 1)) last="$az $el"
+        sleep "$(awk -v s="$scale" -v d="$step" 'BEGIN { print d / s }')"
+    done < <(awk -F, -v step="$step" -v n="$seconds" '/^[0-9]/ && $3 >= 20 {
+                if (t0 == "") t0 = $1
+                if ($1 - t0 > n) exit
+                if (($1 - t0) % step == 0) print $1 "," $2 "," $3 }' "$csv")
+    exec 3>&-
+    echo "$sent $last"
+}

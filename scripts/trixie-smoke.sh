@@ -56,8 +56,7 @@ cleanup() {
     [[ -n ${BIRDCAGE_TRIXIE_DIR:-} ]] || rm -rf "$store"
 }
 trap cleanup EXIT
-started=$SECONDS
-say() { printf '[%3ds] %s\n' $((SECONDS - started)) "$*"; }
+SECONDS=0
 
 # ---- trixie's packages, through a private apt configuration -----------------------------------
 mkdir -p "$store/lists/partial" "$store/cache/archives/partial" "$store/debs" "$store/root"
@@ -91,10 +90,10 @@ say "trixie: $(trixie "$rotctld" --version | head -1); $(trixie --version | head
 say "backend: $backend"
 
 # ---- the models register in trixie's Hamlib -----------------------------------------------------
-models=$(trixie --preload "$backend" "$rotctld" -l 2>"$work/list.err" | grep -c Winegard || true)
+models=$(winegard_models trixie --preload "$backend" "$rotctld")
 if [[ $models -ne 6 ]]; then
     echo "trixie-smoke: FAIL: trixie's rotctld lists $models Winegard models, expected 6" >&2
-    cat "$work/list.err" >&2
+    trixie --preload "$backend" "$rotctld" -l >&2 || true
     exit 1
 fi
 say "trixie's rotctld -l lists the 6 Winegard models"
@@ -120,32 +119,12 @@ rc() { trixie "$rotctl" -m 2 -r "127.0.0.1:$port" "$@"; }
 say "rotctld (trixie) on 127.0.0.1:$port, emulated G2 on $dev (time x$time_scale)"
 say "_: $(rc _ | tr '\n' ' ')"
 
-# Arrives when two readings in a row are within 0.1 deg of the target.
-arrive() {
-    local az=$1 el=$2 reading
-    local deadline=$((SECONDS + 60))
-    while ((SECONDS < deadline)); do
-        reading=$(rc p 2>/dev/null | tr '\n' ' ') || true
-        # The backend's reading, and the dish's own words on the wire (the emulator's trace).
-        if awk -v r="$reading" -v az="$az" -v el="$el" 'BEGIN {
-                split(r, v, " "); d = v[1] - az; if (d < 0) d = -d; e = v[2] - el; if (e < 0) e = -e
-                exit !(v[2] != "" && d < 0.1 && e < 0.1) }' &&
-            grep -q "Angle\[0\] = $az.00" "$work/sim.log" && grep -q "Angle\[1\] = $el.00" "$work/sim.log"; then
-            say "p: $reading(at P $az $el; the dish printed Angle[0] = $az.00, Angle[1] = $el.00)"
-            return 0
-        fi
-        sleep 0.2
-    done
-    echo "trixie-smoke: FAIL: the dish did not reach $az $el (last p: $reading); rotctld log:" >&2
-    tail -30 "$work/rotctld.log" >&2
-    return 1
-}
 for target in "200 40" "120 25"; do
     # shellcheck disable=SC2086
     rc P $target
     say "P $target: sent"
     # shellcheck disable=SC2086
-    arrive $target
+    arrive $target "$work/sim.log" "$work/rotctld.log" rc || exit 1
 done
 # The backend's load-time ABI check names both Hamlibs at open (-vvvv).
 note=$(grep -m1 -o "built for Hamlib.*" "$work/rotctld.log" || true)

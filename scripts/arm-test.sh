@@ -3,7 +3,7 @@
 # Copyright (C) 2026 the birdcage authors
 # The Raspberry Pi builds, tested on this amd64 machine under Debian's qemu-user-static (invoked
 # directly, no binfmt registration needed). Per architecture:
-#  1. the core and emulator unit tests (ctest -R '^(core|sim): '), cross-built with
+#  1. the core and emulator unit tests (ctest -R '^(core|sim):'), cross-built with
 #     cmake/debian-cross.cmake and run by ctest under qemu (CMAKE_CROSSCOMPILING_EMULATOR);
 #  2. Debian 12's own rotctld for that architecture (libhamlib-utils + libhamlib4 fetched with
 #     apt-get download and unpacked, not installed) run under qemu with the ARM backend preloaded,
@@ -85,11 +85,21 @@ dish_e2e() {
     read -r sent last_az last_el < <(track_pass "$port" "$time_scale" 5 1000 "$root/bench/passes/iss-45.csv") ||
         exit 1
     [[ $sent -gt 10 ]] || { echo "arm-test: FAIL: the pass sent $sent P commands" >&2; exit 1; }
-    # The dish ends where the pass leaves the dish's sky (whole degrees: the console prints .00).
-    last_az=$(printf '%.0f' "$last_az") last_el=$(printf '%.0f' "$last_el")
-    rc P "$last_az" "$last_el"
-    arrive "$last_az" "$last_el" "$work/$arch-$variant.sim.log" "$work/$arch-$variant.rotctld.log" rc || exit 1
-    say "$arch $variant: tracked iss-45 above 20 deg ($sent P commands), ended at $last_az $last_el"
+    # Tracking, the dish aims ahead of the satellite and leaves it alone within a deadband: it
+    # ends near the pass's last point (it started at 200 40, 120 deg away), not exactly on it.
+    local deadline=$((SECONDS + 60)) reading=
+    until awk -v r="$reading" -v az="$last_az" -v el="$last_el" 'BEGIN {
+            split(r, v, " "); d = v[1] - az; if (d < 0) d = -d; e = v[2] - el; if (e < 0) e = -e
+            exit !(v[2] != "" && d < 3 && e < 3) }'; do
+        ((SECONDS < deadline)) || { echo "arm-test: FAIL: after the pass the dish is at $reading, not near $last_az $last_el" >&2; exit 1; }
+        sleep 0.2
+        reading=$(rc p | tr '\n' ' ')
+    done
+    say "$arch $variant: p $reading after the pass (its last point: $last_az $last_el)"
+    # Manual pointing after the pass: exactly where it is sent.
+    rc P 150 35
+    arrive 150 35 "$work/$arch-$variant.sim.log" "$work/$arch-$variant.rotctld.log" rc || exit 1
+    say "$arch $variant: tracked iss-45 above 20 deg ($sent P commands), then P 150 35"
     # rotctld first, then the emulator, which reports at exit what the hazard rule caught.
     kill "${pids[1]}"; wait "${pids[1]}" 2>/dev/null || true
     kill "${pids[0]}"; wait "${pids[0]}" 2>/dev/null || true
@@ -109,15 +119,20 @@ for arch in "${arches[@]}"; do
     say "== $arch: cross build (cmake/debian-cross.cmake) in $build"
     cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/cmake/debian-cross.cmake" -DBIRDCAGE_DEB_ARCH="$arch" \
         -DBIRDCAGE_WERROR=ON -DBIRDCAGE_BUILD_TESTS=ON -DBIRDCAGE_BUILD_BENCH=OFF -DBIRDCAGE_MANPAGES=OFF >/dev/null
-    nice cmake --build "$build" -j2 --target test_core test_core_emulated test_sim hamlib-winegard >"$work/build.log" 2>&1 ||
+    nice cmake --build "$build" -j2 --target test_core test_core_emulated test_sim birdcage-sim hamlib-winegard >"$work/build.log" 2>&1 ||
         { tail -40 "$work/build.log" >&2; echo "arm-test: FAIL: $arch build" >&2; exit 1; }
+    # All of tests/core and tests/sim but the three orbit-model tests that fit orbits to whole
+    # passes: pure double arithmetic, 36 s of the core's 38 s natively and ~60x slower under qemu
+    # (6 s became 365 s); the native suite runs them. A test that grows as slow fails here by the
+    # timeout instead of stretching the stage.
     say "== $arch: unit tests under $qemu"
-    (cd "$build" && ctest --output-on-failure --timeout 600 -j "$(nproc)" -R '^(core|sim): ')
+    (cd "$build" && ctest --output-on-failure --timeout 120 -j "$(nproc)" -R '^(core|sim):' \
+        -E '^core:orbit model: (a Gpredict-like client|a client without look-ahead|the predictor follows the orbit)')
 
     say "== $arch: Debian 12's $arch rotctld under $qemu, the $arch backend preloaded"
     store=$work/$arch-root
     mkdir -p "$store/debs"
-    (cd "$store/debs" && apt-get -qq download "libhamlib-utils:$arch" "libhamlib4:$arch")
+    (cd "$store/debs" && apt-get -qq -o APT::Sandbox::User=root download "libhamlib-utils:$arch" "libhamlib4:$arch")
     for deb in "$store"/debs/*.deb; do dpkg-deb -x "$deb" "$store"; done
     # The rest of what rotctld loads is the multiarch root's (setup.sh --arch installed it).
     loader=("$qemu" -L / "$ld")

@@ -32,14 +32,7 @@ done
 
 # shellcheck source=scripts/lib.sh
 . "$root/scripts/lib.sh"
-SECONDS=0
 work=$(mktemp -d /tmp/birdcage-arm.XXXXXX)
-pids=()
-stop_servers() {
-    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-    wait 2>/dev/null || true
-    pids=()
-}
 trap 'stop_servers; rm -rf "$work"' EXIT
 
 setup_args=()

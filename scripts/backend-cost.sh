@@ -28,14 +28,7 @@ if [[ ${BIRDCAGE_COST_VALGRIND:-1} != 0 ]]; then BIRDCAGE_SETUP_EXTRA="valgrind 
 
 # shellcheck source=scripts/lib.sh
 . "$root/scripts/lib.sh"
-SECONDS=0
 work=$(mktemp -d /tmp/birdcage-cost.XXXXXX)
-pids=()
-stop_servers() {
-    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-    wait 2>/dev/null || true
-    pids=()
-}
 trap 'stop_servers; rm -rf "$work"' EXIT
 pass=$root/bench/passes/iss-45.csv
 # Where the pass rises above 20 deg: the dish starts there, so the open does not slew.

@@ -46,8 +46,17 @@ wait_for_listener() {
 #   LOADER --library-path LIBS --preload BACKEND ROTCTLD ...
 # where LOADER may itself be a command line (qemu-aarch64-static -L / /lib/ld-linux-aarch64.so.1).
 
-# say TEXT: a progress line with the seconds since the script started.
+# say TEXT: a progress line with the seconds since the script started (sourcing lib.sh).
+SECONDS=0
 say() { printf '[%3ds] %s\n' "$SECONDS" "$*"; }
+
+# The servers a script starts in the background (pids+=($!)); stop_servers ends them all.
+pids=()
+stop_servers() {
+    for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+    wait 2>/dev/null || true
+    pids=()
+}
 
 # winegard_models RUNNER...: how many Winegard models `RUNNER... -l` (a preloaded rotctld) lists.
 winegard_models() { "$@" -l 2>/dev/null | grep -c Winegard || true; }

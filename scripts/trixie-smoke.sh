@@ -56,7 +56,6 @@ cleanup() {
     [[ -n ${BIRDCAGE_TRIXIE_DIR:-} ]] || rm -rf "$store"
 }
 trap cleanup EXIT
-SECONDS=0
 
 # ---- trixie's packages, through a private apt configuration -----------------------------------
 mkdir -p "$store/lists/partial" "$store/cache/archives/partial" "$store/debs" "$store/root"

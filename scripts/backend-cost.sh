@@ -85,4 +85,6 @@ if [[ ${BIRDCAGE_COST_VALGRIND:-1} != 0 ]]; then
         wall = e - s
         printf "callgrind: %d P over %.1f s: %.0f instructions (amd64) = %.2f million per second of tracking\n",
             n, wall, ir, ir / wall / 1e6 }' "$dump"
+    echo "callgrind: where they went (inclusive, the top functions of the backend):"
+    callgrind_annotate --inclusive=yes "$dump" 2>/dev/null | grep -E "birdcage::" | head -12 | cut -c1-160
 fi

@@ -23,7 +23,7 @@
 //     that tells lost state from geometry.
 // --boot-moves runs each reading of the Trav'ler's unknown power-up calibration (sim/README.md,
 // `travler_boot_moves`; docs/firmware.md §3.2).
-// The default pass and window put the reboot where the emulated calibration (AZ 0, EL 45, an
+// The default pass and window put the reboot where the `park` calibration (AZ 0, EL 45, an
 // INVENTED boot move, sim/src/variants.cpp) is short: sso-85 rising through AZ 17-25 toward the
 // culmination, so the reboot's cost is the boot and the search, not a turn of the cable wrap.
 // Real speed is --scale 1 (the default): a run takes the window's length in real time.

@@ -678,6 +678,38 @@ TEST_CASE("controller G2: after a reboot, reinitialize() forgets what was comman
     CHECK(since(wire, before).size() == 1);  // the leg is sent again
 }
 
+// A boot that moves the dish (a Trav'ler's calibration, a G2 that homes) can leave it far off on one
+// axis only; the first move after the recovery starts with that axis whatever the alternation's
+// turn, so the pointing error falls soonest.
+TEST_CASE("controller G2: after a recovery the axis farther off on the sky moves first") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(controller.initialize());
+    REQUIRE(controller.set_target({190, 50}));
+    run_until_idle(controller, clock);   // azimuth went first: elevation's turn next
+    wire.push_input("Bootloader v1.01\r\nBoot Complete\r\nTRK>");
+    dish.menu = "TRK";
+    dish.az = dish.target_az = 0.0;      // where the boot left it
+    dish.el = dish.target_el = 45.0;
+    for (int i = 0; i < 5 && !controller.needs_reinit(); ++i) {
+        clock.now += 100ms;
+        (void)controller.query_position();   // an idle poll reads the boot output
+    }
+    REQUIRE(controller.needs_reinit());
+    REQUIRE(controller.reinitialize(1000ms));
+    std::size_t mark = wire.commands().size();
+    REQUIRE(controller.set_target({20, 43}));   // 14 deg off on the sky in azimuth, 2 in elevation
+    run_until_idle(controller, clock);
+    CHECK(since(wire, mark) == Commands{"a 0 20.00", "a", "a 1 43.00", "a"});
+    // Alternation resumes from there.
+    mark = wire.commands().size();
+    REQUIRE(controller.set_target({15, 48}));   // inside the G2's travel, which ends at AZ 23.33
+    run_until_idle(controller, clock);
+    CHECK(since(wire, mark) == Commands{"a 1 48.00", "a", "a 0 15.00", "a"});
+}
+
 TEST_CASE("controller G2: a position that jumps at rest and does not repeat is refused (line noise)") {
     FakeG2 dish;
     dish.az = 123.45;

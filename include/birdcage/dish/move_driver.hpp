@@ -66,6 +66,9 @@ public:
     // Takes over what `before` (the driver of the controller this one replaces, over a reopened
     // port) learnt of the motors: facts about the dish, which an unplugged adapter does not change.
     virtual void take_learning_from(const MoveDriver& before) { (void)before; }
+    // The dish was re-initialised after a reboot or an unplug: wherever its firmware left it, the
+    // next move should bring it back onto the target as fast as the motors allow.
+    virtual void recovered() {}
 };
 
 std::unique_ptr<MoveDriver> make_move_driver(const MoveContext& context);

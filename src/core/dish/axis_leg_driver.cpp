@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "birdcage/firmware/protocol.hpp"
 #include "move_drivers.hpp"
@@ -97,7 +98,16 @@ void AxisLegDriver::plan(AzEl wanted, AzEl command, const std::optional<AzEl>& p
     el_leg.axis = Axis::elevation;
     el_leg.target = command;
     // Alternate which axis goes first so neither starves the other (the upstream v2.0 clients do the same, docs/firmware.md §3.4, §3.6).
-    const bool az_first = move_count_ % 2 == 0;
+    bool az_first = move_count_ % 2 == 0;
+    if (std::exchange(farther_axis_first_, false) && mech_az && last) {
+        // After a recovery the dish may be far off on one axis only (a Trav'ler's calibration can
+        // leave it at AZ 0, 19 deg from the satellite and 2 deg below it): the axis farther off on
+        // the sky goes first, so the error falls soonest. The alternation's parity says nothing
+        // here; it resumes from this move.
+        const double az_off = std::fabs(command_mech - *mech_az) * std::cos(last->el * M_PI / 180.0);
+        az_first = az_off >= std::fabs(command.el - last->el);
+        move_count_ = az_first ? 0 : 1;
+    }
     ++move_count_;
     for (const Leg& leg : az_first ? std::array<Leg, 2>{az_leg, el_leg} : std::array<Leg, 2>{el_leg, az_leg}) {
         if (needed(leg.axis, leg.axis == Axis::azimuth ? leg.mech_az : leg.target.el)) {

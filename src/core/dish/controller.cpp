@@ -223,7 +223,11 @@ void Controller::carry_over(const Controller& before) {
 }
 
 Status Controller::reinitialize(std::chrono::milliseconds boot_budget) {
-    return initialize_within(std::min(boot_budget, options_.boot_timeout));
+    const Status st = initialize_within(std::min(boot_budget, options_.boot_timeout));
+    if (st) {
+        driver_->recovered();
+    }
+    return st;
 }
 
 Status Controller::initialize() { return initialize_within(options_.boot_timeout); }

@@ -30,6 +30,7 @@ public:
     bool sync_lost() const override { return false; }
     std::optional<double> learnt_step_seconds(Axis axis) const override;
     void take_learning_from(const MoveDriver& before) override;
+    void recovered() override { farther_axis_first_ = true; }
 
 private:
     static constexpr int max_waypoint_legs = 4;   // bounds the waypoint legs per target (3 span any window)
@@ -105,6 +106,7 @@ private:
     std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
     Clock::time_point last_poll_{};
     unsigned move_count_ = 0;
+    bool farther_axis_first_ = false;   // set by recovered(), for the next plan only
 };
 
 // The 2003 Carryout's combined `g <az> <el>` in its `target` menu: no position query, only live

@@ -2,12 +2,16 @@
 // Copyright (C) 2026 the birdcage authors
 
 // The hazard rule's table (docs/firmware.md §15 gives each row's reason in prose). Standalone on
-// purpose: the emulator links this file alone (sim/README.md), so it calls nothing else of the core.
+// purpose: the emulator links this library alone (sim/README.md), so it calls nothing of the core
+// beyond its own library (the word splitter, firmware/words.cpp).
 #include "birdcage/firmware/hazards.hpp"
+
+#include "birdcage/firmware/words.hpp"
 
 #include <array>
 #include <charconv>
 #include <cstddef>
+#include <vector>
 
 namespace birdcage {
 namespace {
@@ -131,34 +135,12 @@ constexpr std::array rules{
     Rule{"s", "ngsearch", hal205, A::bare, K::changes_state, S::stop_search, "stops the TV search (firmware.md 4.3)"},
 };
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
-
+// The command's words; a word beyond the last reads as empty, so a row can ask for any position.
 struct Words {
-    std::array<std::string_view, 8> items{};
-    std::size_t count = 0;  // all words, even beyond the eight kept
+    std::vector<std::string_view> items;
+    std::size_t count() const { return items.size(); }
     std::string_view operator[](std::size_t i) const { return i < items.size() ? items[i] : std::string_view{}; }
 };
-
-Words split(std::string_view text) {
-    Words words;
-    std::size_t i = 0;
-    while (i < text.size()) {
-        while (i < text.size() && is_space(text[i])) {
-            ++i;
-        }
-        const std::size_t start = i;
-        while (i < text.size() && !is_space(text[i])) {
-            ++i;
-        }
-        if (i > start) {
-            if (words.count < words.items.size()) {
-                words.items[words.count] = text.substr(start, i - start);
-            }
-            ++words.count;
-        }
-    }
-    return words;
-}
 
 // A console number: optional sign, digits, optional fraction.
 bool is_number(std::string_view text) {
@@ -187,7 +169,7 @@ bool is_index(std::string_view text) {
 
 // Whether the command has the one shape a request grants, and which request that is.
 HazardRequest granted_by(Shape shape, const Words& words) {
-    const std::size_t args = words.count - 1;
+    const std::size_t args = words.count() - 1;
     switch (shape) {
     case S::none: return request_nothing;
     case S::axis_move:
@@ -253,12 +235,12 @@ bool variant_matches(std::uint8_t variants, std::optional<VariantId> variant) {
 
 HazardRuling rule_on(std::optional<VariantId> variant, std::string_view menu, std::string_view command,
                      std::optional<HazardRequests> requests) {
-    const Words words = split(command);
-    if (words.count == 0) {
+    const Words words{split_words(command)};
+    if (words.count() == 0) {
         return {};
     }
     for (const Rule& rule : rules) {
-        if (rule.word != words[0] || !arguments_match(rule.arguments, words.count - 1) ||
+        if (rule.word != words[0] || !arguments_match(rule.arguments, words.count() - 1) ||
             !menu_matches(rule.menus, menu) || !variant_matches(rule.variants, variant)) {
             continue;
         }

@@ -3,6 +3,8 @@
 
 #include "birdcage/firmware/protocol.hpp"
 
+#include "birdcage/firmware/words.hpp"
+
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -16,24 +18,6 @@ namespace {
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 bool is_alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
-
-std::vector<std::string_view> split_words(std::string_view text) {
-    std::vector<std::string_view> words;
-    std::size_t i = 0;
-    while (i < text.size()) {
-        while (i < text.size() && is_space(text[i])) {
-            ++i;
-        }
-        const std::size_t start = i;
-        while (i < text.size() && !is_space(text[i])) {
-            ++i;
-        }
-        if (i > start) {
-            words.push_back(text.substr(start, i - start));
-        }
-    }
-    return words;
-}
 
 std::string join_lines(std::span<const std::string> lines) {
     std::string text;

@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// A console line as the firmware's shells read it: words separated by blanks (space, TAB, CR, LF).
+// Part of the hazard rule's library (birdcage_hazards), so that the rule and the reply parsers
+// split a line the same way and the emulator still links that library alone.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+namespace birdcage {
+
+std::vector<std::string_view> split_words(std::string_view text);
+
+}  // namespace birdcage

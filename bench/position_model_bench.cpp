@@ -12,7 +12,7 @@
 //   position_model_bench [--legs N]
 #include <birdcage_sim/motor.hpp>
 
-#include "birdcage/tracking/position_model.hpp"
+#include "tracking/position_model.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -22,11 +22,11 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/console/detect.hpp"
-#include "birdcage/console/synchroniser.hpp"
-#include "birdcage/firmware/menus.hpp"
-#include "birdcage/firmware/prompt.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "console/detect.hpp"
+#include "console/synchroniser.hpp"
+#include "firmware/menus.hpp"
+#include "firmware/prompt.hpp"
+#include "firmware/variants.hpp"
 #include "birdcage_version.hpp"
 #include "cli_args.hpp"
 #include "probe/console_io.hpp"

@@ -12,7 +12,7 @@
 #include <cmath>
 #include <utility>
 
-#include "birdcage/firmware/hazards.hpp"
+#include "firmware/hazards.hpp"
 
 namespace birdcage::sim {
 namespace {

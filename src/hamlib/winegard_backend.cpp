@@ -10,16 +10,16 @@
 #include "hamlib_compat.h"
 #include "winegard.h"
 
-#include "birdcage/base/clock.hpp"
-#include "birdcage/dish/controller.hpp"
-#include "birdcage/base/errors.hpp"
-#include "birdcage/base/log.hpp"
-#include "birdcage/base/option_range.hpp"
-#include "birdcage/dish/receiver.hpp"
-#include "birdcage/service/rotator_service.hpp"
-#include "birdcage/tracking/steering.hpp"
-#include "birdcage/console/transport.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "base/clock.hpp"
+#include "dish/controller.hpp"
+#include "base/errors.hpp"
+#include "base/log.hpp"
+#include "base/option_range.hpp"
+#include "dish/receiver.hpp"
+#include "service/rotator_service.hpp"
+#include "tracking/steering.hpp"
+#include "console/transport.hpp"
+#include "firmware/variants.hpp"
 
 #include <array>
 #include <cctype>

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Copyright (C) 2026 the birdcage authors
-"""The core's layers, held against its includes: each file of src/core/<layer>/ and
-include/birdcage/<layer>/ may include only headers of its own layer or of the layers it rests
-on (docs/architecture.md). Prints every include that runs back up and exits 1; exits 0 when none
+"""The core's layers, held against its includes: each file of src/core/<layer>/ may include only
+headers ("<layer>/X.hpp", src/core being the include root) of its own layer or of the layers it
+rests on (docs/architecture.md). Prints every include that runs back up and exits 1; exits 0 when none
 does. `--self-test` also checks that a planted upward include is caught.
 
     layers_check.py SOURCE_DIR [--self-test]
@@ -20,12 +20,12 @@ RESTS_ON = {
     'dish': {'base', 'firmware', 'console', 'tracking'},
     'service': {'base', 'firmware', 'console', 'tracking', 'dish'},
 }
-INCLUDE = re.compile(r'#\s*include\s+"birdcage/([a-z_]+)/[a-z_]+\.hpp"')
+INCLUDE = re.compile(r'#\s*include\s+"(' + '|'.join(RESTS_ON) + r')/[a-z_]+\.hpp"')
 
 
 def violations(root: pathlib.Path):
     found, files = [], 0
-    for top in (root / 'src/core', root / 'include/birdcage'):
+    for top in (root / 'src/core',):
         if not top.is_dir():
             found.append(f'{top}: missing')
             continue
@@ -60,10 +60,9 @@ def main():
     if '--self-test' in sys.argv:
         with tempfile.TemporaryDirectory() as tmp:
             copy = pathlib.Path(tmp)
-            for top in ('src/core', 'include/birdcage'):
-                shutil.copytree(root / top, copy / top)
+            shutil.copytree(root / 'src/core', copy / 'src/core')
             planted = copy / 'src/core/base/planted.cpp'
-            planted.write_text('#include "birdcage/service/rotator_service.hpp"\n')
+            planted.write_text('#include "service/rotator_service.hpp"\n')
             caught, _ = violations(copy)
             if not any('planted.cpp:1: base includes service' in line for line in caught):
                 print('layers self-test: a planted upward include was not caught')

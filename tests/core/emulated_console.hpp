@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/base/clock.hpp"
-#include "birdcage/console/transport.hpp"
+#include "base/clock.hpp"
+#include "console/transport.hpp"
 #include "birdcage_sim/console.hpp"
 
 namespace birdcage::test {

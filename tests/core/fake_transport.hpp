@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/console/transport.hpp"
+#include "console/transport.hpp"
 
 namespace birdcage::test {
 

@@ -5,7 +5,7 @@
 // learner concludes from moves (docs/firmware.md §14 G2.4, §2, §3.5).
 #include <catch2/catch.hpp>
 
-#include "birdcage/tracking/az_mapping.hpp"
+#include "tracking/az_mapping.hpp"
 
 using namespace birdcage;
 using azmap::Mapping;

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/dish/controller.hpp"
+#include "dish/controller.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/dish/controller.hpp"
-#include "birdcage/tracking/position_model.hpp"
+#include "dish/controller.hpp"
+#include "tracking/position_model.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

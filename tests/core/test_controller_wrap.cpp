@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/dish/controller.hpp"
-#include "birdcage/tracking/wrap.hpp"
+#include "dish/controller.hpp"
+#include "tracking/wrap.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

@@ -10,9 +10,9 @@
 #include <map>
 #include <random>
 
-#include "birdcage/console/detect.hpp"
-#include "birdcage/console/session.hpp"
-#include "birdcage/console/synchroniser.hpp"
+#include "console/detect.hpp"
+#include "console/session.hpp"
+#include "console/synchroniser.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

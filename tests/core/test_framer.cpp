@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/console/framer.hpp"
+#include "console/framer.hpp"
 
 using namespace birdcage;
 using Kind = FrameEvent::Kind;

@@ -9,9 +9,9 @@
 #include <optional>
 #include <string>
 
-#include "birdcage/firmware/hazards.hpp"
-#include "birdcage/firmware/menus.hpp"
-#include "birdcage/firmware/prompt.hpp"
+#include "firmware/hazards.hpp"
+#include "firmware/menus.hpp"
+#include "firmware/prompt.hpp"
 
 using namespace birdcage;
 

@@ -3,7 +3,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "birdcage/tracking/leapfrog.hpp"
+#include "tracking/leapfrog.hpp"
 
 using birdcage::apply_leapfrog;
 using birdcage::AzEl;

@@ -18,9 +18,9 @@
 #include <iterator>
 #include <vector>
 
-#include "birdcage/base/azel.hpp"
-#include "birdcage/tracking/orbit_model.hpp"
-#include "birdcage/tracking/pointing.hpp"
+#include "base/azel.hpp"
+#include "tracking/orbit_model.hpp"
+#include "tracking/pointing.hpp"
 #include "error_stats.hpp"
 
 using namespace birdcage;

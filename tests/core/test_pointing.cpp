@@ -15,8 +15,8 @@
 #include <optional>
 #include <vector>
 
-#include "birdcage/base/azel.hpp"
-#include "birdcage/tracking/pointing.hpp"
+#include "base/azel.hpp"
+#include "tracking/pointing.hpp"
 #include "error_stats.hpp"
 
 using namespace birdcage;

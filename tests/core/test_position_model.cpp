@@ -8,7 +8,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "birdcage/tracking/position_model.hpp"
+#include "tracking/position_model.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

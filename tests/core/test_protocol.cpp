@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/firmware/protocol.hpp"
+#include "firmware/protocol.hpp"
 
 using namespace birdcage;
 using Lines = std::vector<std::string>;

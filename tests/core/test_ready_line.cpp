@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/dish/controller.hpp"
+#include "dish/controller.hpp"
 #include "emulated_console.hpp"
 
 using namespace birdcage;

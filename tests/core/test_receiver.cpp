@@ -2,8 +2,8 @@
 // Copyright (C) 2026 the birdcage authors
 
 // receiver.hpp's pure parts: the LNB supply commands and values, the reading's time budget.
-#include "birdcage/dish/receiver.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "dish/receiver.hpp"
+#include "firmware/variants.hpp"
 
 #include <catch2/catch.hpp>
 

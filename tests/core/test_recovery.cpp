@@ -4,7 +4,7 @@
 // The recovery classifier (recovery.hpp): step outcomes in, verdicts out.
 #include <catch2/catch.hpp>
 
-#include "birdcage/service/recovery.hpp"
+#include "service/recovery.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

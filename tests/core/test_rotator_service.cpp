@@ -10,7 +10,7 @@
 #include <mutex>
 #include <thread>
 
-#include "birdcage/service/rotator_service.hpp"
+#include "service/rotator_service.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "birdcage/service/service_mailbox.hpp"
-#include "birdcage/service/service_worker.hpp"
+#include "service/service_mailbox.hpp"
+#include "service/service_worker.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

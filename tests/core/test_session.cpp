@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/console/session.hpp"
+#include "console/session.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

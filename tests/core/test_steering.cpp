@@ -11,8 +11,8 @@
 #include <optional>
 #include <vector>
 
-#include "birdcage/tracking/steering.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "tracking/steering.hpp"
+#include "firmware/variants.hpp"
 #include "error_stats.hpp"
 
 using namespace birdcage;

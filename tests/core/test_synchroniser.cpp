@@ -6,8 +6,8 @@
 // garbage, NULs, a wrong baud rate), and the failure messages.
 #include <catch2/catch.hpp>
 
-#include "birdcage/dish/controller.hpp"
-#include "birdcage/console/synchroniser.hpp"
+#include "dish/controller.hpp"
+#include "console/synchroniser.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;

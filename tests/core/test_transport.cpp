@@ -10,7 +10,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "birdcage/console/transport.hpp"
+#include "console/transport.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "birdcage/firmware/variants.hpp"
+#include "firmware/variants.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

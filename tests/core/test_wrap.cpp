@@ -7,9 +7,9 @@
 #include <cmath>
 #include <vector>
 
-#include "birdcage/base/azel.hpp"
-#include "birdcage/firmware/variants.hpp"
-#include "birdcage/tracking/wrap.hpp"
+#include "base/azel.hpp"
+#include "firmware/variants.hpp"
+#include "tracking/wrap.hpp"
 
 using namespace birdcage;
 using wrap::Reason;

@@ -15,9 +15,9 @@
 #include <thread>
 #include <vector>
 
-#include "birdcage/dish/controller.hpp"
-#include "birdcage/console/transport.hpp"
-#include "birdcage/tracking/wrap.hpp"
+#include "dish/controller.hpp"
+#include "console/transport.hpp"
+#include "tracking/wrap.hpp"
 #include "birdcage_sim/emulator.hpp"
 
 using namespace std::chrono_literals;

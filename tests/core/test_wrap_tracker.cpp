@@ -4,7 +4,7 @@
 // The wrap tracker on its own: no console, no clock (times are passed in).
 #include <catch2/catch.hpp>
 
-#include "birdcage/tracking/wrap_tracker.hpp"
+#include "tracking/wrap_tracker.hpp"
 
 #include <cmath>
 #include <vector>

@@ -4,8 +4,8 @@
 // libFuzzer target: the console framer, fed arbitrary bytes in arbitrary chunks, for every variant.
 // Properties: no crash; no event text contains a line terminator; every prompt looks like one;
 // every byte of input is accounted for by an event or the partial line (nothing grows unbounded).
-#include "birdcage/console/framer.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "console/framer.hpp"
+#include "firmware/variants.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -4,8 +4,8 @@
 // libFuzzer target: every reply parser on arbitrary lines, and the hazard guard on arbitrary
 // commands. Properties: no crash; a parsed position is finite; a refused command is refused with
 // a hazard/not_homed code and a message; format_degrees output parses back to within 0.005.
-#include "birdcage/firmware/protocol.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "firmware/protocol.hpp"
+#include "firmware/variants.hpp"
 
 #include <cmath>
 #include <cstdint>

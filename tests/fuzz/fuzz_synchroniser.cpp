@@ -7,10 +7,10 @@
 // Properties: the synchroniser returns within its budget (counted in the reads the fake serves);
 // a prompt it reports ends the console text it read (only line noise may follow it); detection never sends `q` while the
 // console's output ends at the G2 root prompt with G2 evidence in it.
-#include "birdcage/console/detect.hpp"
-#include "birdcage/console/synchroniser.hpp"
-#include "birdcage/firmware/prompt.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "console/detect.hpp"
+#include "console/synchroniser.hpp"
+#include "firmware/prompt.hpp"
+#include "firmware/variants.hpp"
 
 #include <algorithm>
 #include <array>
@@ -126,7 +126,7 @@ private:
 // after a poke starts a line of its own, wherever the output before it stopped.
 bool ends_text_at(std::string_view output, std::size_t at, std::string_view prompt) {
     // The prompt as the console printed it, its decoration marks after '>' (`TRK>$`) included: the
-    // prompt rule's own reading (birdcage/firmware/prompt.hpp).
+    // prompt rule's own reading (src/core/firmware/prompt.hpp).
     std::string_view rest = output.substr(at + std::max(prompt.size(), birdcage::leading_prompt_length(output.substr(at))));
     std::size_t text = 0;
     std::size_t noise = 0;

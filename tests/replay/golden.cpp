@@ -8,8 +8,8 @@
 #include <set>
 #include <sstream>
 
-#include "birdcage/tracking/az_mapping.hpp"
-#include "birdcage/firmware/protocol.hpp"
+#include "tracking/az_mapping.hpp"
+#include "firmware/protocol.hpp"
 #include "birdcage_sim/transcript.hpp"
 
 namespace birdcage::golden {

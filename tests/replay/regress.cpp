@@ -23,11 +23,11 @@
 #include <thread>
 #include <vector>
 
-#include "birdcage/dish/controller.hpp"
-#include "birdcage/firmware/protocol.hpp"
-#include "birdcage/console/session.hpp"
-#include "birdcage/console/transport.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "dish/controller.hpp"
+#include "firmware/protocol.hpp"
+#include "console/session.hpp"
+#include "console/transport.hpp"
+#include "firmware/variants.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "golden.hpp"

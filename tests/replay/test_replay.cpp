@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "birdcage/dish/controller.hpp"
-#include "birdcage/console/transport.hpp"
+#include "dish/controller.hpp"
+#include "console/transport.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "golden.hpp"

@@ -20,7 +20,7 @@
 #include <unistd.h>
 #include <vector>
 
-#include "birdcage/console/port_lock.hpp"
+#include "console/port_lock.hpp"
 #include "birdcage_sim/dialect.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "birdcage/firmware/hazards.hpp"
-#include "birdcage/firmware/menus.hpp"
-#include "birdcage/firmware/prompt.hpp"
+#include "firmware/hazards.hpp"
+#include "firmware/menus.hpp"
+#include "firmware/prompt.hpp"
 
 namespace probe {
 namespace {

@@ -14,10 +14,10 @@
 #include <utility>
 #include <vector>
 
-#include "birdcage/console/port_lock.hpp"
-#include "birdcage/console/transport.hpp"
-#include "birdcage/firmware/hazards.hpp"
-#include "birdcage/firmware/variants.hpp"
+#include "console/port_lock.hpp"
+#include "console/transport.hpp"
+#include "firmware/hazards.hpp"
+#include "firmware/variants.hpp"
 
 namespace probe {
 
@@ -36,7 +36,7 @@ std::unique_ptr<birdcage::Transport> open_port(const std::string& path, int baud
 std::optional<birdcage::PortLock> take_port(const std::string& path);
 
 // The unterminated text after the last line ending, when it has a prompt's shape (a decoration,
-// a word, `>`; birdcage/firmware/menus.hpp), without trailing blanks.
+// a word, `>`; src/core/firmware/menus.hpp), without trailing blanks.
 std::optional<std::string> trailing_prompt(std::string_view text);
 
 struct Reply {

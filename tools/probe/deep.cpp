@@ -9,8 +9,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "birdcage/firmware/hazards.hpp"
-#include "birdcage/firmware/menus.hpp"
+#include "firmware/hazards.hpp"
+#include "firmware/menus.hpp"
 #include "probe/json.hpp"
 
 namespace probe {

@@ -7,7 +7,7 @@
 #include <array>
 #include <cctype>
 
-#include "birdcage/console/detect.hpp"
+#include "console/detect.hpp"
 
 namespace probe {
 namespace {

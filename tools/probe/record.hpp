@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "birdcage/firmware/variants.hpp"
+#include "firmware/variants.hpp"
 
 namespace probe {
 

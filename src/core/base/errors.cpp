@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/base/errors.hpp"
+#include "base/errors.hpp"
 
 namespace birdcage {
 

@@ -11,7 +11,7 @@
 // boot line), gets one `q` to see whether it leads to the Pro's IDU console. It is no new risk: the
 // HAL 0.0.00 initialisation itself starts with the clients' `q` at the root (docs/firmware.md 2, 3.6).
 // Before any `q` the console must have stayed quiet: output arriving then voids what was recognised.
-#include "birdcage/console/detect.hpp"
+#include "console/detect.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -20,8 +20,8 @@
 #include <set>
 #include <utility>
 
-#include "birdcage/console/session.hpp"
-#include "birdcage/console/synchroniser.hpp"
+#include "console/session.hpp"
+#include "console/synchroniser.hpp"
 
 namespace birdcage {
 namespace {

@@ -10,7 +10,7 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include "birdcage/console/transport.hpp"
+#include "console/transport.hpp"
 
 namespace birdcage {
 namespace {

@@ -12,7 +12,7 @@
 //     `MOT>`, `A3981>`, `>`), known by its shape rather than its exact bytes: a short decoration
 //     may stand before it (a product tag such as `WG `, `[G2]`, `dish:`, ending in neither a
 //     letter nor a digit) and up to two of `$#:%>~` after it, then at most one space
-//     (prompt_shape(), include/birdcage/firmware/prompt.hpp: the one rule, which birdcage-probe
+//     (prompt_shape(), src/core/firmware/prompt.hpp: the one rule, which birdcage-probe
 //     uses too). The documented text is what the framer reports: a console that tags its
 //     prompts is in the same menus. The firmware prints it last and then waits, so it is recognised only
 //     (a) as the whole unterminated line at the end of a chunk, when nothing followed it yet, or
@@ -25,7 +25,7 @@
 //     (`TRK>nvs`), is the echo. A console that does not echo simply never produces that line.
 //  5. Lines containing a profile boot marker are boot lines; `MOTOR STALLED` and
 //     `Motor Home Failure` lines are fault lines. Both can arrive at any time, unsolicited.
-#include "birdcage/console/framer.hpp"
+#include "console/framer.hpp"
 
 #include <array>
 #include <optional>

@@ -3,7 +3,7 @@
 
 #include <libserialport.h>
 
-#include "birdcage/console/transport.hpp"
+#include "console/transport.hpp"
 
 namespace birdcage {
 namespace {

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/console/session.hpp"
+#include "console/session.hpp"
 
 #include <algorithm>
 #include <array>
 
-#include "birdcage/firmware/protocol.hpp"
+#include "firmware/protocol.hpp"
 
 namespace birdcage {
 namespace {

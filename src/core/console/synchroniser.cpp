@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/console/synchroniser.hpp"
+#include "console/synchroniser.hpp"
 
 #include <algorithm>
 #include <array>
 
-#include "birdcage/console/framer.hpp"
+#include "console/framer.hpp"
 
 namespace birdcage {
 namespace {

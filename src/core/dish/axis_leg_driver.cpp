@@ -6,8 +6,8 @@
 #include <cmath>
 #include <utility>
 
-#include "birdcage/firmware/protocol.hpp"
-#include "move_drivers.hpp"
+#include "firmware/protocol.hpp"
+#include "dish/move_drivers.hpp"
 
 namespace birdcage {
 namespace {

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/dish/controller.hpp"
+#include "dish/controller.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "birdcage/tracking/leapfrog.hpp"
-#include "birdcage/firmware/protocol.hpp"
-#include "birdcage/console/synchroniser.hpp"
+#include "tracking/leapfrog.hpp"
+#include "firmware/protocol.hpp"
+#include "console/synchroniser.hpp"
 
 namespace birdcage {
 namespace {

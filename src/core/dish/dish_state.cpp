@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/dish/dish_state.hpp"
+#include "dish/dish_state.hpp"
 
-#include "birdcage/firmware/protocol.hpp"
+#include "firmware/protocol.hpp"
 
 namespace birdcage {
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/dish/menu_navigator.hpp"
+#include "dish/menu_navigator.hpp"
 
 #include <array>
 #include <string>
 
-#include "birdcage/console/synchroniser.hpp"
+#include "console/synchroniser.hpp"
 
 namespace birdcage {
 namespace {

@@ -9,8 +9,8 @@
 #include <optional>
 #include <string>
 
-#include "birdcage/dish/move_driver.hpp"
-#include "birdcage/tracking/position_model.hpp"
+#include "dish/move_driver.hpp"
+#include "tracking/position_model.hpp"
 
 namespace birdcage {
 

@@ -4,9 +4,9 @@
 // The hazard rule's table (docs/firmware.md §15 gives each row's reason in prose). Standalone on
 // purpose: the emulator links this library alone (sim/README.md), so it calls nothing of the core
 // beyond its own library (the word splitter, firmware/words.cpp).
-#include "birdcage/firmware/hazards.hpp"
+#include "firmware/hazards.hpp"
 
-#include "birdcage/firmware/words.hpp"
+#include "firmware/words.hpp"
 
 #include <array>
 #include <charconv>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/firmware/protocol.hpp"
+#include "firmware/protocol.hpp"
 
-#include "birdcage/firmware/words.hpp"
+#include "firmware/words.hpp"
 
 #include <array>
 #include <cctype>

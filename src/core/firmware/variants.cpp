@@ -3,7 +3,7 @@
 
 // The variant table. Each fact cites a section (n.n) of the compiled docs/firmware.md; what each row
 // means for a user is in docs/variants.md, the emulator's independent reading in sim/README.md.
-#include "birdcage/firmware/variants.hpp"
+#include "firmware/variants.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/service/rotator_service.hpp"
+#include "service/rotator_service.hpp"
 
-#include "birdcage/tracking/position_model.hpp"
+#include "tracking/position_model.hpp"
 
 #include <chrono>
 #include <cmath>

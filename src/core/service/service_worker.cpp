@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/service/service_worker.hpp"
+#include "service/service_worker.hpp"
 
-#include "birdcage/console/detect.hpp"
-#include "birdcage/dish/receiver.hpp"
-#include "birdcage/service/recovery.hpp"
+#include "console/detect.hpp"
+#include "dish/receiver.hpp"
+#include "service/recovery.hpp"
 
 #include <algorithm>
 #include <utility>

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/tracking/az_mapping.hpp"
+#include "tracking/az_mapping.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "birdcage/base/azel.hpp"
-#include "birdcage/firmware/protocol.hpp"
+#include "base/azel.hpp"
+#include "firmware/protocol.hpp"
 
 namespace birdcage::azmap {
 namespace {

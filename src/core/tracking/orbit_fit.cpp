@@ -3,7 +3,7 @@
 
 // The orbit model's fit: the two-point circular solution, Levenberg–Marquardt on every target held,
 // and the client's lead questioned against the targets (orbit_model.hpp describes the model).
-#include "orbit_fit.hpp"
+#include "tracking/orbit_fit.hpp"
 
 #include <algorithm>
 #include <cmath>

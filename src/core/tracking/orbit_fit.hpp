@@ -12,8 +12,8 @@
 #include <cmath>
 #include <optional>
 
-#include "birdcage/base/azel.hpp"
-#include "birdcage/tracking/orbit_model.hpp"
+#include "base/azel.hpp"
+#include "tracking/orbit_model.hpp"
 
 namespace birdcage::orbit_fit {
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/tracking/orbit_model.hpp"
+#include "tracking/orbit_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "orbit_fit.hpp"
+#include "tracking/orbit_fit.hpp"
 
 namespace birdcage {
 using namespace orbit_fit;

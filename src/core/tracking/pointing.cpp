@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/tracking/pointing.hpp"
-#include "birdcage/base/least_squares.hpp"
+#include "tracking/pointing.hpp"
+#include "base/least_squares.hpp"
 
 #include <algorithm>
 #include <array>

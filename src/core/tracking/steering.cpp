@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/tracking/steering.hpp"
-#include "birdcage/tracking/wrap.hpp"
+#include "tracking/steering.hpp"
+#include "tracking/wrap.hpp"
 
 #include <algorithm>
 #include <chrono>

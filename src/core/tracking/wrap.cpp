@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/tracking/wrap.hpp"
+#include "tracking/wrap.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "birdcage/base/azel.hpp"
+#include "base/azel.hpp"
 
 namespace birdcage::wrap {
 namespace {

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include "birdcage/tracking/wrap_tracker.hpp"
+#include "tracking/wrap_tracker.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "birdcage/base/least_squares.hpp"
-#include "birdcage/firmware/protocol.hpp"
+#include "base/least_squares.hpp"
+#include "firmware/protocol.hpp"
 
 namespace birdcage {
 namespace {

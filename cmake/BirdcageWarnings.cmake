@@ -13,3 +13,11 @@ function(birdcage_warnings target)
         target_compile_options(${target} PRIVATE -Werror)
     endif()
 endfunction()
+
+# The libraries Hamlib's own tree builds (the core, the hazard rule, the rotctld client) stay within
+# C++17, the newest standard Hamlib's build passes for this backend: a newer library feature fails
+# to compile, a newer language feature GCC would accept as an extension warns (-Wpedantic).
+function(birdcage_cxx17 target)
+    set_target_properties(${target} PROPERTIES CXX_STANDARD 17 CXX_STANDARD_REQUIRED ON CXX_EXTENSIONS OFF)
+    target_compile_options(${target} PRIVATE -Wpedantic)
+endfunction()

@@ -62,13 +62,13 @@ TEST_CASE("session: without a known prompt the reply ends when complete and quie
     FakeTravler dish;
     FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
     ConsoleSession session(wire, profile(VariantId::travler_hal205), {});
-    const auto reply = session.transact("a", 1000ms, [](std::span<const std::string> lines) { return lines.size() >= 2; });
+    const auto reply = session.transact("a", 1000ms, [](Span<const std::string> lines) { return lines.size() >= 2; });
     REQUIRE(reply);
     CHECK(reply.value.lines.size() == 3);
     CHECK(reply.value.prompt.empty());
 
     SECTION("an incomplete reply times out") {
-        const auto partial = session.transact("a", 300ms, [](std::span<const std::string> lines) { return lines.size() >= 9; });
+        const auto partial = session.transact("a", 300ms, [](Span<const std::string> lines) { return lines.size() >= 9; });
         CHECK(partial.status.code == Errc::timeout);
     }
 }

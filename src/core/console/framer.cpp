@@ -37,7 +37,7 @@ bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || 
 
 constexpr std::array<std::string_view, 2> fault_markers{"MOTOR STALLED", "Motor Home Failure"};
 
-bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
+bool contains_any(std::string_view line, Span<const std::string_view> markers) {
     for (auto marker : markers) {
         if (line.find(marker) != std::string_view::npos) {
             return true;
@@ -101,11 +101,11 @@ void ConsoleFramer::end_prompt_at_noise(std::vector<FrameEvent>& events) {
     }
     std::string_view after = std::string_view(partial_).substr(length);
     // Our command's echo after the prompt (`TRK>nvs`) may still be arriving.
-    if (echo_pending_ && std::string_view(expected_echo_).starts_with(after)) {
+    if (echo_pending_ && std::string_view(expected_echo_).substr(0, after.size()) == after) {
         return;
     }
     std::string prompt = prompt_text(std::string_view(partial_).substr(0, length));
-    if (after.starts_with(' ')) {
+    if (!after.empty() && after.front() == ' ') {
         after.remove_prefix(1);
     }
     flush_noise(events);

@@ -27,7 +27,7 @@ struct FrameEvent {
     Kind kind;
     std::string text;
 
-    bool operator==(const FrameEvent&) const = default;
+    bool operator==(const FrameEvent& other) const { return kind == other.kind && text == other.text; }
 };
 
 class ConsoleFramer {

@@ -7,11 +7,11 @@
 
 #include <chrono>
 #include <functional>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "base/span.hpp"
 #include "console/console_events.hpp"
 #include "base/errors.hpp"
 #include "console/framer.hpp"
@@ -30,7 +30,7 @@ struct Reply {
 
 // For variants whose prompt is unknown: the reply is complete once this returns true for the
 // lines so far (and the line has then been idle for the profile's quiet gap).
-using ReplyComplete = std::function<bool(std::span<const std::string>)>;
+using ReplyComplete = std::function<bool(Span<const std::string>)>;
 
 class ConsoleSession {
 public:

@@ -41,7 +41,7 @@ std::size_t prompt_before_noise(std::string_view line) {
     return noise > 0 && !is_text_line(text, noise) ? length : 0;
 }
 
-bool contains_any(std::string_view line, std::span<const std::string_view> markers) {
+bool contains_any(std::string_view line, Span<const std::string_view> markers) {
     return std::any_of(markers.begin(), markers.end(),
                        [&](std::string_view marker) { return line.find(marker) != std::string_view::npos; });
 }
@@ -487,7 +487,7 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
             }
             std::vector<std::string> lines(snapshot.heard.begin() + static_cast<std::ptrdiff_t>(first_new),
                                            snapshot.heard.end());
-            std::erase(lines, std::string(settings_.probe_command));   // the echo
+            lines.erase(std::remove(lines.begin(), lines.end(), std::string(settings_.probe_command)), lines.end());   // the echo
             const bool clean = !lines.empty() &&
                                std::none_of(lines.begin(), lines.end(), [&](const std::string& l) {
                                    return contains_any(l, settings_.boot_markers) ||

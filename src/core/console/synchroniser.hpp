@@ -17,7 +17,6 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +24,7 @@
 #include "base/clock.hpp"
 #include "base/errors.hpp"
 #include "base/log.hpp"
+#include "base/span.hpp"
 #include "console/transport.hpp"
 #include "firmware/variants.hpp"
 
@@ -37,12 +37,12 @@ struct SyncSettings {
     // its input, and a real boot has silences of several seconds). Two pokes answered at the same
     // prompt end the boot whatever its last line was: firmware may print lines we do not know after
     // its completion marker.
-    std::span<const std::string_view> boot_markers;
-    std::span<const std::string_view> boot_complete_markers;
+    Span<const std::string_view> boot_markers;
+    Span<const std::string_view> boot_complete_markers;
     // The firmware's documented last boot line (FirmwareProfile::ready_markers): heard as the latest
     // output, it ends the synchronisation at once, no poke sent. The console is then at its root,
     // just booted, and takes input (docs/firmware.md 3.6).
-    std::span<const std::string_view> ready_markers;
+    Span<const std::string_view> ready_markers;
     // Sent after a line ending drew no prompt, to tell a live prompt-less console from a silent
     // one; empty: never. Must be harmless in every menu of every variant (`?`).
     std::string_view probe_command;

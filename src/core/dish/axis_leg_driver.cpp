@@ -199,7 +199,7 @@ Status AxisLegDriver::send(Leg& leg) {
     const auto timeout = c_.profile.prompt_known() ? reply_budget + prompt_after_move_margin : unknown_prompt_send_timeout;
     ReplyComplete complete;
     if (c_.profile.move_ack == MoveAckFormat::g2_angle) {
-        complete = [](std::span<const std::string> lines) { return static_cast<bool>(parse_g2_move_ack(lines)); };
+        complete = [](Span<const std::string> lines) { return static_cast<bool>(parse_g2_move_ack(lines)); };
     }
     const auto reply = c_.session.transact(command, timeout, complete);
     if (!reply && reply.status.code != Errc::timeout) {
@@ -443,7 +443,8 @@ void AxisLegDriver::observe_azimuth_leg(Leg& leg, bool at_rest) {
 // with): the legs queued under that plan are dropped and the current target is put on a branch of
 // what is now known, from where the dish is.
 void AxisLegDriver::replan_after_surprise() {
-    std::erase_if(pending_, [](const Leg& leg) { return leg.axis == Axis::azimuth; });
+    pending_.erase(std::remove_if(pending_.begin(), pending_.end(), [](const Leg& leg) { return leg.axis == Axis::azimuth; }),
+                   pending_.end());
     const auto mech_az = c_.wrap.mechanical();
     const auto& target = c_.state.target;
     if (!target || !mech_az) {

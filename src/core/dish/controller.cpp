@@ -251,7 +251,7 @@ Status Controller::open_motor_menu() {
     if (booted.value) {
         // At its root after the boot: the steps that only leave submenus (`q`, a bare line) would
         // delay the stop, so the stop's own command is the first thing the dish hears.
-        std::span<const ConsoleStep> search_kill = profile_.search_kill;
+        Span<const ConsoleStep> search_kill = profile_.search_kill;
         while (!search_kill.empty() && (search_kill.front().command == "q" || search_kill.front().command.empty())) {
             search_kill = search_kill.subspan(1);
         }

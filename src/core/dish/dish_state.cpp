@@ -25,7 +25,7 @@ void PositionReader::record_reading(AzEl& reading) {
 }
 
 Result<AzEl> PositionReader::ask(std::chrono::milliseconds timeout) {
-    const auto complete = [this](std::span<const std::string> lines) {
+    const auto complete = [this](Span<const std::string> lines) {
         return parse_position(profile_, lines).status.code != Errc::protocol;
     };
     const std::string command(profile_.position_query);
@@ -62,7 +62,7 @@ Result<AzEl> PositionReader::ask(std::chrono::milliseconds timeout) {
     return position;
 }
 
-Result<AzEl> PositionReader::note_live_output(std::span<const std::string> lines) {
+Result<AzEl> PositionReader::note_live_output(Span<const std::string> lines) {
     // Every live line is an event, not only the newest: how many lines one read brings is timing.
     for (std::size_t i = 0; i < lines.size(); ++i) {
         if (auto sample = parse_carryout_live(lines.subspan(i, 1))) {

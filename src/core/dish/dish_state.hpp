@@ -9,12 +9,12 @@
 #include <chrono>
 #include <functional>
 #include <optional>
-#include <span>
 #include <string>
 
 #include "base/azel.hpp"
 #include "base/clock.hpp"
 #include "base/errors.hpp"
+#include "base/span.hpp"
 #include "console/session.hpp"
 #include "firmware/variants.hpp"
 #include "tracking/wrap_tracker.hpp"
@@ -43,7 +43,7 @@ public:
     // reply is kept in DishState::fault and returned as Errc::protocol with the position.
     Result<AzEl> ask(std::chrono::milliseconds timeout);
     // The newest live position line among `lines` (2003 Carryout `g`, docs/firmware.md 8.4), recorded.
-    Result<AzEl> note_live_output(std::span<const std::string> lines);
+    Result<AzEl> note_live_output(Span<const std::string> lines);
 
 private:
     void record_reading(AzEl& reading);

@@ -25,7 +25,7 @@ constexpr int max_menu_levels = 4;
 MenuNavigator::MenuNavigator(ConsoleSession& session, const FirmwareProfile& profile, LogSink log)
     : session_(session), profile_(profile), log_(std::move(log)) {}
 
-Status MenuNavigator::run_steps(std::span<const ConsoleStep> steps, std::string_view purpose) {
+Status MenuNavigator::run_steps(Span<const ConsoleStep> steps, std::string_view purpose) {
     for (const auto& step : steps) {
         const auto reply = session_.transact(step.command, menu_step_timeout);
         if (!reply) {

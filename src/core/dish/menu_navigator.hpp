@@ -10,11 +10,11 @@
 #include <chrono>
 #include <functional>
 #include <optional>
-#include <span>
 #include <string_view>
 
 #include "base/errors.hpp"
 #include "base/log.hpp"
+#include "base/span.hpp"
 #include "firmware/protocol.hpp"
 #include "console/session.hpp"
 #include "firmware/variants.hpp"
@@ -26,7 +26,7 @@ public:
     MenuNavigator(ConsoleSession& session, const FirmwareProfile& profile, LogSink log);
 
     // Each step's command, then its settle time listening (pacing some firmware needs).
-    Status run_steps(std::span<const ConsoleStep> steps, std::string_view purpose);
+    Status run_steps(Span<const ConsoleStep> steps, std::string_view purpose);
     Status leave_submenus();
     Status enter_motor_menu(std::string_view purpose) { return run_steps(profile_.motor_menu_entry, purpose); }
     // Root, `menu`, `work` there, then back into the motor menu whatever `work` returned.

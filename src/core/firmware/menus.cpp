@@ -46,7 +46,7 @@ bool same_word(std::string_view a, std::string_view b) {
 
 }  // namespace
 
-std::span<const MenuFact> documented_menus() { return menus; }
+Span<const MenuFact> documented_menus() { return menus; }
 
 const MenuFact* menu_entered_by(std::string_view word) {
     for (const MenuFact& menu : menus) {

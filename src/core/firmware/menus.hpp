@@ -7,9 +7,10 @@
 // this table and enters no word that is not in it.
 #pragma once
 
-#include <span>
 #include <string>
 #include <string_view>
+
+#include "base/span.hpp"
 
 namespace birdcage {
 
@@ -23,7 +24,7 @@ struct MenuFact {
 };
 
 // Every menu the firmware facts name, on any variant.
-std::span<const MenuFact> documented_menus();
+Span<const MenuFact> documented_menus();
 // The menu entered with `word` (case-insensitive), or nullptr.
 const MenuFact* menu_entered_by(std::string_view word);
 // The menu whose prompt shows `prompt_word` (case-insensitive), or nullptr.

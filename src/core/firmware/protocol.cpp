@@ -19,7 +19,7 @@ bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 bool is_alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
 
-std::string join_lines(std::span<const std::string> lines) {
+std::string join_lines(Span<const std::string> lines) {
     std::string text;
     for (const auto& line : lines) {
         text += line;
@@ -122,7 +122,7 @@ std::optional<int> integer_after(std::string_view text, std::string_view key) {
 constexpr double unhomed_threshold = 1.0e6;
 constexpr std::string_view int_max_text = "2147483647";
 
-Status parse_error(std::string what, std::span<const std::string> lines) {
+Status parse_error(std::string what, Span<const std::string> lines) {
     std::string shown;
     for (const auto& line : lines) {
         if (!shown.empty()) {
@@ -162,7 +162,7 @@ std::string build_nvs_dump(int index) { return "d " + std::to_string(index); }
 
 std::string build_rssi(int samples) { return "rssi " + std::to_string(samples); }
 
-Result<AzEl> parse_travler_position(std::span<const std::string> lines) {
+Result<AzEl> parse_travler_position(Span<const std::string> lines) {
     const std::string text = join_lines(lines);
     const auto az = field_value(text, "AZ");
     const auto el = field_value(text, "EL");
@@ -172,7 +172,7 @@ Result<AzEl> parse_travler_position(std::span<const std::string> lines) {
     return {{*az, *el}, Status::ok()};
 }
 
-Result<AzEl> parse_g2_position(std::span<const std::string> lines) {
+Result<AzEl> parse_g2_position(Span<const std::string> lines) {
     const std::string text = join_lines(lines);
     const auto az = field_value(text, "Angle[0]");
     const auto el = field_value(text, "Angle[1]");
@@ -188,7 +188,7 @@ Result<AzEl> parse_g2_position(std::span<const std::string> lines) {
     return {{*az, *el}, Status::ok()};
 }
 
-Result<double> parse_g2_move_ack(std::span<const std::string> lines) {
+Result<double> parse_g2_move_ack(Span<const std::string> lines) {
     const std::string text = join_lines(lines);
     if (text.find(int_max_text) != std::string::npos) {
         return {0.0, Status{Errc::not_homed, "the dish reports an uncalibrated axis (INT_MAX)"}};
@@ -200,7 +200,7 @@ Result<double> parse_g2_move_ack(std::span<const std::string> lines) {
     return {*value, Status::ok()};
 }
 
-Result<AzEl> parse_carryout_live(std::span<const std::string> lines) {
+Result<AzEl> parse_carryout_live(Span<const std::string> lines) {
     for (auto line = lines.rbegin(); line != lines.rend(); ++line) {
         const auto words = split_words(*line);
         for (std::size_t k = 1; k < words.size(); ++k) {
@@ -224,7 +224,7 @@ Result<AzEl> parse_carryout_live(std::span<const std::string> lines) {
     return {{}, parse_error("no live \"<az>   el = <el>\" sample", lines)};
 }
 
-Result<AzEl> parse_position(const FirmwareProfile& profile, std::span<const std::string> lines) {
+Result<AzEl> parse_position(const FirmwareProfile& profile, Span<const std::string> lines) {
     switch (profile.position_format) {
     case PositionFormat::travler_az_el_sk: return parse_travler_position(lines);
     case PositionFormat::g2_angle_index: return parse_g2_position(lines);
@@ -264,7 +264,7 @@ std::optional<NvsEntry> parse_g2_nvs_line(std::string_view line) {
     return entry;
 }
 
-Result<RssiReading> parse_g2_rssi(std::span<const std::string> lines) {
+Result<RssiReading> parse_g2_rssi(Span<const std::string> lines) {
     const std::string text = join_lines(lines);
     const auto reads = integer_after(text, "Reads:");
     const auto average = integer_after(text, "avg:");
@@ -275,7 +275,7 @@ Result<RssiReading> parse_g2_rssi(std::span<const std::string> lines) {
     return {{*reads, *average, *current}, Status::ok()};
 }
 
-Result<LnbSupply> parse_g2_lnb_polarity(std::span<const std::string> lines) {
+Result<LnbSupply> parse_g2_lnb_polarity(Span<const std::string> lines) {
     for (const std::string& line : lines) {
         const std::size_t row = line.find("LNB Polarity");
         if (row == std::string::npos) {

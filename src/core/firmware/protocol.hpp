@@ -5,13 +5,13 @@
 #pragma once
 
 #include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 
 #include "base/azel.hpp"
 #include "base/errors.hpp"
 #include "base/plain_types.hpp"
+#include "base/span.hpp"
 #include "firmware/hazards.hpp"
 #include "firmware/variants.hpp"
 
@@ -34,20 +34,20 @@ std::string build_rssi(int samples);                      // "rssi 10" (G2 DVB>)
 // contain every required field is an error: garbage never produces a position.
 
 // Trav'ler: `AZ = <f>` and `EL = <f>` (SK optional), optional sign, any whitespace or line layout.
-Result<AzEl> parse_travler_position(std::span<const std::string> lines);
+Result<AzEl> parse_travler_position(Span<const std::string> lines);
 
 // G2: `Angle[0] = <f>` and `Angle[1] = <f>`. The INT_MAX sentinel of unhomed axes -> Errc::not_homed.
-Result<AzEl> parse_g2_position(std::span<const std::string> lines);
+Result<AzEl> parse_g2_position(Span<const std::string> lines);
 
 // G2 move acknowledgement `Angle = <f>`.
-Result<double> parse_g2_move_ack(std::span<const std::string> lines);
+Result<double> parse_g2_move_ack(Span<const std::string> lines);
 
 // Carryout 2003 live output while `g` runs: `... <azcdeg>   el = <elcdeg>` (docs/firmware.md 8.4).
 // Returns the last complete sample among the lines.
-Result<AzEl> parse_carryout_live(std::span<const std::string> lines);
+Result<AzEl> parse_carryout_live(Span<const std::string> lines);
 
 // Dispatches on profile.position_format.
-Result<AzEl> parse_position(const FirmwareProfile& profile, std::span<const std::string> lines);
+Result<AzEl> parse_position(const FirmwareProfile& profile, Span<const std::string> lines);
 
 struct NvsEntry {
     int index = -1;
@@ -63,12 +63,12 @@ struct RssiReading {
     int current = 0;
 };
 // G2 `rssi <n>` body: `iterations:<n>  interval(msec):20` / ` Reads:<n>  RSSI[avg: <v>  cur: <v>]`.
-Result<RssiReading> parse_g2_rssi(std::span<const std::string> lines);
+Result<RssiReading> parse_g2_rssi(Span<const std::string> lines);
 
 // The LNB supply in a G2 DVB `dis` table (a one-shot listing of the channel parameters): its row
 // `5    LNB Polarity         ODU:13V                  ---` (the real console, firmware 02.02.48),
 // 13 V or 18 V in the row's current value. Errc::protocol when no such row names either.
-Result<LnbSupply> parse_g2_lnb_polarity(std::span<const std::string> lines);
+Result<LnbSupply> parse_g2_lnb_polarity(Span<const std::string> lines);
 
 // ---- hazard guard rules ------------------------------------------------------------------------
 

@@ -124,158 +124,173 @@ constexpr std::array<ProbeExpectation, 5> mot_probe{{{V::travler_hal000, A::trav
                                                      {V::carryout_g2, A::g2_position}}};
 constexpr std::array<DetectionProbe, 2> probes{{{"motor", "a", motor_probe}, {"mot", "a", mot_probe}}};
 
-constexpr std::array<FirmwareProfile, 5> profiles{{
-    {
-        .id = VariantId::travler_hal000,
-        .short_name = "hal000",
-        .display_name = "Trav'ler HAL 0.0.00",
-        .model_index = 1,
-        .baud = 57600,
-        .line_ending = "\r",
-        .root_prompt = "",
-        .motor_prompt = "",
-        .quiet_gap = 150ms,
-        .motor_menu_entry = hal000_motor_entry,
-        .search_kill = hal000_search_kill,
-        .boot_complete_markers = hal000_boot_complete,
-        .reboot_markers = hal000_boot_complete,
-        .position_query = "a",
-        .position_format = PositionFormat::travler_az_el_sk,
-        .move_ack = MoveAckFormat::none,
-        .move_style = MoveStyle::per_axis_a,
-        .el_min = 15.0, .el_max = 90.0,
-        .az_min = 0.0, .az_max = 455.0,
-        .arrival_tolerance = 0.2,
-        .motion_model = MotionModel::travler_time_fit,
-        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
-        .quirks = quirk_none,
-        .park_az = 0.0, .park_el = 45.0,
-        .home_commands = {},
-        .tracker_disable_nvs_index = -1,
-        .predictive_by_default = false,
-        .also_shown_inside = VariantId::travler_pro,
-        .ready_markers = hal000_boot_complete,
-    },
-    {
-        .id = VariantId::travler_hal205,
-        .short_name = "hal205",
-        .display_name = "Trav'ler HAL 2.05",
-        .model_index = 2,
-        .baud = 57600,
-        .line_ending = "\r",
-        .root_prompt = "",
-        .motor_prompt = "",
-        .quiet_gap = 150ms,
-        .motor_menu_entry = hal205_motor_entry,
-        .search_kill = hal205_search_kill,
-        .boot_complete_markers = hal205_boot_complete,
-        .reboot_markers = hal205_boot_complete,
-        .position_query = "a",
-        .position_format = PositionFormat::travler_az_el_sk,
-        .move_ack = MoveAckFormat::none,
-        .move_style = MoveStyle::per_axis_a,
-        .el_min = 15.0, .el_max = 90.0,
-        .az_min = 0.0, .az_max = 455.0,
-        .arrival_tolerance = 0.2,
-        .motion_model = MotionModel::travler_time_fit,
-        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
-        .quirks = quirk_none,
-        .park_az = 0.0, .park_el = 45.0,
-        .home_commands = {},
-        .tracker_disable_nvs_index = -1,
-        .predictive_by_default = false,
-        .ready_markers = hal205_boot_complete,
-    },
-    {
-        .id = VariantId::travler_pro,
-        .short_name = "pro",
-        .display_name = "Trav'ler Pro",
-        .model_index = 3,
-        .baud = 57600,  // unconfirmed; irrelevant on the USB CDC-ACM link (5.1)
-        .line_ending = "\r",
-        .root_prompt = "",
-        .motor_prompt = "",
-        .quiet_gap = 150ms,
-        .motor_menu_entry = pro_motor_entry,
-        .search_kill = pro_search_kill,
-        .boot_complete_markers = {},
-        .reboot_markers = {},
-        .position_query = "a",
-        .position_format = PositionFormat::travler_az_el_sk,
-        .move_ack = MoveAckFormat::none,
-        .move_style = MoveStyle::per_axis_a,
-        .el_min = 12.0, .el_max = 75.0,  // motors stall above ~75 and may lock up (5.4)
-        .az_min = 0.0, .az_max = 455.0,
-        .arrival_tolerance = 0.2,
-        .motion_model = MotionModel::travler_time_fit,
-        .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
-        .quirks = quirk_odu_tunnel,
-        .park_az = 0.0, .park_el = 45.0,
-        .home_commands = {},
-        .tracker_disable_nvs_index = -1,
-        .predictive_by_default = false,
-    },
-    {
-        .id = VariantId::carryout2003,
-        .short_name = "carryout2003",
-        .display_name = "Carryout HAL 1.00.065",
-        .model_index = 4,
-        .baud = 57600,
-        .line_ending = "\r",
-        .root_prompt = "",
-        .motor_prompt = "",
-        .quiet_gap = 150ms,
-        .motor_menu_entry = carryout_motor_entry,
-        .search_kill = {},  // cannot be stopped without losing calibration (8.2)
-        .boot_complete_markers = {},
-        .reboot_markers = {},
-        .position_query = "",
-        .position_format = PositionFormat::carryout_live,
-        .move_ack = MoveAckFormat::none,
-        .move_style = MoveStyle::combined_g,
-        .el_min = 22.0, .el_max = 73.0,  // NVS 102 default (8.5)
-        .az_min = 0.0, .az_max = 360.0,
-        .arrival_tolerance = 0.5,
-        // No speed is documented; scans manage ~3 one-degree moves per second (8.5). Conservative guess.
-        .motion_model = MotionModel::trapezoid,
-        .az_speed_dps = 10.0, .el_speed_dps = 10.0, .accel_dps2 = 20.0,
-        .quirks = quirk_none,
-        .park_az = 0.0, .park_el = 45.0,
-        .home_commands = {},
-        .tracker_disable_nvs_index = -1,
-        .predictive_by_default = false,
-    },
-    {
-        .id = VariantId::carryout_g2,
-        .short_name = "g2",
-        .display_name = "Carryout G2",
-        .model_index = 5,
-        .baud = 115200,
-        .line_ending = "\r",
-        .root_prompt = "TRK>",
-        .motor_prompt = "MOT>",
-        .quiet_gap = 150ms,
-        .motor_menu_entry = g2_motor_entry,
-        .search_kill = {},  // NVS 20 "Disable Tracker Proc?" TRUE keeps the search off (6.2)
-        .boot_complete_markers = g2_boot_complete,
-        .reboot_markers = g2_reboot,
-        .position_query = "a",
-        .position_format = PositionFormat::g2_angle_index,
-        .move_ack = MoveAckFormat::g2_angle,
-        .move_style = MoveStyle::per_axis_a,
-        .el_min = 18.0, .el_max = 65.0,  // NVS 101/102
-        .az_min = -423.33, .az_max = 23.33,  // cable wrap after homing (6.4)
-        .arrival_tolerance = 0.1,
-        .motion_model = MotionModel::trapezoid,
-        .az_speed_dps = 65.0, .el_speed_dps = 45.0, .accel_dps2 = 400.0,  // NVS 80/85/81/86
-        .quirks = quirk_q_at_root_kills_shell | quirk_requires_homing,
-        .park_az = 0.0, .park_el = 65.0,
-        .home_commands = g2_home,
-        .tracker_disable_nvs_index = 20,
-        .predictive_by_default = true,
-        .receiver_menu = "dvb",
-    },
-}};
+constexpr FirmwareProfile travler_hal000_profile() {
+    FirmwareProfile p{};
+    p.id = VariantId::travler_hal000;
+    p.short_name = "hal000";
+    p.display_name = "Trav'ler HAL 0.0.00";
+    p.model_index = 1;
+    p.baud = 57600;
+    p.line_ending = "\r";
+    p.root_prompt = "";
+    p.motor_prompt = "";
+    p.quiet_gap = 150ms;
+    p.motor_menu_entry = hal000_motor_entry;
+    p.search_kill = hal000_search_kill;
+    p.boot_complete_markers = hal000_boot_complete;
+    p.reboot_markers = hal000_boot_complete;
+    p.position_query = "a";
+    p.position_format = PositionFormat::travler_az_el_sk;
+    p.move_ack = MoveAckFormat::none;
+    p.move_style = MoveStyle::per_axis_a;
+    p.el_min = 15.0; p.el_max = 90.0;
+    p.az_min = 0.0; p.az_max = 455.0;
+    p.arrival_tolerance = 0.2;
+    p.motion_model = MotionModel::travler_time_fit;
+    p.az_speed_dps = 0; p.el_speed_dps = 0; p.accel_dps2 = 0;
+    p.quirks = quirk_none;
+    p.park_az = 0.0; p.park_el = 45.0;
+    p.home_commands = {};
+    p.tracker_disable_nvs_index = -1;
+    p.predictive_by_default = false;
+    p.also_shown_inside = VariantId::travler_pro;
+    p.ready_markers = hal000_boot_complete;
+    return p;
+}
+
+constexpr FirmwareProfile travler_hal205_profile() {
+    FirmwareProfile p{};
+    p.id = VariantId::travler_hal205;
+    p.short_name = "hal205";
+    p.display_name = "Trav'ler HAL 2.05";
+    p.model_index = 2;
+    p.baud = 57600;
+    p.line_ending = "\r";
+    p.root_prompt = "";
+    p.motor_prompt = "";
+    p.quiet_gap = 150ms;
+    p.motor_menu_entry = hal205_motor_entry;
+    p.search_kill = hal205_search_kill;
+    p.boot_complete_markers = hal205_boot_complete;
+    p.reboot_markers = hal205_boot_complete;
+    p.position_query = "a";
+    p.position_format = PositionFormat::travler_az_el_sk;
+    p.move_ack = MoveAckFormat::none;
+    p.move_style = MoveStyle::per_axis_a;
+    p.el_min = 15.0; p.el_max = 90.0;
+    p.az_min = 0.0; p.az_max = 455.0;
+    p.arrival_tolerance = 0.2;
+    p.motion_model = MotionModel::travler_time_fit;
+    p.az_speed_dps = 0; p.el_speed_dps = 0; p.accel_dps2 = 0;
+    p.quirks = quirk_none;
+    p.park_az = 0.0; p.park_el = 45.0;
+    p.home_commands = {};
+    p.tracker_disable_nvs_index = -1;
+    p.predictive_by_default = false;
+    p.ready_markers = hal205_boot_complete;
+    return p;
+}
+
+constexpr FirmwareProfile travler_pro_profile() {
+    FirmwareProfile p{};
+    p.id = VariantId::travler_pro;
+    p.short_name = "pro";
+    p.display_name = "Trav'ler Pro";
+    p.model_index = 3;
+    p.baud = 57600;  // unconfirmed; irrelevant on the USB CDC-ACM link (5.1)
+    p.line_ending = "\r";
+    p.root_prompt = "";
+    p.motor_prompt = "";
+    p.quiet_gap = 150ms;
+    p.motor_menu_entry = pro_motor_entry;
+    p.search_kill = pro_search_kill;
+    p.boot_complete_markers = {};
+    p.reboot_markers = {};
+    p.position_query = "a";
+    p.position_format = PositionFormat::travler_az_el_sk;
+    p.move_ack = MoveAckFormat::none;
+    p.move_style = MoveStyle::per_axis_a;
+    p.el_min = 12.0; p.el_max = 75.0;  // motors stall above ~75 and may lock up (5.4)
+    p.az_min = 0.0; p.az_max = 455.0;
+    p.arrival_tolerance = 0.2;
+    p.motion_model = MotionModel::travler_time_fit;
+    p.az_speed_dps = 0; p.el_speed_dps = 0; p.accel_dps2 = 0;
+    p.quirks = quirk_odu_tunnel;
+    p.park_az = 0.0; p.park_el = 45.0;
+    p.home_commands = {};
+    p.tracker_disable_nvs_index = -1;
+    p.predictive_by_default = false;
+    return p;
+}
+
+constexpr FirmwareProfile carryout2003_profile() {
+    FirmwareProfile p{};
+    p.id = VariantId::carryout2003;
+    p.short_name = "carryout2003";
+    p.display_name = "Carryout HAL 1.00.065";
+    p.model_index = 4;
+    p.baud = 57600;
+    p.line_ending = "\r";
+    p.root_prompt = "";
+    p.motor_prompt = "";
+    p.quiet_gap = 150ms;
+    p.motor_menu_entry = carryout_motor_entry;
+    p.search_kill = {};  // cannot be stopped without losing calibration (8.2)
+    p.boot_complete_markers = {};
+    p.reboot_markers = {};
+    p.position_query = "";
+    p.position_format = PositionFormat::carryout_live;
+    p.move_ack = MoveAckFormat::none;
+    p.move_style = MoveStyle::combined_g;
+    p.el_min = 22.0; p.el_max = 73.0;  // NVS 102 default (8.5)
+    p.az_min = 0.0; p.az_max = 360.0;
+    p.arrival_tolerance = 0.5;
+    // No speed is documented; scans manage ~3 one-degree moves per second (8.5). Conservative guess.
+    p.motion_model = MotionModel::trapezoid;
+    p.az_speed_dps = 10.0; p.el_speed_dps = 10.0; p.accel_dps2 = 20.0;
+    p.quirks = quirk_none;
+    p.park_az = 0.0; p.park_el = 45.0;
+    p.home_commands = {};
+    p.tracker_disable_nvs_index = -1;
+    p.predictive_by_default = false;
+    return p;
+}
+
+constexpr FirmwareProfile carryout_g2_profile() {
+    FirmwareProfile p{};
+    p.id = VariantId::carryout_g2;
+    p.short_name = "g2";
+    p.display_name = "Carryout G2";
+    p.model_index = 5;
+    p.baud = 115200;
+    p.line_ending = "\r";
+    p.root_prompt = "TRK>";
+    p.motor_prompt = "MOT>";
+    p.quiet_gap = 150ms;
+    p.motor_menu_entry = g2_motor_entry;
+    p.search_kill = {};  // NVS 20 "Disable Tracker Proc?" TRUE keeps the search off (6.2)
+    p.boot_complete_markers = g2_boot_complete;
+    p.reboot_markers = g2_reboot;
+    p.position_query = "a";
+    p.position_format = PositionFormat::g2_angle_index;
+    p.move_ack = MoveAckFormat::g2_angle;
+    p.move_style = MoveStyle::per_axis_a;
+    p.el_min = 18.0; p.el_max = 65.0;  // NVS 101/102
+    p.az_min = -423.33; p.az_max = 23.33;  // cable wrap after homing (6.4)
+    p.arrival_tolerance = 0.1;
+    p.motion_model = MotionModel::trapezoid;
+    p.az_speed_dps = 65.0; p.el_speed_dps = 45.0; p.accel_dps2 = 400.0;  // NVS 80/85/81/86
+    p.quirks = quirk_q_at_root_kills_shell | quirk_requires_homing;
+    p.park_az = 0.0; p.park_el = 65.0;
+    p.home_commands = g2_home;
+    p.tracker_disable_nvs_index = 20;
+    p.predictive_by_default = true;
+    p.receiver_menu = "dvb";
+    return p;
+}
+
+constexpr std::array<FirmwareProfile, 5> profiles{{travler_hal000_profile(), travler_hal205_profile(), travler_pro_profile(),
+                                                   carryout2003_profile(), carryout_g2_profile()}};
 
 double seconds_trapezoid(double distance, double speed, double accel) {
     if (distance < speed * speed / accel) {
@@ -307,35 +322,39 @@ double move_seconds(const FirmwareProfile& profile, Axis axis, double distance) 
     return 0.0;
 }
 
-constexpr FirmwareProfile probe{
-    .id = VariantId::carryout_g2,  // not used for decisions; the quirks below are the G2's worst case
-    .short_name = "auto",
-    .display_name = "Auto-detect",
-    .model_index = 0,
-    .baud = 57600,
-    .line_ending = "\r",
-    .root_prompt = "TRK>",   // the G2's: the guard refuses `q` there while the variant is unknown
-    .motor_prompt = "",
-    .quiet_gap = 150ms,
-    .motor_menu_entry = {},
-    .search_kill = {},
-    .boot_complete_markers = any_boot_complete,
-    .reboot_markers = any_boot_marker,
-    .position_query = "",
-    .position_format = PositionFormat::travler_az_el_sk,
-    .move_ack = MoveAckFormat::none,
-    .move_style = MoveStyle::per_axis_a,
-    .el_min = 0, .el_max = 0,
-    .az_min = 0, .az_max = 0,
-    .arrival_tolerance = 0,
-    .motion_model = MotionModel::trapezoid,
-    .az_speed_dps = 0, .el_speed_dps = 0, .accel_dps2 = 0,
-    .quirks = quirk_q_at_root_kills_shell,
-    .park_az = 0, .park_el = 0,
-    .home_commands = {},
-    .tracker_disable_nvs_index = -1,
-    .predictive_by_default = false,
-};
+constexpr FirmwareProfile auto_detect_profile() {
+    FirmwareProfile p{};
+    p.id = VariantId::carryout_g2;  // not used for decisions; the quirks below are the G2's worst case
+    p.short_name = "auto";
+    p.display_name = "Auto-detect";
+    p.model_index = 0;
+    p.baud = 57600;
+    p.line_ending = "\r";
+    p.root_prompt = "TRK>";  // the G2's: the guard refuses `q` there while the variant is unknown
+    p.motor_prompt = "";
+    p.quiet_gap = 150ms;
+    p.motor_menu_entry = {};
+    p.search_kill = {};
+    p.boot_complete_markers = any_boot_complete;
+    p.reboot_markers = any_boot_marker;
+    p.position_query = "";
+    p.position_format = PositionFormat::travler_az_el_sk;
+    p.move_ack = MoveAckFormat::none;
+    p.move_style = MoveStyle::per_axis_a;
+    p.el_min = 0; p.el_max = 0;
+    p.az_min = 0; p.az_max = 0;
+    p.arrival_tolerance = 0;
+    p.motion_model = MotionModel::trapezoid;
+    p.az_speed_dps = 0; p.el_speed_dps = 0; p.accel_dps2 = 0;
+    p.quirks = quirk_q_at_root_kills_shell;
+    p.park_az = 0; p.park_el = 0;
+    p.home_commands = {};
+    p.tracker_disable_nvs_index = -1;
+    p.predictive_by_default = false;
+    return p;
+}
+
+constexpr FirmwareProfile probe = auto_detect_profile();
 
 }  // namespace
 
@@ -359,11 +378,11 @@ std::optional<VariantId> variant_from_name(std::string_view short_name) {
     return std::nullopt;
 }
 
-std::span<const FirmwareProfile> all_profiles() { return profiles; }
+Span<const FirmwareProfile> all_profiles() { return profiles; }
 
-std::span<const DetectionClue> detection_clues() { return clues; }
+Span<const DetectionClue> detection_clues() { return clues; }
 
-std::span<const DetectionProbe> detection_probes() { return probes; }
+Span<const DetectionProbe> detection_probes() { return probes; }
 
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees) {
     const double seconds = move_seconds(profile, axis, std::fabs(degrees));

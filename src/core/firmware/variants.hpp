@@ -8,10 +8,10 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
-#include <span>
 #include <string_view>
 
 #include "base/azel.hpp"
+#include "base/span.hpp"
 
 namespace birdcage {
 
@@ -73,10 +73,10 @@ struct FirmwareProfile {
     std::string_view motor_prompt;
     std::chrono::milliseconds quiet_gap;
 
-    std::span<const ConsoleStep> motor_menu_entry;  // from the root menu into the motor menu
-    std::span<const ConsoleStep> search_kill;       // stops the TV search; starts and ends at root
-    std::span<const std::string_view> boot_complete_markers;  // substrings: boot has finished
-    std::span<const std::string_view> reboot_markers;         // substrings: the dish is (re)booting
+    Span<const ConsoleStep> motor_menu_entry;  // from the root menu into the motor menu
+    Span<const ConsoleStep> search_kill;       // stops the TV search; starts and ends at root
+    Span<const std::string_view> boot_complete_markers;  // substrings: boot has finished
+    Span<const std::string_view> reboot_markers;         // substrings: the dish is (re)booting
 
     std::string_view position_query;  // empty when the variant has none (only live output while `g` runs)
     PositionFormat position_format;
@@ -96,7 +96,7 @@ struct FirmwareProfile {
     // which folds the dish flat and can destroy a modified feed, docs/firmware.md 3.5).
     double park_az, park_el;
     // Homing (Hamlib reset): the commands, in order; empty = the firmware has none (power-on only).
-    std::span<const std::string_view> home_commands;
+    Span<const std::string_view> home_commands;
     // NVS index of "Disable Tracker Proc?" (read-only check at init); -1 = none.
     int tracker_disable_nvs_index;
 
@@ -121,7 +121,7 @@ struct FirmwareProfile {
     // 3.2, 3.6, 4.2). Heard as the latest output, it ends the wait for the boot without a poke, so
     // the search is stopped before it swings the dish. Empty: two answered pokes confirm every boot
     // (the G2 prints status lines for ~10 s after its `Boot Complete`, 6.2).
-    std::span<const std::string_view> ready_markers = {};
+    Span<const std::string_view> ready_markers = {};
 
     bool has(Quirk quirk) const { return (quirks & quirk) != 0; }
     bool prompt_known() const { return !motor_prompt.empty(); }
@@ -147,7 +147,7 @@ struct DetectionClue {
     VariantId variant;
     int weight;
 };
-std::span<const DetectionClue> detection_clues();
+Span<const DetectionClue> detection_clues();
 
 // Auto-detection probes, tried in table order where the evidence above does not decide (detect.cpp):
 // enter a motor menu some variant has, then ask the position. Both commands are harmless on every
@@ -166,10 +166,10 @@ struct ProbeExpectation {
 struct DetectionProbe {
     std::string_view enter;   // a menu command
     std::string_view query;   // asked inside it
-    std::span<const ProbeExpectation> expected;
+    Span<const ProbeExpectation> expected;
 };
-std::span<const DetectionProbe> detection_probes();
-std::span<const FirmwareProfile> all_profiles();
+Span<const DetectionProbe> detection_probes();
+Span<const FirmwareProfile> all_profiles();
 
 // Estimated duration of a single-axis move of `degrees` from the variant's motion model.
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees);

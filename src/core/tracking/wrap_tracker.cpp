@@ -184,7 +184,9 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
     if (wanted.el > pass_.top_el) {
         pass_.top_el = wanted.el;
         pass_.travelled_at_top_deg = pass_.travelled_deg;
-        std::erase_if(pass_.near_top, [&](const auto& p) { return p.second < pass_.top_el - near_top_degrees; });
+        pass_.near_top.erase(std::remove_if(pass_.near_top.begin(), pass_.near_top.end(),
+                                            [&](const auto& p) { return p.second < pass_.top_el - near_top_degrees; }),
+                             pass_.near_top.end());
     }
     if (wanted.el > el_min + same_angle_degrees && wanted.el >= pass_.top_el - near_top_degrees) {
         pass_.near_top.emplace_back(pass_.travelled_deg, wanted.el);

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "firmware/clues.hpp"
 #include "firmware/variants.hpp"
 
 namespace birdcage {

@@ -145,9 +145,9 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations) const {
 }
 
 // The dish's gaps cannot tell a client that leads by L from one that sends the satellite as it is
-// each time it moved 2L (both leave a gap of 2L): a client without look-ahead was learnt as leading
-// by half its threshold and followed that far ahead of the satellite (tests/core/test_orbit_model.cpp:
-// 2.5 deg at 5 deg). The targets can tell: a lead is a time that changes with the satellite's rate,
+// each time it moved 2L (both leave a gap of 2L): from the gaps alone a client without look-ahead
+// is learnt as leading by half its threshold, and the dish follows that far ahead of the satellite
+// (2.5 deg at 5 deg, tests/core/test_orbit_model.cpp). The targets can tell: a lead is a time that changes with the satellite's rate,
 // which no phase absorbs. So at each new target (from 4 exact ones on; past 30, each time they grew
 // by a tenth) both are fitted, and the fitted lead is taken where it fits the targets clearly better.
 void OrbitModel::question_lead() {

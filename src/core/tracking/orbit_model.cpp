@@ -287,7 +287,8 @@ void OrbitModel::judge() {
     } else if (sharpest_turn_deg(exact_directions(), turn_min_step_deg) > settings_.max_turn_deg &&
                sharpest_turn_deg(exact_directions_along_track(), turn_min_step_deg) > settings_.max_turn_deg) {
         // In the order sent, a pass's targets can step back along it where a client's look-ahead
-        // shrinks (Gpredict's azimuth box towards the zenith: iss-85 at 5 deg was never trusted);
+        // shrinks (Gpredict's azimuth box towards the zenith: in that order iss-85 at 5 deg is never
+        // trusted);
         // in their order along the fitted track they turn as gently as the pass. A scan's
         // serpentine or a user's jogging turns in either order.
         why = "the targets turn as no pass does (manual pointing, a scan)";

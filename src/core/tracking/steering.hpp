@@ -87,9 +87,9 @@ double azimuth_direction_hint(const std::optional<Prediction>& estimate, const s
 // steered steps from the aim to the dish idle again, and smoothed. next_aim() aims that much
 // further ahead. Only a step the controller ran alone is timed: whatever else it was given
 // meanwhile (the client's targets as sent once the orbit lost trust, a re-aim before the dish was
-// idle, a receiver job, a stop, a recovery) would be counted as this step's overhead. Timed without
-// this rule, one G2 step spanned 19 s of such legs, and the aims then ran 16 deg ahead of the
-// satellite (docs/tracking.md §1.5).
+// idle, a receiver job, a stop, a recovery) would be counted as this step's overhead: one G2 step
+// can span 19 s of such legs, which would put the aims 16 deg ahead of the satellite
+// (docs/tracking.md §1.5).
 class LegOverheadMeter {
 public:
     // A steered step of `legs` legs and `motion_s` of motor time starts from an idle dish.

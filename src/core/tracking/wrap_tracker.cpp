@@ -26,9 +26,9 @@ constexpr double new_pass_jump_degrees = 30.0;
 // A pass's azimuth turns one way from rise to set, but the direction the caller infers from a
 // few targets does not: Gpredict's lead is quantised, so a target can land a few tenths of a
 // degree behind the one before, and a momentarily stationary estimate has no direction at all.
-// Taken at face value each flip was a new pass, and the pass-start rule swung the G2 a whole
-// wrap to the other branch and back (iss-45 at a 5 deg threshold: 592 deg of azimuth before the
-// pass, 347 without the flips). The opposite direction is believed once the targets have gone
+// Taken at face value each flip would be a new pass, and the pass-start rule would swing the G2 a
+// whole wrap to the other branch and back (iss-45 at a 5 deg threshold: 592 deg of azimuth before
+// the pass, 347 without the flips). The opposite direction is believed once the targets have gone
 // this far back from the furthest one.
 constexpr double reversal_confirm_degrees = 3.0;
 // The culmination is passed once a target is this far below the highest one (Gpredict's targets

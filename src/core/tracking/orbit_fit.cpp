@@ -3,7 +3,7 @@
 
 // The orbit model's fit: the two-point circular solution, Levenberg–Marquardt on every target held,
 // and the client's lead questioned against the targets (orbit_model.hpp describes the model).
-#include "tracking/orbit_fit.hpp"
+#include "tracking/orbit_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include <vector>
 
 namespace birdcage {
-using namespace orbit_fit;
+using namespace orbit_geometry;
 namespace {
 
 // Weight of a clamped target's one residual against an exact target's direction.

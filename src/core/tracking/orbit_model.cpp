@@ -10,10 +10,10 @@
 #include <utility>
 #include <vector>
 
-#include "tracking/orbit_fit.hpp"
+#include "tracking/orbit_geometry.hpp"
 
 namespace birdcage {
-using namespace orbit_fit;
+using namespace orbit_geometry;
 namespace {
 
 // Steps between targets shorter than this (degrees) carry rounding and scatter, not a direction.

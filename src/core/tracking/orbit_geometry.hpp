@@ -15,7 +15,7 @@
 #include "base/azel.hpp"
 #include "tracking/orbit_model.hpp"
 
-namespace birdcage::orbit_fit {
+namespace birdcage::orbit_geometry {
 
 using Vec = std::array<double, 3>;
 using Orbit = OrbitModel::Orbit;
@@ -235,4 +235,4 @@ struct Evaluator {
     }
 };
 
-}  // namespace birdcage::orbit_fit
+}  // namespace birdcage::orbit_geometry

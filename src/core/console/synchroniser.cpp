@@ -17,58 +17,9 @@ constexpr std::size_t recent_limit = 8192;   // bytes of output kept for the giv
 constexpr std::size_t lines_quoted = 4;
 constexpr std::size_t baud_sample = 256;     // bytes judged by the wrong-baud check
 
-bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || byte == '\t'; }
-bool is_line_end(char c) { return c == '\r' || c == '\n'; }
-
-// A line of console text rather than line noise: an idle RS-485 bus can produce random bytes
-// without end, a third of them printable by chance, and once in a while a CR or LF among them. A
-// dish never prints unprintable bytes, so a line needs (almost) none to count as text.
-bool is_text_line(std::size_t text_bytes, std::size_t noise_bytes) { return text_bytes > 0 && noise_bytes * 4 <= text_bytes; }
-
-// The length of the prompt `line` starts with when the rest of it is line noise (mostly
-// unprintable bytes, as a noisy idle bus sends after the prompt); 0 otherwise. A prompt followed
-// by text with a stray noise byte in it is no prompt: the console is still printing.
-std::size_t prompt_before_noise(std::string_view line) {
-    const std::size_t length = leading_prompt_length(line);
-    if (length == 0) {
-        return 0;
-    }
-    std::size_t text = 0;
-    std::size_t noise = 0;
-    for (char c : line.substr(length)) {
-        ++(is_text_byte(static_cast<unsigned char>(c)) ? text : noise);
-    }
-    return noise > 0 && !is_text_line(text, noise) ? length : 0;
-}
-
 bool contains_any(std::string_view line, Span<const std::string_view> markers) {
     return std::any_of(markers.begin(), markers.end(),
                        [&](std::string_view marker) { return line.find(marker) != std::string_view::npos; });
-}
-
-// The text lines of `raw` (is_text_line), noise bytes removed; empty and noise lines dropped.
-std::vector<std::string> printable_lines(std::string_view raw) {
-    std::vector<std::string> lines;
-    std::string line;
-    std::size_t noise = 0;
-    auto finish = [&] {
-        if (line.find_first_not_of(" \t") != std::string::npos && is_text_line(line.size(), noise)) {
-            lines.push_back(line);
-        }
-        line.clear();
-        noise = 0;
-    };
-    for (char c : raw) {
-        if (is_line_end(c)) {
-            finish();
-        } else if (is_text_byte(static_cast<unsigned char>(c))) {
-            line += c;
-        } else {
-            ++noise;
-        }
-    }
-    finish();
-    return lines;
 }
 
 std::string seconds_text(std::chrono::milliseconds ms) { return std::to_string(ms.count() / 1000) + " s"; }
@@ -95,62 +46,6 @@ std::string usual_baud_text(const FirmwareProfile& profile) {
 }
 
 }  // namespace
-
-std::string trailing_prompt(std::string_view output) {
-    // Line endings and noise after the prompt (an idle RS-485 bus keeps producing bytes) do not
-    // hide it; noise inside its line does.
-    std::size_t end = output.size();
-    while (end > 0 && (is_line_end(output[end - 1]) || !is_text_byte(static_cast<unsigned char>(output[end - 1])))) {
-        --end;
-    }
-    std::size_t begin = end;
-    while (begin > 0 && !is_line_end(output[begin - 1])) {
-        --begin;
-    }
-    const std::string_view line = output.substr(begin, end - begin);
-    // prompt_text() also rejects any noise byte: a prompt is printable text only.
-    return prompt_text(line);
-}
-
-std::string quoted_tail(std::string_view output, std::size_t count) {
-    std::vector<std::string_view> lines;
-    std::size_t start = 0;
-    for (std::size_t i = 0; i <= output.size(); ++i) {
-        if (i == output.size() || is_line_end(output[i])) {
-            if (i > start) {
-                lines.push_back(output.substr(start, i - start));
-            }
-            start = i + 1;
-        }
-    }
-    const std::size_t first = lines.size() > count ? lines.size() - count : 0;
-    std::string text;
-    for (std::size_t i = first; i < lines.size(); ++i) {
-        text += (text.empty() ? "\"" : ", \"") + escape_bytes(lines[i]) + "\"";
-    }
-    return text;
-}
-
-bool looks_like_wrong_baud(std::string_view raw) {
-    std::size_t noise = 0;
-    std::size_t line_ends = 0;
-    for (char c : raw) {
-        if (is_line_end(c)) {
-            ++line_ends;
-        } else if (!is_text_byte(static_cast<unsigned char>(c))) {
-            ++noise;
-        }
-    }
-    if (raw.size() < 8) {
-        return false;
-    }
-    // At the wrong rate most frames decode to bytes outside ASCII; the few that decode as text
-    // never form lines ending in a prompt.
-    if (noise * 10 >= raw.size() * 3) {
-        return true;
-    }
-    return raw.size() >= 48 && line_ends == 0 && trailing_prompt(raw).empty();
-}
 
 SyncSettings console_sync_settings(const FirmwareProfile& profile, std::chrono::milliseconds budget) {
     SyncSettings settings;

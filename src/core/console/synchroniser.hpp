@@ -25,6 +25,7 @@
 #include "base/errors.hpp"
 #include "base/log.hpp"
 #include "base/span.hpp"
+#include "console/raw_output.hpp"
 #include "console/transport.hpp"
 #include "firmware/variants.hpp"
 
@@ -124,17 +125,5 @@ private:
 // The settings every open path uses for `profile` (a variant's row, or the auto-detect profile):
 // its boot lines, `?` as the liveness probe where its prompts are undocumented, its baud rate.
 SyncSettings console_sync_settings(const FirmwareProfile& profile, std::chrono::milliseconds budget);
-
-// The prompt the output ends with, as its documented text (`TRK>` for `WG TRK> `): its last
-// non-empty line, if that line has a prompt's shape (framer.hpp, prompt_shape()), is free of noise
-// bytes, and is followed by nothing but line endings. Empty if none.
-std::string trailing_prompt(std::string_view output);
-
-// The last `count` non-empty lines of `output`, each quoted and escaped, for error messages.
-std::string quoted_tail(std::string_view output, std::size_t count);
-
-// True when `raw` looks like a console read at the wrong baud rate: mostly bytes outside
-// printable ASCII, or printable bytes with no line structure and no prompt.
-bool looks_like_wrong_baud(std::string_view raw);
 
 }  // namespace birdcage

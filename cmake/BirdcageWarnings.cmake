@@ -6,9 +6,10 @@ option(BIRDCAGE_WERROR "Treat warnings as errors" OFF)
 
 function(birdcage_warnings target)
     target_compile_options(${target} PRIVATE
-        -Wall -Wextra -Wshadow -Wnon-virtual-dtor -Wold-style-cast -Wcast-align
-        -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion -Wformat=2
-        -Wimplicit-fallthrough)
+        -Wall -Wextra -Wshadow -Wcast-align -Wnull-dereference -Wdouble-promotion -Wformat=2
+        -Wimplicit-fallthrough
+        # C++ only: gcc warns about them on a C source (the backend's caps, upstream/hamlib/winegard.c).
+        $<$<COMPILE_LANGUAGE:CXX>:-Wnon-virtual-dtor -Wold-style-cast -Woverloaded-virtual>)
     if(BIRDCAGE_WERROR)
         target_compile_options(${target} PRIVATE -Werror)
     endif()

@@ -1,0 +1,349 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 the birdcage authors
+
+// The Winegard backend's operations: each one a few lines forwarding to birdcage::RotatorService,
+// with the core's errors and log lines mapped onto Hamlib's. The caps that point at them are C
+// (winegard.c); the conf parameters are in winegard_conf.cpp.
+#include "winegard.h"
+#include "winegard_priv.hpp"
+
+#include "base/clock.hpp"
+#include "base/log.hpp"
+#include "console/transport.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <string>
+
+namespace birdcage::hamlib {
+
+namespace {
+
+int to_hamlib_error(const Status& status) {
+    switch (status.code) {
+    case Errc::ok: return RIG_OK;
+    case Errc::timeout: return -RIG_ETIMEOUT;
+    case Errc::protocol: return -RIG_EPROTO;
+    // Hamlib 4.7+ rotctld drops the client on -RIG_EIO: reserved for a port that is gone.
+    case Errc::io: return -RIG_EIO;
+    // The service reopens a hung-up port by path: recoverable, so the client must stay connected.
+    case Errc::disconnected: return -RIG_ETIMEOUT;
+    case Errc::invalid_argument: return -RIG_EINVAL;
+    case Errc::unsupported: return -RIG_ENAVAIL;
+    case Errc::hazard: return -RIG_ERJCTED;
+    case Errc::not_homed: return -RIG_ERJCTED;
+    case Errc::busy: return -RIG_ERJCTED;
+    case Errc::not_initialised: return -RIG_ENAVAIL;
+    }
+    return -RIG_EINTERNAL;
+}
+
+rig_debug_level_e to_hamlib_level(LogLevel level) {
+    switch (level) {
+    case LogLevel::error: return RIG_DEBUG_ERR;
+    case LogLevel::warning: return RIG_DEBUG_WARN;
+    case LogLevel::verbose: return RIG_DEBUG_VERBOSE;
+    case LogLevel::trace: return RIG_DEBUG_TRACE;
+    }
+    return RIG_DEBUG_TRACE;
+}
+
+bool is_auto(const FirmwareProfile* p) { return p == &probe_profile(); }
+
+// The caps are C, written out per model; the facts they share with the core's variant table must
+// agree with it, or the model would open as one dish and be listed as another.
+bool caps_match_profile(const struct rot_caps& caps, const FirmwareProfile& p) {
+    const bool can_home = is_auto(&p) || !p.home_commands.empty();
+    bool ok = true;
+    if (caps.model_name == nullptr || std::string(caps.model_name) != p.display_name) {
+        rot_debug(RIG_DEBUG_BUG, "winegard: model %d is named \"%s\" in its caps, \"%.*s\" in the variant table\n",
+                  caps.rot_model, caps.model_name != nullptr ? caps.model_name : "",
+                  static_cast<int>(p.display_name.size()), p.display_name.data());
+        ok = false;
+    }
+    if (caps.serial_rate_max != p.baud) {
+        rot_debug(RIG_DEBUG_BUG, "winegard: model %d: caps serial_rate_max %d, variant table %d baud\n", caps.rot_model,
+                  caps.serial_rate_max, p.baud);
+        ok = false;
+    }
+    if ((caps.reset != nullptr) != can_home) {
+        rot_debug(RIG_DEBUG_BUG, "winegard: model %d: caps %s a reset, the variant %s\n", caps.rot_model,
+                  caps.reset != nullptr ? "have" : "lack", can_home ? "homes" : "cannot home");
+        ok = false;
+    }
+    return ok;
+}
+
+RotatorService* open_service(ROT* rot) { return priv_of(rot)->service.get(); }
+
+}  // namespace
+
+// Stock rotctld runs at RIG_DEBUG_NONE unless given -v, where rot_debug prints nothing and a
+// failed open shows only rigerror()'s text ("Protocol error" after whatever the saved-message
+// buffer holds). What a user must read (waiting for a booting dish, why open failed, a wrong baud
+// rate) is therefore also written to stderr when Hamlib's level would hide it.
+void say(rig_debug_level_e level, const std::string& text) {
+    rot_debug(level, "winegard: %s\n", text.c_str());
+    if (level <= RIG_DEBUG_WARN && !rig_need_debug(level)) {
+        std::fprintf(stderr, "winegard: %s\n", text.c_str());
+    }
+}
+
+int report(const char* where, const Status& status) {
+    if (!status) {
+        say(RIG_DEBUG_ERR, std::string(where) + ": " + to_string(status.code) + ": " + status.message);
+    }
+    return to_hamlib_error(status);
+}
+
+const FirmwareProfile* profile_for_model(rot_model_t model) {
+    for (VariantId id : registered_variants) {
+        const FirmwareProfile& p = profile(id);
+        if (ROT_MAKE_MODEL(ROT_WINEGARD, p.model_index) == model) {
+            return &p;
+        }
+    }
+    if (ROT_MAKE_MODEL(ROT_WINEGARD, probe_profile().model_index) == model) {
+        return &probe_profile();  // the auto-detecting model
+    }
+    return nullptr;
+}
+
+std::string& load_note() {
+    static std::string note;
+    return note;
+}
+
+}  // namespace birdcage::hamlib
+
+using namespace birdcage;
+using namespace birdcage::hamlib;
+
+extern "C" int winegard_rot_init(ROT* rot) {
+    const FirmwareProfile* profile = profile_for_model(rot->caps->rot_model);
+    if (profile == nullptr) {
+        return -RIG_EINVAL;
+    }
+    if (!caps_match_profile(*rot->caps, *profile)) {
+        return -RIG_EINTERNAL;
+    }
+    auto* priv = new (std::nothrow) WinegardPriv{};
+    if (priv == nullptr) {
+        return -RIG_ENOMEM;
+    }
+    priv->options.variant = profile->id;
+    priv->options.detect = is_auto(profile);
+    priv->options.log = [](LogLevel level, const std::string& message) { say(to_hamlib_level(level), message); };
+    WG_ROTSTATE(rot)->priv = priv;
+    return RIG_OK;
+}
+
+extern "C" int winegard_rot_cleanup(ROT* rot) {
+    delete priv_of(rot);
+    WG_ROTSTATE(rot)->priv = nullptr;
+    return RIG_OK;
+}
+
+extern "C" int winegard_rot_open(ROT* rot) {
+    WinegardPriv* priv = priv_of(rot);
+    hamlib_port_t* port = WG_ROTPORT(rot);
+    rot_debug(RIG_DEBUG_VERBOSE, "winegard: opening %s on %s, fd %d\n", rot->caps->model_name, port->pathname,
+              port->fd);
+    if (!load_note().empty()) {
+        rot_debug(RIG_DEBUG_VERBOSE, "winegard: %s\n", load_note().c_str());
+    }
+    if (port->fd < 0) {
+        return -RIG_EIO;
+    }
+    // Hamlib owns the fd (it closes it in rot_close); it is non-blocking, which FdTransport polls.
+    // After a hang-up (adapter unplugged) Hamlib's fd is dead and rotctld never reopens it: the
+    // service opens the same path itself, on its own fd (Hamlib's stays untouched for rot_close).
+    auto transport = std::make_unique<FdTransport>(port->fd, false);
+    const std::string path = port->pathname;
+    const int baud = port->parm.serial.rate > 0 ? port->parm.serial.rate : rot->caps->serial_rate_max;
+    TransportFactory reopen = [path, baud]() -> Result<std::unique_ptr<Transport>> {
+        auto opened = FdTransport::open(path, baud);
+        if (!opened) {
+            return {nullptr, opened.status};
+        }
+        return {std::move(opened.value), Status::ok()};
+    };
+    ControllerOptions options = priv->options;
+    // `_` reports the rate the line really runs at (rotctld -s), not the table's.
+    options.line_baud = port->type.rig == RIG_PORT_SERIAL ? baud : 0;
+    options.leapfrog = priv->pointing.mode == PointingMode::leapfrog;
+    if (priv->time_scale != 1.0) {
+        // Against an emulator running k times faster: the core's clock runs k times faster, and
+        // with it every period of the worker (ServiceTiming is dish time); I/O deadlines stay
+        // real (the pty is real).
+        options.clock = DishClock::scaled(priv->time_scale);
+    }
+    priv->service =
+        std::make_unique<RotatorService>(std::move(transport), options, ServiceTiming{}, std::move(reopen));
+    priv->service->set_pointing(priv->pointing);
+    if (Status st = priv->service->start(); !st) {
+        priv->service.reset();
+        return report(__func__, st);
+    }
+    return RIG_OK;
+}
+
+extern "C" int winegard_rot_close(ROT* rot) {
+    WinegardPriv* priv = priv_of(rot);
+    if (priv->service) {
+        priv->service->shutdown();
+        priv->service.reset();
+    }
+    return RIG_OK;
+}
+
+extern "C" int winegard_set_position(ROT* rot, azimuth_t az, elevation_t el) {
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    rot_debug(RIG_DEBUG_VERBOSE, "winegard: set_position %.2f %.2f\n", static_cast<double>(az),
+              static_cast<double>(el));
+    return report(__func__, service->set_target({static_cast<double>(az), static_cast<double>(el)}));
+}
+
+extern "C" int winegard_get_position(ROT* rot, azimuth_t* az, elevation_t* el) {
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    Result<AzEl> pos = service->position();
+    if (!pos) {
+        return report(__func__, pos.status);
+    }
+    *az = static_cast<azimuth_t>(pos.value.az);
+    *el = static_cast<elevation_t>(pos.value.el);
+    return RIG_OK;
+}
+
+extern "C" int winegard_stop(ROT* rot) {
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    return report(__func__, service->stop());
+}
+
+extern "C" int winegard_park(ROT* rot) {
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    return report(__func__, service->park());
+}
+
+// Hamlib defines one rotator reset type, ROT_RESET_ALL (1, `R 1`): the homing run. Any other
+// number names nothing Hamlib knows, so it is refused rather than taken as a request to home.
+extern "C" int winegard_reset(ROT* rot, rot_reset_t reset) {
+    if (reset != ROT_RESET_ALL) {
+        rot_debug(RIG_DEBUG_ERR, "winegard: reset type %d is not supported; only ROT_RESET_ALL (%d, rotctl R %d) homes\n",
+                  reset, ROT_RESET_ALL, ROT_RESET_ALL);
+        return -RIG_EINVAL;
+    }
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    return report(__func__, service->reset());
+}
+
+extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    // Hamlib has no "homing" flag: a home is reported as BUSY (the console is held by the
+    // firmware's home command, targets wait for it) and MOVING.
+    unsigned flags = service->idle() ? ROT_STATUS_NONE : ROT_STATUS_MOVING;
+    if (service->homing()) {
+        flags |= ROT_STATUS_BUSY | ROT_STATUS_MOVING;
+    }
+    // Nor a "not ready" one (4.5 to master): a dish that cannot be asked (rebooting, unplugged,
+    // being re-synchronised) is BUSY alone, "not accepting commands" for now; a target set
+    // meanwhile waits for it. Whether it moves is unknown, so not MOVING. get_info says why.
+    if (!service->answering()) {
+        flags = ROT_STATUS_BUSY;
+    }
+    *status = static_cast<rot_status_t>(flags);
+    return RIG_OK;
+}
+
+extern "C" const char* winegard_get_info(ROT* rot) {
+    WinegardPriv* priv = priv_of(rot);
+    priv->info = priv->service
+                     ? "Winegard " + priv->service->describe()
+                     : "Winegard " + std::string(profile(priv->options.variant).display_name) + " (not open)";
+    return priv->info.c_str();
+}
+
+extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t val) {
+    WinegardPriv* priv = priv_of(rot);
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    switch (token) {
+    case tok_rssi_samples: {
+        const double samples = static_cast<double>(val.f);
+        if (!std::isfinite(samples) || samples < 1.0 || samples > rssi_max_samples) {
+            return report(__func__, {Errc::invalid_argument, "RSSI_SAMPLES is 1.." + std::to_string(rssi_max_samples)});
+        }
+        priv->rssi_samples = static_cast<int>(std::lround(samples));
+        return RIG_OK;
+    }
+    case tok_lnb_volts: {
+        const auto supply = lnb_supply_from_volts(static_cast<double>(val.f));
+        if (!supply) {
+            return report(__func__, supply.status);
+        }
+        rot_debug(RIG_DEBUG_VERBOSE, "winegard: LNB supply %d V\n", lnb_volts(supply.value));
+        return report(__func__, service->set_lnb_supply(supply.value));
+    }
+    case tok_rssi:
+        return report(__func__, {Errc::invalid_argument, "RSSI is read only"});
+    default:
+        return -RIG_EINVAL;
+    }
+}
+
+extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* val) {
+    WinegardPriv* priv = priv_of(rot);
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        return -RIG_EIO;
+    }
+    switch (token) {
+    case tok_rssi: {
+        const auto reading = service->read_signal(priv->rssi_samples);
+        if (!reading) {
+            return report(__func__, reading.status);
+        }
+        val->f = static_cast<float>(reading.value.average);
+        return RIG_OK;
+    }
+    case tok_rssi_samples:
+        val->f = static_cast<float>(priv->rssi_samples);
+        return RIG_OK;
+    case tok_lnb_volts:
+        if (service->profile().receiver_menu.empty()) {
+            return report(__func__, {Errc::unsupported, std::string(service->profile().display_name) + " has no satellite tuner"});
+        }
+        if (const auto supply = service->lnb_supply()) {
+            val->f = static_cast<float>(lnb_volts(*supply));
+            return RIG_OK;
+        }
+        // Never a made-up 18: after rotctld restarts the dish may still be at 13 V.
+        return report(__func__, {Errc::not_initialised, "the LNB supply is unknown: the dish's DVB dis did not say it "
+                                                         "and it has not been set since open (V LNB 13|18 sets it)"});
+    default:
+        return -RIG_EINVAL;
+    }
+}

@@ -5,8 +5,9 @@
  * C++. Never touch rot->state directly: master moved the rotator state and port out of struct
  * s_rot, so a backend that dereferences rot->state builds only against older releases.
  * In a Hamlib tree (IN_HAMLIB, which its configure defines) the backend uses Hamlib's own
- * ROTSTATE()/ROTPORT(); the preload build reaches them through the exported rot_data_pointer() (4.6+), as the public
- * HAMLIB_ROTSTATE/HAMLIB_ROTPORT do, or through rot->state (4.5). */
+ * ROTSTATE()/ROTPORT(); the preload build reaches the state and port through the exported
+ * rot_data_pointer() (4.6+), as the public HAMLIB_ROTSTATE/HAMLIB_ROTPORT do, or through
+ * rot->state (4.5). */
 #ifndef BIRDCAGE_HAMLIB_COMPAT_H
 #define BIRDCAGE_HAMLIB_COMPAT_H
 

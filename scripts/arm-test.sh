@@ -47,60 +47,9 @@ if [[ ! -x $sim ]]; then
     cmake --build "$native_build" -j2 --target birdcage-sim >/dev/null
 fi
 
-# dish_e2e ARCH VARIANT NAME: Debian 12's ARCH rotctld, auto-detecting the emulated VARIANT.
-dish_e2e() {
-    local arch=$1 variant=$2 name=$3 time_scale=20 dev port
-    dev=$work/$arch-$variant.tty
-    port=$(free_port 4700 4749)
-    "$sim" --variant "$variant" --link "$dev" --time-scale "$time_scale" --az 100 --el 30 --trace \
-        >"$work/$arch-$variant.sim.log" 2>&1 &
-    pids+=($!)
-    wait_for 10 test -e "$dev" || { echo "arm-test: FAIL: the emulator did not start" >&2; exit 1; }
-    # No -s: auto-detection finds the baud rate too.
-    "${loader[@]}" --library-path "$libpath" --preload "$backend" "$rotctld" -m 90100 -r "$dev" \
-        -T 127.0.0.1 -t "$port" -C "time_scale=$time_scale" -vvvv >"$work/$arch-$variant.rotctld.log" 2>&1 &
-    pids+=($!)
-    if ! wait_for_listener 120 "$port" "${pids[-1]}"; then
-        echo "arm-test: FAIL: $arch rotctld did not listen; its log:" >&2
-        tail -20 "$work/$arch-$variant.rotctld.log" >&2
-        exit 1
-    fi
-    # The client is this machine's rotctl: Gpredict runs on another computer than the Pi.
-    rc() { rotctl -m 2 -r "127.0.0.1:$port" "$@"; }
-    local info
-    info=$(rc _ | tr '\n' ' ')
-    say "$arch $variant _: $info"
-    [[ $info == *"$name"*"(auto-detected)"* ]] || { echo "arm-test: FAIL: auto-detect did not name $name" >&2; exit 1; }
-    rc P 200 40
-    arrive 200 40 "$work/$arch-$variant.sim.log" "$work/$arch-$variant.rotctld.log" rc || exit 1
-
-    local sent last_az last_el
-    read -r sent last_az last_el < <(track_pass "$port" "$time_scale" 5 1000 "$root/bench/passes/iss-45.csv") ||
-        exit 1
-    [[ $sent -gt 10 ]] || { echo "arm-test: FAIL: the pass sent $sent P commands" >&2; exit 1; }
-    # Tracking, the dish aims ahead of the satellite and leaves it alone within a deadband: it
-    # ends near the pass's last point (it started at 200 40, 120 deg away), not exactly on it.
-    local deadline=$((SECONDS + 60)) reading=
-    until awk -v r="$reading" -v az="$last_az" -v el="$last_el" 'BEGIN {
-            split(r, v, " "); d = v[1] - az; if (d < 0) d = -d; e = v[2] - el; if (e < 0) e = -e
-            exit !(v[2] != "" && d < 3 && e < 3) }'; do
-        ((SECONDS < deadline)) || { echo "arm-test: FAIL: after the pass the dish is at $reading, not near $last_az $last_el" >&2; exit 1; }
-        sleep 0.2
-        reading=$(rc p | tr '\n' ' ')
-    done
-    say "$arch $variant: p $reading after the pass (its last point: $last_az $last_el)"
-    # Manual pointing after the pass: exactly where it is sent.
-    rc P 150 35
-    arrive 150 35 "$work/$arch-$variant.sim.log" "$work/$arch-$variant.rotctld.log" rc || exit 1
-    say "$arch $variant: tracked iss-45 above 20 deg ($sent P commands), then P 150 35"
-    # rotctld first, then the emulator, which reports at exit what the hazard rule caught.
-    kill "${pids[1]}"; wait "${pids[1]}" 2>/dev/null || true
-    kill "${pids[0]}"; wait "${pids[0]}" 2>/dev/null || true
-    pids=()
-    grep -q "hazards received: 0$" "$work/$arch-$variant.sim.log" ||
-        { echo "arm-test: FAIL: $(grep "hazards received" "$work/$arch-$variant.sim.log")" >&2; exit 1; }
-    say "$arch $variant: 0 hazards"
-}
+# The e2e (lib.sh's dish_e2e) runs each ARM rotctld with this machine's emulator and rotctl.
+e2e_sim=$sim e2e_work=$work
+e2e_client=(rotctl)
 
 for arch in "${arches[@]}"; do
     case $arch in
@@ -136,7 +85,10 @@ for arch in "${arches[@]}"; do
     models=$(winegard_models "${loader[@]}" --library-path "$libpath" --preload "$backend" "$rotctld")
     [[ $models -eq 6 ]] || { echo "arm-test: FAIL: the $arch rotctld lists $models Winegard models, expected 6" >&2; exit 1; }
     say "$arch: rotctld -l lists the 6 Winegard models"
-    dish_e2e "$arch" g2 "Carryout G2"
-    dish_e2e "$arch" hal205 "Trav'ler HAL 2.05"
+    for dish in "g2:Carryout G2" "hal205:Trav'ler HAL 2.05"; do
+        dish_e2e "$arch" "${dish%%:*}" "${dish#*:}" 90100 \
+            "${loader[@]}" --library-path "$libpath" --preload "$backend" "$rotctld" ||
+            { echo "arm-test: FAIL: $arch ${dish%%:*}" >&2; exit 1; }
+    done
 done
 say "PASS: ${arches[*]}: unit tests and the ARM rotctld e2e under qemu"

@@ -140,6 +140,10 @@ commands = json.load(open(os.path.join(project, "compile_commands.json")))
 ops = [c for c in commands if c["file"].endswith("src/hamlib/winegard_ops.cpp")]
 if not ops:
     die("the project's compile_commands.json has no src/hamlib/winegard_ops.cpp")
+# The C++ standard too: the one the project builds the core with (C++17), not a second copy of it.
+standard = re.findall(r"(?:^|\s)(-std=\S+)", ops[0]["command"])
+if not standard:
+    die("the project's compile command for winegard_ops.cpp names no -std=")
 includes = []
 for flag in re.findall(r"(?:^|\s)-I\s*(\S+)", ops[0]["command"]):
     path = os.path.realpath(flag)
@@ -161,6 +165,7 @@ sources = [tree_path(f) for f in files]
 sources.sort(key=lambda s: (s.count("/"), s))
 template = open(os.path.join(root, "upstream/hamlib/Makefile.am.in")).read()
 makefile = template.replace("@WINEGARD_INCLUDES@", " ".join(["-I$(srcdir)"] + includes))
+makefile = makefile.replace("@WINEGARD_CXX_STD@", standard[-1])
 makefile = makefile.replace("@WINEGARD_SOURCES@", " \\\n".join("\t" + s for s in sources))
 open(os.path.join(backend, "Makefile.am"), "w").write(makefile)
 print("contribution: %d files from the project (%s left out: they need libserialport)"
@@ -173,8 +178,8 @@ rotators/winegard: new backend for Winegard motorised satellite dishes
 Trav'ler, Trav'ler Pro, Carryout and Carryout G2 dishes driven through their
 serial consoles, with one model that identifies the firmware variant at open.
 The caps are C (winegard.c); the operations are C++17 behind the C interface
-in winegard.h, over the birdcage core (core/, include/), as rotators/indi does.
-See README.winegard.md.
+in winegard.h, over the birdcage core (core/), as rotators/indi does. See
+README.winegard.md.
 EOF
 
 python3 - "$tree" "$family" "$root/upstream/hamlib/rotlist.h.in" <<'PY' || fail "editing Hamlib's lists (above)"

@@ -30,7 +30,9 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 family=${HAMLIB_WINEGARD_FAMILY:-29}
 
 fail() { echo "hamlib-intree: FAIL: $*" >&2; exit 1; }
-usage() { sed -n '17,25s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; }
+# Any other command that fails ends the script (set -e) with one line naming it.
+trap 'echo "hamlib-intree: FAIL: line $LINENO: $BASH_COMMAND" >&2' ERR
+usage() { sed -n '19,25s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; }
 
 patches= sim= args=()
 while (($#)); do

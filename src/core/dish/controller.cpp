@@ -15,13 +15,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr auto query_timeout = 2000ms;          // `a`: ~60 bytes even at 57600 baud is ~11 ms
-// `h <id>` blocks the shell until the axis is homed. Homing is motion, so the bound is dish time
-// (clock.hpp): the emulator's time scale shortens it as it shortens the homing.
-constexpr auto home_timeout = 180000ms;
-// While homing, one service() call reads the console this long (real time) for the prompt: short
-// enough that the caller's loop stays responsive, long enough not to spin.
-constexpr auto home_listen_slice = 100ms;
 constexpr auto skip_init_sync_budget = 5000ms;  // skip_init: the dish is said to be up already
 constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
 
@@ -108,14 +101,6 @@ Status Controller::in_submenu(std::string_view menu, const std::function<Status(
     return menus_.visit(menu, work);
 }
 
-void Controller::warn_if_unhomed() const {
-    if (profile_.has(quirk_requires_homing) && state_.unhomed) {
-        emit(options_.log, LogLevel::error,
-             "the dish's axes are not homed (it reports INT_MAX); moves are refused until it is homed: "
-             "use reset (rotctl R 1), which runs h 1 and h 0");
-    }
-}
-
 // Read-only: the firmware's TV search runs after boot unless NVS "Disable Tracker Proc?" is TRUE
 // (docs/firmware.md 6.2, Appendix A). The backend never writes NVS; it only warns.
 Status Controller::check_tracker_disabled() {
@@ -135,82 +120,6 @@ Status Controller::check_tracker_disabled() {
                  "its own. Set it to TRUE yourself (nvs, e " + std::to_string(entry.value->index) +
                  " TRUE, s, reboot); the backend never writes NVS.");
     }
-    return Status::ok();
-}
-
-Status Controller::start_home() {
-    if (profile_.home_commands.empty()) {
-        return Status{Errc::unsupported, std::string(profile_.display_name) +
-                                             " has no homing command (it calibrates at power-up only)"};
-    }
-    if (!initialised_) {
-        return Status{Errc::not_initialised, "initialize() has not succeeded"};
-    }
-    // Whatever was queued or in flight is void: homing recalibrates both axes.
-    driver_->reset();
-    forget_target();
-    wrap_.forget_position();
-    homing_ = HomingRun{};
-    return Status::ok();
-}
-
-Status Controller::home() {
-    if (Status started = start_home(); !started) {
-        return started;
-    }
-    while (homing_) {
-        if (Status step = service(); !step) {
-            return step;
-        }
-    }
-    return Status::ok();
-}
-
-Status Controller::service_homing() {
-    HomingRun& run = *homing_;
-    if (run.next >= profile_.home_commands.size()) {
-        return finish_homing();
-    }
-    const std::string command(profile_.home_commands[run.next]);
-    const auto failed = [&](const Status& why) {
-        homing_.reset();
-        return Status{why.code, "homing (" + command + "): " + why.message};
-    };
-    Result<Reply> heard;
-    if (!run.awaiting_prompt) {
-        emit(options_.log, LogLevel::verbose, "homing: " + command);
-        heard = session_.transact(command, home_listen_slice);
-        run.sent_at = now();
-        run.awaiting_prompt = true;
-        if (!heard && heard.status.code != Errc::timeout) {
-            return failed(heard.status);
-        }
-    } else {
-        heard = session_.listen(home_listen_slice);
-        if (!heard) {
-            return failed(heard.status);
-        }
-    }
-    if (!heard.value.prompt.empty()) {
-        run.awaiting_prompt = false;
-        ++run.next;
-        return service_homing();   // the next command at once, or the end
-    }
-    if (now() - run.sent_at > home_timeout) {
-        return failed(Status{Errc::timeout, "no prompt within " + std::to_string(home_timeout.count()) + " ms"});
-    }
-    return Status::ok();
-}
-
-Status Controller::finish_homing() {
-    homing_.reset();
-    state_.unhomed = false;
-    session_.set_axes_unhomed(false);
-    const auto position = reader_.ask(query_timeout);
-    if (!position) {
-        return Status{position.status.code, "after homing: " + position.status.message};
-    }
-    emit(options_.log, LogLevel::verbose, "homed: " + describe());
     return Status::ok();
 }
 

@@ -146,6 +146,9 @@ public:
     const WrapTracker& wrap_tracker() const { return wrap_; }
 
 private:
+    // A position query (`a`): ~60 bytes even at 57600 baud take ~11 ms.
+    static constexpr std::chrono::milliseconds query_timeout{2000};
+
     Clock::time_point now() const;
     Status initialize_within(std::chrono::milliseconds boot_budget);
     // Ok(true): the dish has just printed its ready line and is at its root, its TV search starting.
@@ -155,7 +158,7 @@ private:
     Status check_tracker_disabled();
     void forget_target();
     bool moved_on_its_own(const AzEl& before, const AzEl& now) const;
-    Status service_homing();
+    Status service_homing();   // controller_homing.cpp, with start_home() and home()
     Status finish_homing();
 
     const FirmwareProfile& profile_;

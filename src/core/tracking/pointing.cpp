@@ -2,7 +2,6 @@
 // Copyright (C) 2026 the birdcage authors
 
 #include "tracking/pointing.hpp"
-#include "base/least_squares.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,6 +9,8 @@
 #include <cstdio>
 #include <optional>
 #include <vector>
+
+#include "tracking/slope_fit.hpp"
 
 namespace birdcage {
 namespace {
@@ -20,9 +21,6 @@ constexpr std::size_t lead_observations_kept = 8;
 // An observation smaller than this fraction of the learned threshold is a "lead" event (the dish
 // ran ahead), which says nothing about the client's threshold.
 constexpr double lag_event_fraction = 0.5;
-// Quadratic fits need this many samples over this span; below, a straight line.
-constexpr std::size_t quadratic_min_samples = 3;
-constexpr double quadratic_min_span_s = 3.0;
 // Bounds on the fitted acceleration (the keyhole's azimuth needs ~1.6 deg/s² at 85°, docs/tracking.md §2.1).
 constexpr double max_az_accel = 0.3;
 constexpr double max_el_accel = 0.05;
@@ -37,67 +35,9 @@ constexpr double lead_limit_margin_deg = 0.3;
 // Weight of a new target's anchor against the running estimate (an alpha filter on position).
 constexpr double anchor_gain = 0.5;
 
-struct Fit {
-    double rate = 0.0;    // slope at the newest sample
-    double accel = 0.0;   // curvature (0 for a straight line)
-    bool ok = false;
-};
-
-// Mean square of the samples off a fitted curve (its offset the best one for the given rate and
-// curvature), each scaled by `scale` (cos(el) turns an azimuth into an angle on the sky).
-template <typename Samples, typename Get>
-double mean_square_off(const Samples& samples, Get value, const Fit& fit, double scale) {
-    const double t_end = samples.back().t;
-    auto curve = [&](double u) { return fit.rate * u + 0.5 * fit.accel * u * u; };
-    double offset = 0.0;
-    for (const auto& s : samples) {
-        offset += value(s) - curve(s.t - t_end);
-    }
-    offset /= static_cast<double>(samples.size());
-    double sum = 0.0;
-    for (const auto& s : samples) {
-        const double off = (value(s) - curve(s.t - t_end) - offset) * scale;
-        sum += off * off;
-    }
-    return sum / static_cast<double>(samples.size());
-}
-
-// Least squares of value(t), evaluated as a slope at t_end: quadratic when the samples allow it
-// (a straight line's slope belongs to the window's centroid, seconds behind the newest target,
-// while the azimuth rate of a pass keeps changing), straight line otherwise.
-template <typename Samples, typename Get>
-Fit slope_at_end(const Samples& samples, Get value, double accel_bound) {
-    const std::size_t n = samples.size();
-    if (n < 2) {
-        return {};
-    }
-    const double t_end = samples.back().t;
-    double span = t_end - samples.front().t;
-    if (span <= 0.0) {
-        return {};
-    }
-    // Centre on the newest sample so the slope at t_end is the linear coefficient.
-    QuadraticSums sums;
-    for (const auto& s : samples) {
-        sums.add(s.t - t_end, value(s));
-    }
-    const auto& st = sums.u;
-    const auto& sy = sums.yu;
-    const double linear_det = st[0] * st[2] - st[1] * st[1];
-    if (std::fabs(linear_det) < 1e-12) {
-        return {};
-    }
-    double rate = (st[0] * sy[1] - st[1] * sy[0]) / linear_det;
-    double accel = 0.0;
-    if (n >= quadratic_min_samples && span >= quadratic_min_span_s) {
-        const auto quadratic = solve_quadratic(sums, 1e-9);
-        if (quadratic && std::fabs(2.0 * quadratic->c) <= accel_bound) {
-            rate = quadratic->b;
-            accel = 2.0 * quadratic->c;
-        }
-    }
-    return {rate, accel, true};
-}
+using slope_fit::Fit;
+using slope_fit::mean_square_off;
+using slope_fit::slope_at_end;
 
 }  // namespace
 

@@ -85,6 +85,8 @@ void TargetPredictor::reset() {
     // program with another threshold (or none).
     lead_threshold_.reset();
     lead_observations_.clear();
+    half_step_.reset();
+    half_steps_.clear();
     held_ = false;
     samples_.clear();
     have_rate_ = false;
@@ -207,6 +209,17 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     ++track_targets_;
     if (t - last.t > resend_interval_s) {
         last_interval_s_ = t - last.t;
+        // The client's step on its faster axis (plain differences, as a threshold compares them).
+        const double half_step = 0.5 * std::max(std::fabs(az - last.az), std::fabs(target.el - last.el));
+        if (half_step <= max_lead_threshold_deg) {
+            half_steps_.push_back(half_step);
+            if (half_steps_.size() > lead_observations_kept) {
+                half_steps_.pop_front();
+            }
+            std::vector<double> sorted(half_steps_.begin(), half_steps_.end());
+            std::sort(sorted.begin(), sorted.end());
+            half_step_ = sorted[(sorted.size() - 1) / 2];
+        }
     }
     fit();
     if (!have_rate_) {

@@ -138,8 +138,19 @@ public:
     // orbit's lead. Not corrected by the orbit as the lead is: a client that sends a target every
     // 5 deg without look-ahead leads by nothing, but its steps still ask for a coarse deadband
     // (with the lead's 0, the G2 made 624 motor starts on iss-45 at 5 deg).
+    // A client's steps show its coarseness too: one without look-ahead steps by its threshold
+    // whatever the dish did, while on a dish the orbit leads its gaps are nothing (the G2 then fell
+    // to its minimum deadband and started its motors 617 times on iss-45 at 5 deg, k = 5). So where
+    // the lead in use is under a tenth of the client's half step (a client that leads by L steps
+    // by about 2L or more, so a tenth is no such client), the half step stands for the coarseness.
     std::optional<double> client_coarseness_deg() const {
-        return lead_threshold_ ? lead_threshold_ : pass_model_in_use() ? orbit_.lead_deg() : std::nullopt;
+        const std::optional<double> gaps =
+            lead_threshold_ ? lead_threshold_ : pass_model_in_use() ? orbit_.lead_deg() : std::nullopt;
+        const std::optional<double> lead = lead_threshold_deg();
+        if (half_step_ && half_steps_.size() >= min_half_steps && lead && *lead < no_look_ahead_lead_share * *half_step_) {
+            return std::max(gaps.value_or(0.0), *half_step_);
+        }
+        return gaps;
     }
     bool pass_model_in_use() const { return settings_.use_pass_model && orbit_.trusted(); }
     const OrbitModel& orbit() const { return orbit_; }
@@ -170,6 +181,11 @@ private:
     bool held_ = false;   // the last target repeated the one before: the client holds still
     std::optional<double> lead_threshold_;  // learned client threshold, degrees (per axis)
     std::deque<double> lead_observations_;
+    // Half the client's step between targets sent apart (on the faster axis), a low median.
+    std::optional<double> half_step_;
+    std::deque<double> half_steps_;
+    static constexpr double no_look_ahead_lead_share = 0.1;
+    static constexpr std::size_t min_half_steps = 3;
     // The estimated satellite position at anchor_t_ (the last target minus the lead).
     double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;
     double last_interval_s_ = 0.0;

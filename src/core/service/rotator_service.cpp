@@ -71,6 +71,7 @@ Result<AzEl> RotatorService::position() {
     // lost although the dish comes back. get_status() and describe() tell that it is not answering.
     // The move in flight is not run on: the dish may not be making it (a reboot stops it dead).
     if (not_answering(dish) && dish.position) {
+        mailbox_.note_reported(*dish.position);
         return {*dish.position, Status::ok()};
     }
     if (dish.recovering) {
@@ -87,7 +88,9 @@ Result<AzEl> RotatorService::position() {
                                            : dish.last_error;
         return {AzEl{}, why};
     }
-    return {modelled_position(worker_.profile(), *dish.position, dish.moving_axes, worker_.clock().now()), Status::ok()};
+    const AzEl reported = modelled_position(worker_.profile(), *dish.position, dish.moving_axes, worker_.clock().now());
+    mailbox_.note_reported(reported);
+    return {reported, Status::ok()};
 }
 
 Status RotatorService::stop() {

@@ -17,6 +17,11 @@ bool ServiceMailbox::is_open() const {
     return open_;
 }
 
+void ServiceMailbox::note_reported(AzEl position) {
+    std::lock_guard lock(mutex_);
+    reported_ = position;
+}
+
 Status ServiceMailbox::post_target(AzEl target, Clock::time_point posted_at) {
     {
         std::lock_guard lock(mutex_);
@@ -29,6 +34,7 @@ Status ServiceMailbox::post_target(AzEl target, Clock::time_point posted_at) {
         }
         posted_target_ = target;
         posted_at_ = posted_at;
+        reported_before_target_ = reported_;
         latest_target_ = target;
         fault_ = Status::ok();   // a new target is the client's answer to a fault (p still reports it once)
     }
@@ -123,6 +129,7 @@ ServiceMail ServiceMailbox::take() {
     mail.stop = std::exchange(stop_posted_, false);
     mail.target = std::exchange(posted_target_, std::nullopt);
     mail.target_posted_at = posted_at_;
+    mail.reported_before_target = reported_before_target_;
     mail.home = home_posted_;
     mail.latest_target = latest_target_;
     mail.job = job_;

@@ -37,6 +37,10 @@ struct ServiceMail {
     bool stop = false;                   // a stop posted since the last step; acted on before `target`
     std::optional<AzEl> target;          // the newest target posted since the last step
     Clock::time_point target_posted_at{};  // when it was posted (dish time)
+    // The position `p` last answered before the target was posted: what the client compared the
+    // satellite with when it decided to send (a tracking client sends when the dish it read back is
+    // off). None: nothing asked yet.
+    std::optional<AzEl> reported_before_target;
     bool home = false;                   // a home requested and not yet started
     std::optional<AzEl> latest_target;   // the client's last target (resumed after a recovery)
     std::shared_ptr<ServiceJob> job;     // a receiver job waiting for the dish, if any
@@ -83,6 +87,8 @@ public:
     // the worker takes the stop first, so `S` then `P` does what `P` says however quickly they come.
     // `posted_at` (dish time) is when the client sent it: the estimator dates the target by it,
     // not by when the worker got to it, so the worker's wake-up latency never reads as lag.
+    // A position answered to a caller (`p`), remembered for the next target (ServiceMail).
+    void note_reported(AzEl position);
     Status post_target(AzEl target, Clock::time_point posted_at);
     // Drops any target not yet taken and asks the worker to drop the legs not yet sent.
     void post_stop();
@@ -121,6 +127,7 @@ private:
     // Inbox.
     std::optional<AzEl> posted_target_;
     Clock::time_point posted_at_{};
+    std::optional<AzEl> reported_, reported_before_target_;
     bool stop_posted_ = false;
     bool home_posted_ = false;
     std::optional<AzEl> latest_target_;

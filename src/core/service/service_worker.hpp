@@ -94,7 +94,8 @@ private:
     Status recover_once();
     Status read_position_afresh();
     Status resume(AzEl target);
-    Status accept_target(AzEl target, Clock::time_point sent_at);
+    // `reported`: the position the client last read back (ServiceMail), if known.
+    Status accept_target(AzEl target, Clock::time_point sent_at, std::optional<AzEl> reported = std::nullopt);
     Status steer();
     void forget_the_pass();
     Clock::duration next_period(bool entered_recovery) const;

@@ -34,6 +34,12 @@ constexpr double no_rise_penalty_deg = 10.0;
 // scatter is not all timing: Gpredict's quantised search leaves a systematic part, which a free
 // lead would fit as readily as a real difference).
 constexpr std::size_t lead_question_min_targets = 4, lead_question_every_target_below = 30;
+// No lead at all is put to the targets from three exact ones on: the two leave a fit of three
+// targets apart already (a client without look-ahead, learnt as leading by 2.6 deg from the dish's
+// gaps, on the held-out pass: 2.0 times the expected scatter with that lead, 0.3 with none), and a
+// hint below this (degrees) is none already.
+constexpr std::size_t lead_none_question_min_targets = 3;
+constexpr double lead_none_min_hint_deg = 0.2;
 constexpr double lead_question_gain = 0.8;
 
 // Solves the normal equations A x = b (n ≤ 4) by Gaussian elimination with partial pivoting.
@@ -141,7 +147,14 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations) const {
     // The lead the caller learnt from the dish (the gap between a target and the dish it passed)
     // is held; fitted with the orbit, the lead wanders with the targets' timing scatter by more
     // than that learning errs. Without one the targets are all there is (and see question_lead()).
-    return refine(orbit, iterations, lead_fitted_despite_hint_ ? std::nullopt : lead_hint_deg_);
+    return refine(orbit, iterations, lead_in_fit());
+}
+
+std::optional<double> OrbitModel::lead_in_fit() const {
+    if (lead_none_despite_hint_ && lead_hint_deg_) {
+        return 0.0;
+    }
+    return lead_fitted_despite_hint_ ? std::nullopt : lead_hint_deg_;
 }
 
 // The dish's gaps cannot tell a client that leads by L from one that sends the satellite as it is
@@ -150,13 +163,23 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations) const {
 // (2.5 deg at 5 deg, tests/core/test_orbit_model.cpp). The targets can tell: a lead is a time that changes with the satellite's rate,
 // which no phase absorbs. So at each new target (from 4 exact ones on; past 30, each time they grew
 // by a tenth) both are fitted, and the fitted lead is taken where it fits the targets clearly better.
+// Before that, and first, the two readings of the gaps are put to the targets as they are: the
+// hinted lead against none. The fitted lead needs many targets to be known to 0.3 deg (the
+// held-out pass: 14, at its culmination), while the dish trailed the satellite by the wrong lead.
+// None is taken only where the hinted lead misses the targets by more than their expected scatter
+// (a track whose rate hardly changes cannot tell a lead from a phase, and keeps the hint), and only
+// until the fitted lead can be questioned instead (then a zenith pass's few poorly fitted targets
+// would take none for Gpredict's own lead); either reading stays until the other fits clearly
+// better (no flapping between them).
 void OrbitModel::question_lead() {
     if (!orbit_ || !lead_hint_deg_) {
         lead_fitted_despite_hint_ = false;
+        lead_none_despite_hint_ = false;
         return;
     }
     const std::size_t exact = residual_.exact_count;
-    if (exact < lead_question_min_targets || (exact >= lead_question_every_target_below && exact < next_lead_question_)) {
+    if (exact < lead_none_question_min_targets ||
+        (exact >= lead_question_every_target_below && exact < next_lead_question_)) {
         return;
     }
     // With many targets one more changes little: a client that sends every cycle (wide limits)
@@ -164,6 +187,27 @@ void OrbitModel::question_lead() {
     next_lead_question_ = exact + exact / 10;
     Orbit held = *orbit_, fitted = *orbit_;
     const FitResidual with_hint = refine(held, warm_iterations, lead_hint_deg_);
+    if (*lead_hint_deg_ >= lead_none_min_hint_deg) {
+        Orbit none = *orbit_;
+        const FitResidual without = refine(none, warm_iterations, 0.0);
+        lead_none_despite_hint_ = lead_none_despite_hint_
+                                      ? !(with_hint.normalised < lead_question_gain * without.normalised)
+                                      : exact < settings_.min_exact_targets_fitted_lead && with_hint.normalised > 1.0 &&
+                                            without.normalised < lead_question_gain * with_hint.normalised;
+        if (lead_none_despite_hint_) {
+            lead_fitted_despite_hint_ = false;
+            orbit_ = none;
+            residual_ = without;
+            return;
+        }
+    } else {
+        lead_none_despite_hint_ = false;
+    }
+    if (exact < lead_question_min_targets) {
+        orbit_ = held;
+        residual_ = with_hint;
+        return;
+    }
     const FitResidual free = refine(fitted, warm_iterations, std::nullopt);
     lead_fitted_despite_hint_ = free.normalised < lead_question_gain * with_hint.normalised &&
                                 fitted.lead_sigma_deg <= settings_.max_lead_sigma_deg &&

@@ -44,6 +44,7 @@ void OrbitModel::clear() {
     trusted_ = false;
     residual_ = {};
     lead_fitted_despite_hint_ = false;
+    lead_none_despite_hint_ = false;
     next_lead_question_ = 0;
     description_ = "no targets";
 }

@@ -111,7 +111,9 @@ public:
     std::optional<double> altitude_km() const;
     std::optional<double> lead_deg() const;
     // The targets themselves showed the client's lead to be other than the caller's hint.
-    bool lead_from_targets() const { return orbit_ && lead_hint_deg_ && lead_fitted_despite_hint_; }
+    bool lead_from_targets() const {
+        return orbit_ && lead_hint_deg_ && (lead_fitted_despite_hint_ || lead_none_despite_hint_);
+    }
     // When the satellite sets below `el` after time t (within `within_s`), for the caller's horizon.
     std::optional<double> time_below(double t, double el, double within_s) const;
     // The part of the current (or next, within `within_s`) pass above elevation `el` from time t
@@ -171,6 +173,9 @@ private:
     std::deque<Target> targets_;
     std::optional<double> lead_hint_deg_;
     bool lead_fitted_despite_hint_ = false;   // question_lead() found the targets contradict the hint
+    bool lead_none_despite_hint_ = false;     // ... and fit no lead at all clearly better
+    // The lead the fit holds: the hint, none, or fitted (nullopt), as question_lead() decided.
+    std::optional<double> lead_in_fit() const;
     std::size_t next_lead_question_ = 0;      // exact targets at which to question it next (when many)
     // The client's elevation limits as its targets show them: the dish's until one lies beyond.
     double client_min_el_ = 0.0, client_max_el_ = 90.0;

@@ -109,8 +109,8 @@ class TargetPredictor {
 public:
     explicit TargetPredictor(PredictorSettings settings = {});
 
-    // A new client target at time `t`; `dish` is the position the backend reports now (what the
-    // client compared against), if known.
+    // A new client target at time `t`; `dish` is the position the client compared the satellite
+    // with (the one `p` last answered before the target; else the backend's reading), if known.
     void observe(Clock::time_point t, AzEl target, std::optional<AzEl> dish);
     void reset();
     // The dish's elevation limits: a client set up with them clamps its targets there, and a dish

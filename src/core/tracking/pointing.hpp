@@ -141,8 +141,8 @@ public:
     // A client's steps show its coarseness too: one without look-ahead steps by its threshold
     // whatever the dish did, while on a dish the orbit leads its gaps are nothing (the G2 then fell
     // to its minimum deadband and started its motors 617 times on iss-45 at 5 deg, k = 5). So where
-    // the lead in use is under a tenth of the client's half step (a client that leads by L steps
-    // by about 2L or more, so a tenth is no such client), the half step stands for the coarseness.
+    // the lead in use is under a fifth of the client's half step (a client that leads by L steps
+    // by about 2L, rarely much more), the half step stands for the coarseness.
     std::optional<double> client_coarseness_deg() const {
         const std::optional<double> gaps =
             lead_threshold_ ? lead_threshold_ : pass_model_in_use() ? orbit_.lead_deg() : std::nullopt;
@@ -184,7 +184,7 @@ private:
     // Half the client's step between targets sent apart (on the faster axis), a low median.
     std::optional<double> half_step_;
     std::deque<double> half_steps_;
-    static constexpr double no_look_ahead_lead_share = 0.1;
+    static constexpr double no_look_ahead_lead_share = 0.2;
     static constexpr std::size_t min_half_steps = 3;
     // The estimated satellite position at anchor_t_ (the last target minus the lead).
     double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;

@@ -36,10 +36,11 @@ constexpr double no_rise_penalty_deg = 10.0;
 constexpr std::size_t lead_question_min_targets = 4, lead_question_every_target_below = 30;
 // No lead at all is put to the targets from three exact ones on: the two leave a fit of three
 // targets apart already (a client without look-ahead, learnt as leading by 2.6 deg from the dish's
-// gaps, on the held-out pass: 2.0 times the expected scatter with that lead, 0.3 with none), and a
-// hint below this (degrees) is none already.
+// gaps, on the held-out pass: 2.0 times the expected scatter with that lead, 0.3 with none). Only
+// a hint of at least this (degrees) is questioned: a finer lead is within the few targets' scatter,
+// and Gpredict's own 0.5 deg was taken for none on the held-out pass (0.49 deg RMS against 0.29).
 constexpr std::size_t lead_none_question_min_targets = 3;
-constexpr double lead_none_min_hint_deg = 0.2;
+constexpr double lead_none_min_hint_deg = 1.0;
 constexpr double lead_question_gain = 0.8;
 
 // Solves the normal equations A x = b (n ≤ 4) by Gaussian elimination with partial pivoting.

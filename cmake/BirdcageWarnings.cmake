@@ -8,7 +8,7 @@ function(birdcage_warnings target)
     target_compile_options(${target} PRIVATE
         -Wall -Wextra -Wshadow -Wcast-align -Wnull-dereference -Wdouble-promotion -Wformat=2
         -Wimplicit-fallthrough
-        # C++ only: gcc warns about them on a C source (the backend's caps, upstream/hamlib/winegard.c).
+        # C++ only: gcc warns about them on a C source (the backend's caps, src/hamlib/winegard.c).
         $<$<COMPILE_LANGUAGE:CXX>:-Wnon-virtual-dtor -Wold-style-cast -Woverloaded-virtual>)
     if(BIRDCAGE_WERROR)
         target_compile_options(${target} PRIVATE -Werror)

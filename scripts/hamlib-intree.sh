@@ -6,7 +6,7 @@
 #  1. unpacks a Hamlib source tarball (a `git archive` of a tag or of master) into BUILD_DIR,
 #     `git init`s it and commits the pristine tree;
 #  2. adds the contribution, generated from this project's sources at this moment (the caps in
-#     upstream/hamlib/, the C++ in src/hamlib/ and the whole core), in two commits, and writes them
+#     src/hamlib/, the C++ beside them and the whole core), in two commits, and writes them
 #     as `git format-patch` files into BUILD_DIR/patches;
 #  3. bootstraps, configures (no bindings, no static library, no optional backends), builds
 #     libhamlib with rotctld/rotctl and the rest of what `make check` needs, runs Hamlib's own
@@ -110,8 +110,6 @@ def die(message):
 # Where a project file goes in the backend's directory: the caps and the C++ of src/hamlib at its
 # top, as every Hamlib backend is laid out; the core keeps its paths below src/ and include/.
 def tree_path(rel):
-    if rel == "upstream/hamlib/winegard.c":
-        return "winegard.c"
     if rel.startswith("src/hamlib/"):
         return rel[len("src/hamlib/"):]
     if rel.startswith("src/"):
@@ -128,8 +126,7 @@ def project_files(top, suffixes):
 
 # The backend's own files (not preload/: that is the preload build's) and the whole core, except
 # what needs libserialport (the backend talks through Hamlib's fd; Hamlib has no libserialport).
-files = ["upstream/hamlib/winegard.c"]
-files += [os.path.join("src/hamlib", n) for n in sorted(os.listdir(os.path.join(root, "src/hamlib")))
+files = [os.path.join("src/hamlib", n) for n in sorted(os.listdir(os.path.join(root, "src/hamlib")))
           if n.endswith((".c", ".cpp", ".h", ".hpp"))]
 core = project_files("src/core", (".cpp", ".hpp", ".h"))
 if os.path.isdir(os.path.join(root, "include")):
@@ -184,7 +181,7 @@ in winegard.h, over the birdcage core (core/), as rotators/indi does. See
 README.winegard.md.
 EOF
 
-python3 - "$tree" "$family" "$root/upstream/hamlib/rotlist.h.in" <<'PY' || fail "editing Hamlib's lists (above)"
+python3 - "$tree" "$family" "$root/src/hamlib/rotlist.h.in" <<'PY' || fail "editing Hamlib's lists (above)"
 import re, sys
 
 tree, family, fragment = sys.argv[1], int(sys.argv[2]), sys.argv[3]

@@ -30,9 +30,9 @@ using birdcage::AxisReading;
 using birdcage::Clock;
 using birdcage::LegMotion;
 
-constexpr double poll_period_s = 0.1;   // AxisLegDriver's poll_interval
-constexpr int questions_per_leg = 20;   // `p` at random moments of each leg
-constexpr double after_leg_s = 0.3;     // and a little after it ends
+constexpr double poll_period_s = 0.1;  // AxisLegDriver's poll_interval
+constexpr int questions_per_leg = 20;  // `p` at random moments of each leg
+constexpr double after_leg_s = 0.3;    // and a little after it ends
 
 struct Motor {
     const char* name;
@@ -83,7 +83,7 @@ Errors run(const birdcage::FirmwareProfile& dish, const Motor& motor, double len
         leg.to = position + length;
         leg.sent_at = at(0.0);
         leg.latest = AxisReading{position, at(-0.5)};
-        leg.pace = paces.pace(Axis::elevation, length);   // as AxisLegDriver::motion_of: 1 until learnt
+        leg.pace = paces.pace(Axis::elevation, length);  // as AxisLegDriver::motion_of: 1 until learnt
         std::vector<double> reading_times;
         for (double t = unit(random) * poll_period_s; t <= end; t += poll_period_s) {
             reading_times.push_back(t);

@@ -73,8 +73,8 @@ struct Settings {
     int runs = 3;
     double scale = 1.0;
     std::string pass = "sso-85";
-    double from = 300.0, reboot_at = 370.0, to = 440.0;   // pass clock, seconds
-    double late_from = 400.0;   // every reading is back on the satellite by then
+    double from = 300.0, reboot_at = 370.0, to = 440.0;  // pass clock, seconds
+    double late_from = 400.0;                            // every reading is back on the satellite by then
     bool reboot = true;
 };
 
@@ -107,12 +107,12 @@ private:
 };
 
 struct RunResult {
-    double ready_to_stop_s = NAN;   // wall time, NoGPS to the search stop
+    double ready_to_stop_s = NAN;  // wall time, NoGPS to the search stop
     double rms_deg = 0.0, before_deg = 0.0, after_deg = 0.0, max_deg = 0.0;
-    double available_deg = 0.0;     // the window without the power cut to the ready line
-    double late_deg = 0.0;          // --late-from to the end of the window
-    double ready_after_s = NAN;     // pass seconds from the power cut to the ready line
-    double back_after_s = NAN;      // pass seconds from the reboot until the dish is within 1 deg again
+    double available_deg = 0.0;  // the window without the power cut to the ready line
+    double late_deg = 0.0;       // --late-from to the end of the window
+    double ready_after_s = NAN;  // pass seconds from the power cut to the ready line
+    double back_after_s = NAN;   // pass seconds from the reboot until the dish is within 1 deg again
     int error_streak = 0;
     bool disengaged = false;
 };
@@ -141,7 +141,7 @@ RunResult run_once(const Dish& d, birdcage::sim::TravlerBootMoves boot_moves, co
     e2e::Rig rig(options, d.model, {"-C", scale_conf, "-C", latitude_conf});
 
     bench::ClientSettings client_settings;
-    client_settings.threshold_deg = 0.5;   // docs/gpredict.md's setting
+    client_settings.threshold_deg = 0.5;  // docs/gpredict.md's setting
     client_settings.min_el = d.el_min;
     client_settings.max_el = d.el_max;
     bench::GpredictClient client(pass, client_settings, rig.dish(), s.scale, rig.port(), start);
@@ -151,7 +151,8 @@ RunResult run_once(const Dish& d, birdcage::sim::TravlerBootMoves boot_moves, co
     auto pass_now = [&] { return client.pass_time_of(rig.dish().sim_time()); };
     Steady::time_point cycled_at{};
     if (s.reboot) {
-        e2e::wait_until([&] { return pass_now() >= s.reboot_at; }, std::chrono::seconds(static_cast<int>(s.reboot_at - start + 600)));
+        e2e::wait_until([&] { return pass_now() >= s.reboot_at; },
+                        std::chrono::seconds(static_cast<int>(s.reboot_at - start + 600)));
         cycled_at = Steady::now();
         rig.dish().power_cycle();
     }
@@ -175,8 +176,8 @@ RunResult run_once(const Dish& d, birdcage::sim::TravlerBootMoves boot_moves, co
                 client_text += chunk.bytes;
                 const std::size_t stop = client_text.find(d.stop_command);
                 // HAL 2.05's `s` counts only after `ngsearch` took it into that menu.
-                const bool in_place = d.stop_command != "s\r" ||
-                                      (stop != std::string::npos && client_text.find("ngsearch\r") < stop);
+                const bool in_place =
+                    d.stop_command != "s\r" || (stop != std::string::npos && client_text.find("ngsearch\r") < stop);
                 if (stop != std::string::npos && in_place) {
                     r.ready_to_stop_s = std::chrono::duration<double>(chunk.at - *ready_at).count();
                     break;
@@ -291,10 +292,12 @@ Settings parse(int argc, char** argv) {
 int main(int argc, char** argv) {
     try {
         const Settings s = parse(argc, argv);
-        std::printf("variant boot_moves run ready_after_s ready_to_stop_s rms_deg available_deg before_deg after_deg "
-                    "late_deg max_deg back_after_s error_streak disengaged\n");
+        std::printf(
+            "variant boot_moves run ready_after_s ready_to_stop_s rms_deg available_deg before_deg after_deg "
+            "late_deg max_deg back_after_s error_streak disengaged\n");
         for (const std::string& name : s.variants) {
-            const auto d = std::find_if(dishes().begin(), dishes().end(), [&](const Dish& x) { return x.name == name; });
+            const auto d =
+                std::find_if(dishes().begin(), dishes().end(), [&](const Dish& x) { return x.name == name; });
             if (d == dishes().end()) {
                 throw std::runtime_error("unknown variant " + name + " (hal000, hal205)");
             }
@@ -305,9 +308,9 @@ int main(int argc, char** argv) {
                 }
                 for (int run = 1; run <= s.runs; ++run) {
                     const RunResult r = run_once(*d, *moves, s);
-                    std::printf("%s %s %d %.1f %.3f %.2f %.2f %.2f %.2f %.2f %.1f %.1f %d %s\n", name.c_str(), reading.c_str(),
-                                run, r.ready_after_s, r.ready_to_stop_s, r.rms_deg, r.available_deg, r.before_deg,
-                                r.after_deg, r.late_deg, r.max_deg, r.back_after_s, r.error_streak,
+                    std::printf("%s %s %d %.1f %.3f %.2f %.2f %.2f %.2f %.2f %.1f %.1f %d %s\n", name.c_str(),
+                                reading.c_str(), run, r.ready_after_s, r.ready_to_stop_s, r.rms_deg, r.available_deg,
+                                r.before_deg, r.after_deg, r.late_deg, r.max_deg, r.back_after_s, r.error_streak,
                                 r.disengaged ? "yes" : "no");
                     std::fflush(stdout);
                 }

@@ -82,9 +82,13 @@ struct VariantRow {
 };
 const VariantRow variant_rows[] = {
     {"g2", Variant::carryout_g2, 90105, "Carryout G2", 115200, 18.0, 65.0,
-     "a\r" "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>", -423.33, 23.33},
+     "a\r"
+     "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>",
+     -423.33, 23.33},
     {"hal205", Variant::travler_hal205, 90102, "Trav'ler HAL 2.05", 57600, 15.0, 90.0,
-     "a\r" "a\r\nAZ = 180.00 EL = 45.00 SK = 0.00\r\nMOTOR>", 0.0, 455.0},
+     "a\r"
+     "a\r\nAZ = 180.00 EL = 45.00 SK = 0.00\r\nMOTOR>",
+     0.0, 455.0},
 };
 
 double wire_floor_ms(const VariantRow& v) {
@@ -97,7 +101,7 @@ struct ModeRow {
     const char* key;
     const char* label;
     std::vector<std::string> rotctld_args;
-    bool oracle = false;   // the client posts the true position every cycle; run once, threshold 0
+    bool oracle = false;  // the client posts the true position every cycle; run once, threshold 0
 };
 const std::vector<ModeRow> mode_rows = {
     {"none", "no compensation", {"-C", "pointing=none"}},
@@ -120,12 +124,12 @@ struct Options {
     std::vector<double> thresholds = {0.5, 5.0};
     std::vector<std::string> mappings = {"nearest"};
     std::vector<std::string> client_limits = {"dish"};
-    std::string client = "gpredict";   // or "current": see --client
-    double window_s = 0.0;  // > 0: only this many seconds around the TCA
+    std::string client = "gpredict";  // or "current": see --client
+    double window_s = 0.0;            // > 0: only this many seconds around the TCA
     std::string out = "bench-out";
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
-    std::vector<std::string> extra_conf;   // --conf key=value: passed to every run as -C key=value
-    birdcage::sim::MotorDynamics motor;    // --motor-*: the emulated motor (default: the variant's)
+    std::vector<std::string> extra_conf;  // --conf key=value: passed to every run as -C key=value
+    birdcage::sim::MotorDynamics motor;   // --motor-*: the emulated motor (default: the variant's)
 };
 
 struct Figures {
@@ -140,7 +144,9 @@ Figures figures_of(std::vector<double> v) {
         return f;
     }
     std::sort(v.begin(), v.end());
-    auto at = [&v](double q) { return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))]; };
+    auto at = [&v](double q) {
+        return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))];
+    };
     f.median = at(0.5);
     f.p95 = at(0.95);
     f.p99 = at(0.99);
@@ -162,8 +168,8 @@ struct RunSpec {
 
 struct RunResult {
     RunSpec spec;
-    Figures error;           // degrees, satellite inside the dish's elevation limits
-    double tracked_s = 0;    // seconds of the pass inside the limits
+    Figures error;         // degrees, satellite inside the dish's elevation limits
+    double tracked_s = 0;  // seconds of the pass inside the limits
     std::size_t motor_commands = 0;
     std::size_t set_commands = 0;  // P sent by the client
     // The tracked window: from the satellite rising to the dish's lowest elevation until it sets
@@ -287,7 +293,8 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     // sets below it: the part that is measured, with a few seconds of approach. With wide client
     // limits it starts at AOS: the targets the client sends between AOS and the floor are what
     // that setting changes (with the dish's they are the floor, sent only as the azimuth drifts).
-    double start = spec.client_limits == "wide" ? pass.aos() : std::max(pass.aos(), pass.first_time_above(v.el_min - 6.0));
+    double start =
+        spec.client_limits == "wide" ? pass.aos() : std::max(pass.aos(), pass.first_time_above(v.el_min - 6.0));
     double end = pass.last_time_above(v.el_min) + 5.0;
     if (options.window_s > 0.0) {
         start = std::max(start, pass.tca() - options.window_s / 2.0);
@@ -453,8 +460,7 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
         int n = std::snprintf(line, sizeof line, "%.2f,%.3f,%.3f,%.3f,%.3f,%.4f,%d,", g.t, g.sat.az, g.sat.el,
                               g.dish.az, g.dish.el, g.error, inside(g) ? 1 : 0);
         if (above_cap(g) && n > 0 && static_cast<std::size_t>(n) < sizeof line) {
-            std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), "%.4f",
-                          g.error - (g.sat.el - v.el_max));
+            std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), "%.4f", g.error - (g.sat.el - v.el_max));
         }
         trace << line << '\n';
     }
@@ -499,23 +505,26 @@ std::string reacquire_text(const RunResult& r) {
 }
 
 void print_header() {
-    std::printf("%-7s %-7s %-10s %-4s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
-                "pass", "variant", "mode", "map", "lim", "thr", "RMS", "p95", "max", "motor", "P", "preAz", "xtraAz", "U", "capExc",
-                "reacq", "p med", "p p99", "p max", "P med", "P p99", "|p|p95");
-    std::printf("%-7s %-7s %-10s %-4s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
-                "", "", "", "", "", "deg", "deg", "deg", "deg", "cmds", "sent", "deg", "deg", "", "max", "s", "ms", "ms", "ms",
-                "ms", "ms", "deg");
+    std::printf(
+        "%-7s %-7s %-10s %-4s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
+        "pass", "variant", "mode", "map", "lim", "thr", "RMS", "p95", "max", "motor", "P", "preAz", "xtraAz", "U",
+        "capExc", "reacq", "p med", "p p99", "p max", "P med", "P p99", "|p|p95");
+    std::printf(
+        "%-7s %-7s %-10s %-4s %-4s %4s | %6s %6s %6s | %5s %4s | %6s %7s %2s | %6s %5s | %6s %6s %6s | %6s %6s | %6s\n",
+        "", "", "", "", "", "deg", "deg", "deg", "deg", "cmds", "sent", "deg", "deg", "", "max", "s", "ms", "ms", "ms",
+        "ms", "ms", "deg");
 }
 
 void print_row(const RunResult& r) {
     const Figures p = figures_of(r.p_ms), set = figures_of(r.set_ms), pe = figures_of(r.p_error_deg);
-    std::printf("%-7s %-7s %-10s %-4.4s %-4.4s %4g | %6.3f %6.3f %6.3f | %5zu %4zu | %6.0f %7.0f %2s | %6s %5s | %6.3f %6.3f %6.3f | "
-                "%6.3f %6.3f | %6.3f\n",
-                r.spec.pass->name().c_str(), r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(),
-                r.spec.client_limits.c_str(), r.spec.threshold, r.error.rms,
-                r.error.p95, r.error.max, r.motor_commands, r.set_commands, r.prepass_az_travel, r.extra_az_travel,
-                r.unwound ? (r.one_branch ? "UA" : "U") : "", cap_text(r).c_str(), reacquire_text(r).c_str(),
-                p.median, p.p99, p.max, set.median, set.p99, pe.p95);
+    std::printf(
+        "%-7s %-7s %-10s %-4.4s %-4.4s %4g | %6.3f %6.3f %6.3f | %5zu %4zu | %6.0f %7.0f %2s | %6s %5s | %6.3f %6.3f "
+        "%6.3f | "
+        "%6.3f %6.3f | %6.3f\n",
+        r.spec.pass->name().c_str(), r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(),
+        r.spec.client_limits.c_str(), r.spec.threshold, r.error.rms, r.error.p95, r.error.max, r.motor_commands,
+        r.set_commands, r.prepass_az_travel, r.extra_az_travel, r.unwound ? (r.one_branch ? "UA" : "U") : "",
+        cap_text(r).c_str(), reacquire_text(r).c_str(), p.median, p.p99, p.max, set.median, set.p99, pe.p95);
     std::fflush(stdout);
 }
 
@@ -569,7 +578,7 @@ Pooled pool(const std::vector<RunResult>& results, const VariantRow& v, const Mo
     return {figures_of(p), figures_of(set), figures_of(pe)};
 }
 
-} // namespace
+}  // namespace
 
 int main(int argc, char** argv) {
     Options options;
@@ -598,8 +607,8 @@ int main(int argc, char** argv) {
                 return 2;
             }
             for (const std::string& mk : options.modes) {
-                const auto m = std::find_if(mode_rows.begin(), mode_rows.end(),
-                                            [&](const ModeRow& r) { return mk == r.key; });
+                const auto m =
+                    std::find_if(mode_rows.begin(), mode_rows.end(), [&](const ModeRow& r) { return mk == r.key; });
                 if (m == mode_rows.end()) {
                     std::fprintf(stderr, "tracking_bench: unknown mode %s\n", mk.c_str());
                     return 2;
@@ -636,29 +645,34 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    std::printf("tracking benchmark: %zu runs, time scale %gx (emulator and backend, -C time_scale=%g), %d in "
-                "parallel%s\n",
-                specs.size(), options.scale, options.scale, options.jobs,
-                options.window_s > 0 ? (", window " + std::to_string(options.window_s) + " s around TCA").c_str() : "");
+    std::printf(
+        "tracking benchmark: %zu runs, time scale %gx (emulator and backend, -C time_scale=%g), %d in "
+        "parallel%s\n",
+        specs.size(), options.scale, options.scale, options.jobs,
+        options.window_s > 0 ? (", window " + std::to_string(options.window_s) + " s around TCA").c_str() : "");
     if (options.client != "gpredict") {
-        std::printf("client: no look-ahead: the satellite's current direction each time it moved a threshold from "
-                    "the last target (--client current)\n");
+        std::printf(
+            "client: no look-ahead: the satellite's current direction each time it moved a threshold from "
+            "the last target (--client current)\n");
     }
     if (options.motor.startup_delay > 0.0 || options.motor.az_velocity || options.motor.accel) {
-        std::printf("motor: start-up delay %g s, speed %s, acceleration %s (emulator's motor switches)\n",
-                    options.motor.startup_delay,
-                    options.motor.az_velocity ? (std::to_string(*options.motor.az_velocity) + "," +
-                                                 std::to_string(options.motor.el_velocity.value_or(0)) + " deg/s").c_str()
-                                              : "the variant's",
-                    options.motor.accel ? (std::to_string(*options.motor.accel) + " deg/s^2").c_str() : "the variant's");
+        std::printf(
+            "motor: start-up delay %g s, speed %s, acceleration %s (emulator's motor switches)\n",
+            options.motor.startup_delay,
+            options.motor.az_velocity ? (std::to_string(*options.motor.az_velocity) + "," +
+                                         std::to_string(options.motor.el_velocity.value_or(0)) + " deg/s")
+                                            .c_str()
+                                      : "the variant's",
+            options.motor.accel ? (std::to_string(*options.motor.accel) + " deg/s^2").c_str() : "the variant's");
     }
-    std::printf("error = great-circle angle satellite vs true dish direction while the satellite is inside the dish's\n"
-                "elevation limits; preAz = dish AZ travel before the satellite rose to the lowest elevation\n"
-                "(pre-positioning); xtraAz = dish AZ travel beyond the satellite's after that; U = mid-pass unwind\n"
-                "(xtraAz > 180), UA = avoidable one (one branch of the AZ window holds the pass); capExc = max of\n"
-                "error - (sat el - cap) above the EL cap; reacq = s from dropping below the cap to error <= %g deg;\n"
-                "lim = the client's rotator limits (dish: the dish's EL range, wide: EL 0-90)\n",
-                reacquire_within_deg);
+    std::printf(
+        "error = great-circle angle satellite vs true dish direction while the satellite is inside the dish's\n"
+        "elevation limits; preAz = dish AZ travel before the satellite rose to the lowest elevation\n"
+        "(pre-positioning); xtraAz = dish AZ travel beyond the satellite's after that; U = mid-pass unwind\n"
+        "(xtraAz > 180), UA = avoidable one (one branch of the AZ window holds the pass); capExc = max of\n"
+        "error - (sat el - cap) above the EL cap; reacq = s from dropping below the cap to error <= %g deg;\n"
+        "lim = the client's rotator limits (dish: the dish's EL range, wide: EL 0-90)\n",
+        reacquire_within_deg);
     print_header();
 
     std::vector<RunResult> results(specs.size());
@@ -697,7 +711,8 @@ int main(int argc, char** argv) {
 
     std::filesystem::create_directories(options.out);
     std::ofstream summary(options.out + "/summary.csv");
-    summary << "pass,peak_el,crosses_north,variant,mode,az_mapping,threshold,client_limits,scale,window_s,tracked_s,rms,p95,max,motor_commands,"
+    summary << "pass,peak_el,crosses_north,variant,mode,az_mapping,threshold,client_limits,scale,window_s,tracked_s,"
+               "rms,p95,max,motor_commands,"
                "set_commands,prepass_az_travel,extra_az_travel,unwound,one_branch,above_cap_s,cap_excess_p95,"
                "cap_excess_max,reacquire_s,p_median_ms,p_p95_ms,p_p99_ms,p_max_ms,P_median_ms,P_p95_ms,P_p99_ms,"
                "P_max_ms,p_error_p95_deg,p_error_p99_deg,p_error_max_deg,wire_floor_ms,failed_replies,wall_s,client\n";
@@ -716,17 +731,17 @@ int main(int argc, char** argv) {
             std::snprintf(reacquire, sizeof reacquire, "%.1f", r.reacquire_s);
         }
         char line[768];
-        std::snprintf(line, sizeof line,
-                      "%s,%.2f,%d,%s,%s,%s,%g,%s,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%.1f,%d,%d,%.1f,%s,%s,%s,%.4f,%.4f,"
-                      "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%u,%.1f,%s\n",
-                      r.spec.pass->name().c_str(), r.spec.pass->peak_el(), r.spec.pass->crosses_north() ? 1 : 0,
-                      r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(), r.spec.threshold,
-                      r.spec.client_limits.c_str(), options.scale, options.window_s,
-                      r.tracked_s, r.error.rms, r.error.p95, r.error.max, r.motor_commands, r.set_commands,
-                      r.prepass_az_travel, r.extra_az_travel, r.unwound ? 1 : 0, r.one_branch ? 1 : 0, r.above_cap_s,
-                      cap_p95, cap_max, reacquire, p.median, p.p95, p.p99, p.max, set.median, set.p95, set.p99,
-                      set.max, pe.p95, pe.p99, pe.max, wire_floor_ms(*r.spec.variant), r.failed_replies, r.wall_s,
-                      r.spec.mode->oracle ? "oracle" : options.client.c_str());
+        std::snprintf(
+            line, sizeof line,
+            "%s,%.2f,%d,%s,%s,%s,%g,%s,%g,%g,%.1f,%.4f,%.4f,%.4f,%zu,%zu,%.1f,%.1f,%d,%d,%.1f,%s,%s,%s,%.4f,%.4f,"
+            "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%u,%.1f,%s\n",
+            r.spec.pass->name().c_str(), r.spec.pass->peak_el(), r.spec.pass->crosses_north() ? 1 : 0,
+            r.spec.variant->key, r.spec.mode->key, r.spec.mapping_name.c_str(), r.spec.threshold,
+            r.spec.client_limits.c_str(), options.scale, options.window_s, r.tracked_s, r.error.rms, r.error.p95,
+            r.error.max, r.motor_commands, r.set_commands, r.prepass_az_travel, r.extra_az_travel, r.unwound ? 1 : 0,
+            r.one_branch ? 1 : 0, r.above_cap_s, cap_p95, cap_max, reacquire, p.median, p.p95, p.p99, p.max, set.median,
+            set.p95, set.p99, set.max, pe.p95, pe.p99, pe.max, wire_floor_ms(*r.spec.variant), r.failed_replies,
+            r.wall_s, r.spec.mode->oracle ? "oracle" : options.client.c_str());
         summary << line;
     }
 
@@ -735,8 +750,9 @@ int main(int argc, char** argv) {
     std::ofstream latency(options.out + "/latency.csv");
     latency << "variant,mode,scale,runs,p_n,p_median_ms,p_p95_ms,p_p99_ms,p_max_ms,P_n,P_median_ms,P_p95_ms,P_p99_ms,"
                "P_max_ms,wire_floor_ms,p_error_median_deg,p_error_p95_deg,p_error_p99_deg,p_error_max_deg\n";
-    std::printf("\nlatency through rotctld per variant and mode (all runs pooled; wire floor = one `a` query at the "
-                "baud rate)\n");
+    std::printf(
+        "\nlatency through rotctld per variant and mode (all runs pooled; wire floor = one `a` query at the "
+        "baud rate)\n");
     std::printf("%-18s %-10s %-3s %7s %9s %9s %9s %9s | %s\n", "variant", "mode", "cmd", "n", "median", "p95", "p99",
                 "max", "wire floor");
     for (const VariantRow& v : variant_rows) {
@@ -753,10 +769,10 @@ int main(int argc, char** argv) {
                             m.key, label, data->n, data->median, data->p95, data->p99, data->max, wire_floor_ms(v),
                             v.baud);
             }
-            std::printf("%-18s %-10s %-3s %7zu reported-vs-true position: median %.3f, p95 %.3f, p99 %.3f, max %.3f "
-                        "deg\n",
-                        v.label, m.key, "p", f.p_error.n, f.p_error.median, f.p_error.p95, f.p_error.p99,
-                        f.p_error.max);
+            std::printf(
+                "%-18s %-10s %-3s %7zu reported-vs-true position: median %.3f, p95 %.3f, p99 %.3f, max %.3f "
+                "deg\n",
+                v.label, m.key, "p", f.p_error.n, f.p_error.median, f.p_error.p95, f.p_error.p99, f.p_error.max);
             char line[512];
             std::snprintf(line, sizeof line,
                           "%s,%s,%g,%ld,%zu,%.4f,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%.4f,%.4f,%.2f,%.4f,%.4f,%.4f,%.4f\n",
@@ -766,7 +782,7 @@ int main(int argc, char** argv) {
             latency << line;
         }
     }
-    std::printf("\nCSV: %s/summary.csv, %s/latency.csv, traces in %s/runs/\n", options.out.c_str(),
-                options.out.c_str(), options.out.c_str());
+    std::printf("\nCSV: %s/summary.csv, %s/latency.csv, traces in %s/runs/\n", options.out.c_str(), options.out.c_str(),
+                options.out.c_str());
     return 0;
 }

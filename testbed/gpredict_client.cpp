@@ -31,14 +31,21 @@ double distance_to_path(Direction reported, Direction before, Direction after) {
     return best;
 }
 
-} // namespace
+}  // namespace
 
 GpredictClient::GpredictClient(const Pass& pass, ClientSettings settings, const birdcage::sim::Emulator& dish,
                                double time_scale, int rotctld_port, double pass_clock_start)
-    : pass_(pass), settings_(settings), dish_(dish), time_scale_(time_scale), port_(rotctld_port),
-      sim_origin_(dish.sim_time()), pass_origin_(pass_clock_start) {}
+    : pass_(pass),
+      settings_(settings),
+      dish_(dish),
+      time_scale_(time_scale),
+      port_(rotctld_port),
+      sim_origin_(dish.sim_time()),
+      pass_origin_(pass_clock_start) {}
 
-double GpredictClient::pass_now() const { return pass_time_of(dish_.sim_time()); }
+double GpredictClient::pass_now() const {
+    return pass_time_of(dish_.sim_time());
+}
 
 void GpredictClient::sleep_sim(double seconds) const {
     std::this_thread::sleep_for(std::chrono::duration<double>(seconds / time_scale_));
@@ -65,7 +72,7 @@ void GpredictClient::timer_tick() {
     {
         std::lock_guard lock(mutex_);
         if (!engaged_) {
-            return;   // never engaged again
+            return;  // never engaged again
         }
         if (!io_error_) {
             error_count_ = 0;
@@ -115,7 +122,8 @@ void GpredictClient::timer_tick() {
     while (rot.az > 360.0) {
         rot.az -= 360.0;
     }
-    if (std::fabs(set.az - rot.az) <= settings_.threshold_deg && std::fabs(set.el - rot.el) <= settings_.threshold_deg) {
+    if (std::fabs(set.az - rot.az) <= settings_.threshold_deg &&
+        std::fabs(set.el - rot.el) <= settings_.threshold_deg) {
         return;
     }
     if (sat.el > 0.0) {
@@ -129,9 +137,9 @@ void GpredictClient::timer_tick() {
 
 void GpredictClient::io_loop(double end) {
     // Gpredict speaks the plain protocol, one connection, no probe.
-    birdcage::rotctl::Client connection("127.0.0.1", port_,
-                                        {.protocol = birdcage::rotctl::Protocol::plain, .timeout = std::chrono::seconds(10),
-                                         .probe = false});
+    birdcage::rotctl::Client connection(
+        "127.0.0.1", port_,
+        {.protocol = birdcage::rotctl::Protocol::plain, .timeout = std::chrono::seconds(10), .probe = false});
     (void)connection.connect();
     auto elapsed_ms = [](Clock::time_point since) {
         return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
@@ -177,8 +185,8 @@ void GpredictClient::io_loop(double end) {
         if (code == 0) {
             record_.p_error_deg.push_back(
                 distance_to_path({az, el}, {truth_before.az, truth_before.el}, {truth_after.az, truth_after.el}));
-            record_.read_backs.push_back({pass_now(), {az, el}, {truth_before.az, truth_before.el},
-                                          {truth_after.az, truth_after.el}});
+            record_.read_backs.push_back(
+                {pass_now(), {az, el}, {truth_before.az, truth_before.el}, {truth_after.az, truth_after.el}});
             std::lock_guard lock(mutex_);
             read_back_ = {az, el};
         } else {
@@ -198,15 +206,15 @@ void GpredictClient::io_loop(double end) {
         disengaged = !engaged_;
     }
     if (disengaged) {
-        (void)connection.stop();   // Gpredict stops the rotator when it disengages
+        (void)connection.stop();  // Gpredict stops the rotator when it disengages
     }
 }
 
 ClientRecord GpredictClient::run_until(double end) {
     std::thread io([this, end] { io_loop(end); });
     // The GUI timer: fixed real-time period of cycle / scale, like a GLib timeout.
-    const auto period = std::chrono::duration_cast<Clock::duration>(
-        std::chrono::duration<double>(settings_.cycle_s / time_scale_));
+    const auto period =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(settings_.cycle_s / time_scale_));
     auto next = Clock::now();
     while (pass_now() < end) {
         timer_tick();
@@ -218,4 +226,4 @@ ClientRecord GpredictClient::run_until(double end) {
     return record_;
 }
 
-} // namespace bench
+}  // namespace bench

@@ -39,8 +39,8 @@ struct ClientSettings {
     // the last target it sent, on either axis, and never reads the dish back for it (no look-ahead,
     // no lead). The backend must learn a lead of 0 from it (docs/tracking.md §6).
     bool look_ahead = true;
-    double cycle_s = 1.0;        // Gpredict default "Cycle" 1000 ms
-    double io_sleep_s = 0.1;     // between P and p
+    double cycle_s = 1.0;     // Gpredict default "Cycle" 1000 ms
+    double io_sleep_s = 0.1;  // between P and p
     double io_min_period_s = 0.7;
     // Gpredict's rotator limits (README now advises 0-90 for elevation; the dish's range was the advice before).
     double min_az = 0.0, max_az = 360.0, min_el = 0.0, max_el = 90.0;
@@ -54,29 +54,29 @@ struct TimedDirection {
 };
 
 struct ClientRecord {
-    std::vector<TimedDirection> sent_targets;   // every P
-    std::vector<double> p_round_trip_ms;        // real time
-    std::vector<double> set_round_trip_ms;      // real time
-    std::vector<double> p_error_deg;            // reported position against the dish's true path
-                                                // during the round trip (see distance_to_path)
+    std::vector<TimedDirection> sent_targets;  // every P
+    std::vector<double> p_round_trip_ms;       // real time
+    std::vector<double> set_round_trip_ms;     // real time
+    std::vector<double> p_error_deg;           // reported position against the dish's true path
+                                               // during the round trip (see distance_to_path)
     struct ReadBack {
-        double t;                                 // pass clock when asked
+        double t;  // pass clock when asked
         Direction reported, true_before, true_after;
     };
-    std::vector<ReadBack> read_backs;           // every parsed `p`, for the run's read-back trace
+    std::vector<ReadBack> read_backs;  // every parsed `p`, for the run's read-back trace
     unsigned failed_replies = 0;
     // Gpredict's view of the errors: timer ticks (cycles) that found the I/O thread in error.
     unsigned erroring_cycles = 0;
-    int longest_error_streak = 0;               // most erroring cycles in a row
-    bool disengaged = false;                    // MAX_ERROR_COUNT was exceeded: tracking stopped
-    double disengaged_at = 0.0;                 // pass clock
+    int longest_error_streak = 0;  // most erroring cycles in a row
+    bool disengaged = false;       // MAX_ERROR_COUNT was exceeded: tracking stopped
+    double disengaged_at = 0.0;    // pass clock
 };
 
 class GpredictClient {
 public:
     // pass_clock_start: the pass time that the emulator's current sim_time() corresponds to.
-    GpredictClient(const Pass& pass, ClientSettings settings, const birdcage::sim::Emulator& dish,
-                   double time_scale, int rotctld_port, double pass_clock_start);
+    GpredictClient(const Pass& pass, ClientSettings settings, const birdcage::sim::Emulator& dish, double time_scale,
+                   int rotctld_port, double pass_clock_start);
 
     // Runs the timer and I/O threads until the pass clock reaches `end`.
     ClientRecord run_until(double end);
@@ -102,14 +102,14 @@ private:
     std::mutex mutex_;  // between the timer and the I/O thread, like Gpredict's client mutex
     Direction read_back_{};
     Direction pending_{};
-    std::optional<Direction> last_sent_;   // the no-look-ahead client's last target
+    std::optional<Direction> last_sent_;  // the no-look-ahead client's last target
     bool new_target_ = false;
-    bool io_error_ = false;       // the I/O thread's last loop failed (set by it, read by the timer)
-    int error_count_ = 0;         // Gpredict's errcnt
+    bool io_error_ = false;  // the I/O thread's last loop failed (set by it, read by the timer)
+    int error_count_ = 0;    // Gpredict's errcnt
     int error_streak_ = 0;
     bool engaged_ = true;
     std::atomic<bool> stop_{false};
     ClientRecord record_;
 };
 
-} // namespace bench
+}  // namespace bench

@@ -9,23 +9,23 @@
 #include <catch2/catch.hpp>
 #endif
 
+#include <fcntl.h>
+#include <poll.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <numbers>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fcntl.h>
 #include <fstream>
-#include <poll.h>
-#include <spawn.h>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
-#include <sys/wait.h>
 #include <thread>
-#include <unistd.h>
 
 extern char** environ;
 
@@ -34,7 +34,9 @@ namespace e2e {
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-std::string backend_library() { return BIRDCAGE_BACKEND_LIBRARY; }
+std::string backend_library() {
+    return BIRDCAGE_BACKEND_LIBRARY;
+}
 
 std::map<std::string, std::string> preload_environment() {
 #ifdef BIRDCAGE_SANITIZER_RUNTIME
@@ -72,8 +74,8 @@ std::vector<char*> c_strings(std::vector<std::string>& strings) {
     return out;
 }
 
-pid_t spawn(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
-            int stdout_fd, int stderr_fd) {
+pid_t spawn(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env, int stdout_fd,
+            int stderr_fd) {
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
@@ -113,7 +115,7 @@ std::string temp_path(const char* stem) {
     return pattern;
 }
 
-} // namespace
+}  // namespace
 
 CommandResult run(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
                   std::chrono::milliseconds timeout) {
@@ -245,7 +247,7 @@ int listening_tcp_port(pid_t pid) {
     // listening socket has state 0A; the local address is hex "ip:port".
     std::ifstream table("/proc/" + std::to_string(pid) + "/net/tcp");
     std::string line;
-    std::getline(table, line);   // header
+    std::getline(table, line);  // header
     while (std::getline(table, line)) {
         std::istringstream fields(line);
         std::string slot, local, remote, state, queues, timer, retransmits, uid, timeout, inode;
@@ -262,13 +264,16 @@ int listening_tcp_port(pid_t pid) {
 }
 
 RotctldConnection::RotctldConnection(int port)
-    : client_("127.0.0.1", port, birdcage::rotctl::Options{.protocol = birdcage::rotctl::Protocol::plain, .probe = false}) {
+    : client_("127.0.0.1", port,
+              birdcage::rotctl::Options{.protocol = birdcage::rotctl::Protocol::plain, .probe = false}) {
     if (std::string why; !client_.connect(&why)) {
         throw std::runtime_error("cannot connect to rotctld on port " + std::to_string(port) + ": " + why);
     }
 }
 
-bool RotctldConnection::send_raw(const std::string& bytes) { return client_.send_raw(bytes); }
+bool RotctldConnection::send_raw(const std::string& bytes) {
+    return client_.send_raw(bytes);
+}
 
 std::string RotctldConnection::ask(const std::string& command, int lines, std::chrono::milliseconds timeout) {
     if (!send_raw(command + "\n")) {
@@ -325,9 +330,16 @@ Rig::Rig(birdcage::sim::Options dish, int model, std::vector<std::string> extra_
     if (prepare) {
         prepare(*dish_);
     }
-    std::vector<std::string> argv = {"/usr/bin/rotctld", "-m", std::to_string(model),
-                                     "-r", dish_->device_path(), "-T", "127.0.0.1",
-                                     "-t", "0", "-vvvv"};
+    std::vector<std::string> argv = {"/usr/bin/rotctld",
+                                     "-m",
+                                     std::to_string(model),
+                                     "-r",
+                                     dish_->device_path(),
+                                     "-T",
+                                     "127.0.0.1",
+                                     "-t",
+                                     "0",
+                                     "-vvvv"};
     argv.insert(argv.end(), extra_rotctld_args.begin(), extra_rotctld_args.end());
     rotctld_ = std::make_unique<Child>(argv, preload_environment(), log_path_);
     // rotctld opens the rotator (and so initialises the dish) before it listens. It listens on a
@@ -363,7 +375,9 @@ void expect_no_hazards(const birdcage::sim::Emulator& dish) {
 #endif
 }
 
-HazardWatch::~HazardWatch() { expect_no_hazards(dish_); }
+HazardWatch::~HazardWatch() {
+    expect_no_hazards(dish_);
+}
 
 Rig::~Rig() {
     rotctld_.reset();
@@ -379,7 +393,9 @@ Rig::~Rig() {
     unlink(log_path_.c_str());
 }
 
-std::string Rig::rotctld_log_text() const { return slurp(log_path_); }
+std::string Rig::rotctld_log_text() const {
+    return slurp(log_path_);
+}
 
 CommandResult Rig::rotctl(const std::vector<std::string>& args) {
     std::vector<std::string> argv = {"/usr/bin/rotctl", "-m", "2", "-r", "127.0.0.1:" + std::to_string(port_)};
@@ -387,4 +403,4 @@ CommandResult Rig::rotctl(const std::vector<std::string>& args) {
     return run(argv);
 }
 
-} // namespace e2e
+}  // namespace e2e

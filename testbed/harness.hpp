@@ -9,12 +9,12 @@
 
 #include "rotctl_client.hpp"
 
+#include <sys/types.h>
 #include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
 #include <string>
-#include <sys/types.h>
 #include <vector>
 
 namespace e2e {
@@ -32,8 +32,7 @@ struct CommandResult {
 };
 
 // Runs a program to completion with extra environment variables, capturing stdout and stderr.
-CommandResult run(const std::vector<std::string>& argv,
-                  const std::map<std::string, std::string>& env = {},
+CommandResult run(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env = {},
                   std::chrono::milliseconds timeout = std::chrono::seconds(60));
 
 // A child process that is terminated (SIGTERM, then SIGKILL) when this object goes away.
@@ -78,7 +77,8 @@ public:
     RotctldConnection(const RotctldConnection&) = delete;
     RotctldConnection& operator=(const RotctldConnection&) = delete;
     // Sends one command line and reads until `lines` reply lines have arrived (or the timeout).
-    std::string ask(const std::string& command, int lines, std::chrono::milliseconds timeout = std::chrono::seconds(10));
+    std::string ask(const std::string& command, int lines,
+                    std::chrono::milliseconds timeout = std::chrono::seconds(10));
     // Sends bytes as they are (no line ending added); false if the connection is gone.
     bool send_raw(const std::string& bytes);
     // Reads until `lines` reply lines have arrived (or the timeout) and hands exactly those back.
@@ -87,7 +87,7 @@ public:
     struct Position {
         bool ok = false;
         double az = 0, el = 0;
-        std::string error;   // e.g. "RPRT -5"; empty when nothing arrived
+        std::string error;  // e.g. "RPRT -5"; empty when nothing arrived
     };
     Position get_position(std::chrono::milliseconds timeout = std::chrono::seconds(5));
     birdcage::rotctl::Client& client() { return client_; }
@@ -141,4 +141,4 @@ private:
     std::unique_ptr<Child> rotctld_;
 };
 
-} // namespace e2e
+}  // namespace e2e

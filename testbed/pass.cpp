@@ -24,7 +24,7 @@ double header_value(const std::string& line, const std::string& key) {
     return std::stod(line.substr(at + key.size() + 2));
 }
 
-} // namespace
+}  // namespace
 
 double az_difference(double a, double b) {
     double d = std::fmod(a - b, 360.0);
@@ -36,7 +36,9 @@ double az_difference(double a, double b) {
     return d;
 }
 
-double angle_between(Direction a, Direction b) { return e2e::sky_angle(a.az, a.el, b.az, b.el); }
+double angle_between(Direction a, Direction b) {
+    return e2e::sky_angle(a.az, a.el, b.az, b.el);
+}
 
 Pass Pass::load(const std::string& path) {
     std::ifstream in(path);
@@ -115,4 +117,4 @@ double Pass::last_time_above(double el) const {
     return t_.front();
 }
 
-} // namespace bench
+}  // namespace bench

@@ -23,12 +23,12 @@ public:
     const std::string& name() const { return name_; }
     bool crosses_north() const { return crosses_north_; }
     double peak_el() const { return peak_el_; }
-    double aos() const { return aos_; }      // seconds on the pass clock
+    double aos() const { return aos_; }  // seconds on the pass clock
     double los() const { return los_; }
     double tca() const { return tca_; }
     double aos_az() const { return aos_az_; }
     double los_az() const { return los_az_; }
-    double site_latitude() const { return site_latitude_; }   // degrees north, from the header
+    double site_latitude() const { return site_latitude_; }  // degrees north, from the header
     double first_time() const { return t_.front(); }
     double last_time() const { return t_.back(); }
 
@@ -52,4 +52,4 @@ double angle_between(Direction a, Direction b);
 // a - b folded into (-180, 180].
 double az_difference(double a, double b);
 
-} // namespace bench
+}  // namespace bench

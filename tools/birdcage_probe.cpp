@@ -22,13 +22,13 @@
 #include <string>
 #include <vector>
 
+#include "birdcage_version.hpp"
+#include "cli_args.hpp"
 #include "console/detect.hpp"
 #include "console/synchroniser.hpp"
 #include "firmware/menus.hpp"
 #include "firmware/prompt.hpp"
 #include "firmware/variants.hpp"
-#include "birdcage_version.hpp"
-#include "cli_args.hpp"
 #include "probe/console_io.hpp"
 #include "probe/deep.hpp"
 #include "probe/json.hpp"
@@ -46,28 +46,30 @@ using namespace probe;
 // docs/firmware.md 6.1: the G2 answers only at 115200; the others are documented at 57600; 9600 is
 // pyserial's default (the Pro client) and 19200/38400 are the rest of the usual set.
 constexpr std::array<int, 5> candidate_bauds{115200, 57600, 9600, 19200, 38400};
-constexpr auto baud_listen = 600ms;      // after a bare CR, for a console to say anything
+constexpr auto baud_listen = 600ms;              // after a bare CR, for a console to say anything
 constexpr const char* nonsense_word = "xyzzyq";  // harmless: no firmware documents it
 // A dish probed right after power-on may take minutes to boot (the G2's search, docs/firmware.md 6.2).
 constexpr auto sync_budget = 300s;
 constexpr int exit_busy = 3;
 constexpr int max_menus_left = 4;  // nesting deeper than this is not documented anywhere
 
-void progress(const std::string& what) { std::cerr << "birdcage-probe: " << what << '\n'; }
+void progress(const std::string& what) {
+    std::cerr << "birdcage-probe: " << what << '\n';
+}
 
-std::optional<int> int_arg(const char* text)
-{
+std::optional<int> int_arg(const char* text) {
     char* end = nullptr;
     const long value = std::strtol(text, &end, 10);
-    if (end == text || *end != '\0' || value <= 0) return std::nullopt;
+    if (end == text || *end != '\0' || value <= 0)
+        return std::nullopt;
     return static_cast<int>(value);
 }
 
 // A baud "answers" when a bare CR yields printable text or a prompt.
-bool answers(birdcage::Transport& port)
-{
+bool answers(birdcage::Transport& port) {
     port.discard_input();
-    if (!port.write("\r", Clock::now() + 1s)) return false;
+    if (!port.write("\r", Clock::now() + 1s))
+        return false;
     std::string heard;
     const auto deadline = Clock::now() + baud_listen;
     std::array<char, 256> buffer{};
@@ -76,15 +78,16 @@ bool answers(birdcage::Transport& port)
         const bool prompt_seen = trailing_prompt(heard).has_value();
         const auto wait_until = prompt_seen ? std::min(deadline, Clock::now() + quiet_after_prompt) : deadline;
         const auto got = port.read(buffer.data(), buffer.size(), wait_until);
-        if (!got) break;
+        if (!got)
+            break;
         heard.append(buffer.data(), got.value);
     }
-    if (trailing_prompt(heard)) return true;
+    if (trailing_prompt(heard))
+        return true;
     // Text with line endings (a prompt followed by a status line included) at the right rate;
     // line noise at a wrong one.
-    const auto printable = std::count_if(heard.begin(), heard.end(), [](char c) {
-        return (c >= 0x20 && c < 0x7f) || c == '\r' || c == '\n';
-    });
+    const auto printable = std::count_if(heard.begin(), heard.end(),
+                                         [](char c) { return (c >= 0x20 && c < 0x7f) || c == '\r' || c == '\n'; });
     return printable >= 2 && printable * 10 >= static_cast<long>(heard.size()) * 8;
 }
 
@@ -101,8 +104,7 @@ struct Location {
 // documented submenu's prompt is left with that menu's exit word; any other prompt (a bare `>`, a
 // word no firmware fact names) is a root only if its `?` listing names documented menus. Anything
 // else: stop and say so.
-Location locate(Probe& probe)
-{
+Location locate(Probe& probe) {
     Location where;
     where.start_prompt = probe.prompt;
     for (int hops = 0; hops <= max_menus_left; ++hops) {
@@ -118,8 +120,8 @@ Location locate(Probe& probe)
         }
         if (const birdcage::MenuFact* menu = birdcage::menu_with_prompt_word(*word)) {
             const std::string exit(menu->exit_word);
-            progress("the console is at " + prompt + " (the `" + std::string(menu->word) + "` menu): leaving it with `" +
-                     exit + "` before anything else");
+            progress("the console is at " + prompt + " (the `" + std::string(menu->word) +
+                     "` menu): leaving it with `" + exit + "` before anything else");
             const auto reply = probe.send(exit);
             if (!reply || !reply->prompt) {
                 where.stopped = "no prompt after `" + exit + "` at " + prompt;
@@ -160,7 +162,7 @@ Location locate(Probe& probe)
 struct Identification {
     std::string name;  // short name, empty when unsure
     std::string display;
-    std::string how;   // "given", "identified", "unsure"
+    std::string how;           // "given", "identified", "unsure"
     std::string maybe_inside;  // the identified root is also what this variant shows inside a tunnel
     std::vector<std::string> evidence;
     std::string candidates;
@@ -169,8 +171,7 @@ struct Identification {
 // The backend's detector ranks what the console showed (boot lines, the root prompt, the root
 // listing); only a clear winner is named.
 Identification identify(const std::vector<std::string>& heard, const std::string& root_prompt,
-                        const std::vector<std::string>& root_listing, std::optional<birdcage::VariantId> given)
-{
+                        const std::vector<std::string>& root_listing, std::optional<birdcage::VariantId> given) {
     Identification id;
     if (given) {
         id.name = birdcage::profile(*given).short_name;
@@ -182,8 +183,9 @@ Identification identify(const std::vector<std::string>& heard, const std::string
     const auto ranking = birdcage::rank_evidence(evidence);
     for (const auto& score : ranking)
         if (score.score > 0)
-            id.candidates += (id.candidates.empty() ? "" : ", ") + std::string(birdcage::profile(score.variant).short_name) +
-                             " " + std::to_string(score.score);
+            id.candidates += (id.candidates.empty() ? "" : ", ") +
+                             std::string(birdcage::profile(score.variant).short_name) + " " +
+                             std::to_string(score.score);
     if (const auto winner = birdcage::clear_winner(ranking)) {
         id.name = birdcage::profile(winner->variant).short_name;
         id.display = birdcage::profile(winner->variant).display_name;
@@ -224,17 +226,17 @@ struct Report {
     std::string final_prompt;
 };
 
-void print_report(const Report& r, const Probe& probe, const DeepReport* deep)
-{
+void print_report(const Report& r, const Probe& probe, const DeepReport* deep) {
     std::cout << "{\n  \"format_version\": 2,\n  \"port\": " << json_string(r.port) << ",\n  \"baud\": " << r.baud
               << ",\n  \"bauds_tried\": [";
-    for (std::size_t i = 0; i < r.bauds_tried.size(); ++i) std::cout << (i ? ", " : "") << r.bauds_tried[i];
+    for (std::size_t i = 0; i < r.bauds_tried.size(); ++i)
+        std::cout << (i ? ", " : "") << r.bauds_tried[i];
     std::cout << "],\n  \"line_ending\": " << json_string(probe.line_ending)
               << ",\n  \"start_prompt\": " << json_string(r.where.start_prompt)
               << ",\n  \"left\": " << json_strings(r.where.left)
               << ",\n  \"stopped\": " << (r.where.stopped.empty() ? std::string("null") : json_string(r.where.stopped))
-              << ",\n  \"root_prompt\": " << json_string(r.where.root_prompt)
-              << ",\n  \"variant\": {\"name\": " << (r.variant.name.empty() ? std::string("null") : json_string(r.variant.name))
+              << ",\n  \"root_prompt\": " << json_string(r.where.root_prompt) << ",\n  \"variant\": {\"name\": "
+              << (r.variant.name.empty() ? std::string("null") : json_string(r.variant.name))
               << ", \"display_name\": " << json_string(r.variant.display) << ", \"how\": " << json_string(r.variant.how)
               << ", \"evidence\": " << json_strings(r.variant.evidence)
               << ", \"candidates\": " << json_string(r.variant.candidates) << ", \"or_inside\": "
@@ -244,8 +246,8 @@ void print_report(const Report& r, const Probe& probe, const DeepReport* deep)
               << ",\n  \"root_help\": " << json_help(r.root_help, "  ") << ",\n  \"menus\": [";
     for (std::size_t i = 0; i < r.menus.size(); ++i)
         std::cout << (i ? "," : "") << "\n    {\"name\": " << json_string(r.menus[i].name)
-                  << ", \"prompt\": " << json_string(r.menus[i].prompt) << ", \"help\": " << json_help(r.menus[i].help, "    ")
-                  << "}";
+                  << ", \"prompt\": " << json_string(r.menus[i].prompt)
+                  << ", \"help\": " << json_help(r.menus[i].help, "    ") << "}";
     std::cout << (r.menus.empty() ? "" : "\n  ") << "],\n  \"not_entered\": [";
     for (std::size_t i = 0; i < r.not_entered.size(); ++i)
         std::cout << (i ? "," : "") << "\n    {\"name\": " << json_string(r.not_entered[i].first)
@@ -256,31 +258,35 @@ void print_report(const Report& r, const Probe& probe, const DeepReport* deep)
                   << ", \"reason\": " << json_string(probe.refused[i].second) << "}";
     std::cout << (probe.refused.empty() ? "" : "\n  ") << "],\n  \"sent\": " << json_strings(probe.sent)
               << ",\n  \"final_prompt\": " << json_string(r.final_prompt);
-    if (deep != nullptr) std::cout << ",\n  \"deep\": " << json_deep(*deep);
+    if (deep != nullptr)
+        std::cout << ",\n  \"deep\": " << json_deep(*deep);
     std::cout << "\n}\n";
 }
 
 // Each root listing word the firmware facts name as a menu: entered, its `?` read, left with its
 // exit word. Listed commands are never sent: on a real MOT> listing they move the motors.
-void walk_menus(Probe& probe, Report& report)
-{
+void walk_menus(Probe& probe, Report& report) {
     const bool root_names_itself = !birdcage::prompt_word(report.where.root_prompt).value_or("").empty();
     for (const auto& entry : report.root_help) {
-        if (entry.name == "q" || entry.name == "?" || entry.name == "help") continue;
+        if (entry.name == "q" || entry.name == "?" || entry.name == "help")
+            continue;
         const birdcage::MenuFact* menu = birdcage::menu_entered_by(entry.name);
         if (menu == nullptr) {
             report.not_entered.emplace_back(entry.name, "not a menu the firmware facts name: never sent");
             continue;
         }
         if (!root_names_itself) {
-            report.not_entered.emplace_back(entry.name, "the root prompt is a bare `>`: the probe could not tell a "
-                                                        "submenu from the root, so it enters none");
+            report.not_entered.emplace_back(entry.name,
+                                            "the root prompt is a bare `>`: the probe could not tell a "
+                                            "submenu from the root, so it enters none");
             continue;
         }
-        if (probe.prompt != report.where.root_prompt) break;  // lost our way; do not wander further
+        if (probe.prompt != report.where.root_prompt)
+            break;  // lost our way; do not wander further
         progress("entering `" + entry.name + "`");
         const auto reply = probe.send(std::string(menu->word));
-        if (!reply) continue;  // refused: recorded in probe.refused
+        if (!reply)
+            continue;  // refused: recorded in probe.refused
         if (!reply->prompt) {
             report.where.stopped = "no prompt after entering `" + entry.name + "`: stopped walking the menus";
             break;
@@ -291,7 +297,8 @@ void walk_menus(Probe& probe, Report& report)
         }
         probe.menu_of_prompt.emplace(*reply->prompt, std::string(menu->word));
         Menu mapped{entry.name, *reply->prompt, {}};
-        if (const auto help = probe.send("?")) mapped.help = parse_help(reply_lines(*help, "?"));
+        if (const auto help = probe.send("?"))
+            mapped.help = parse_help(reply_lines(*help, "?"));
         report.menus.push_back(std::move(mapped));
         const auto back = probe.send(std::string(menu->exit_word));
         if (!back || !back->prompt || *back->prompt != report.where.root_prompt) {
@@ -303,8 +310,7 @@ void walk_menus(Probe& probe, Report& report)
 }
 
 int run_probe(const std::string& path, std::optional<int> baud, std::optional<birdcage::VariantId> given, bool force_fd,
-              const DeepOptions& deep_options)
-{
+              const DeepOptions& deep_options) {
     WordList words;
     if (deep_options.enabled) {
         std::string text = default_probe_words;
@@ -321,12 +327,14 @@ int run_probe(const std::string& path, std::optional<int> baud, std::optional<bi
         words = parse_wordlist(text);
     }
     auto lock = take_port(path);
-    if (!lock) return exit_busy;
+    if (!lock)
+        return exit_busy;
 
     Report report;
     report.port = path;
     std::unique_ptr<birdcage::Transport> port;
-    for (const int candidate : baud ? std::vector<int>{*baud} : std::vector<int>(candidate_bauds.begin(), candidate_bauds.end())) {
+    for (const int candidate :
+         baud ? std::vector<int>{*baud} : std::vector<int>(candidate_bauds.begin(), candidate_bauds.end())) {
         std::string error;
         auto opened = open_port(path, candidate, force_fd, error);
         if (!opened) {
@@ -347,37 +355,45 @@ int run_probe(const std::string& path, std::optional<int> baud, std::optional<bi
         return 1;
     }
     // Our own last open is done: from here nobody else opens the port (root excepted).
-    if (const auto exclusive = lock->make_exclusive(); !exclusive) progress(exclusive.message);
+    if (const auto exclusive = lock->make_exclusive(); !exclusive)
+        progress(exclusive.message);
 
     const Guard guard(given, false);
     Probe probe(*port, guard);
     // The backend's console synchroniser: a booting, noisy or stale console is brought to a
     // confirmed prompt with nothing but line endings (and `?`).
     const birdcage::LogSink to_stderr = [](birdcage::LogLevel level, const std::string& message) {
-        if (level == birdcage::LogLevel::error || level == birdcage::LogLevel::warning) progress(message);
+        if (level == birdcage::LogLevel::error || level == birdcage::LogLevel::warning)
+            progress(message);
     };
     const auto& sync_profile = given ? birdcage::profile(*given) : birdcage::probe_profile();
     progress("waiting for a prompt");
     birdcage::ConsoleSynchroniser synchroniser(
-        *port, birdcage::console_sync_settings(sync_profile, std::chrono::duration_cast<std::chrono::milliseconds>(sync_budget)),
+        *port,
+        birdcage::console_sync_settings(sync_profile,
+                                        std::chrono::duration_cast<std::chrono::milliseconds>(sync_budget)),
         to_stderr);
     const auto synced = synchroniser.synchronise();
     probe.prompt = synced.value.prompt;
     if (probe.prompt.empty()) {
         // A prompt with a decoration the synchroniser does not take for one: ask with a bare line.
-        if (const auto reply = probe.send("")) probe.prompt = reply->prompt.value_or("");
+        if (const auto reply = probe.send(""))
+            probe.prompt = reply->prompt.value_or("");
     }
     report.where = locate(probe);
     if (!report.where.root_prompt.empty()) {
         probe.menu_of_prompt.emplace(report.where.root_prompt, "root");
         progress("at the root prompt " + report.where.root_prompt);
-        if (const auto nonsense = probe.send(nonsense_word)) report.error_lines = reply_lines(*nonsense, nonsense_word);
+        if (const auto nonsense = probe.send(nonsense_word))
+            report.error_lines = reply_lines(*nonsense, nonsense_word);
         std::vector<std::string> root_listing;
-        if (const auto root_help = probe.send("?")) root_listing = reply_lines(*root_help, "?");
+        if (const auto root_help = probe.send("?"))
+            root_listing = reply_lines(*root_help, "?");
         report.root_help = parse_help(root_listing);
         report.variant = identify(synced.value.heard, report.where.root_prompt, root_listing, given);
-        progress("variant: " + (report.variant.name.empty() ? "not identified (" + report.variant.candidates + ")"
-                                                            : report.variant.display + " (" + report.variant.how + ")"));
+        progress("variant: " + (report.variant.name.empty()
+                                    ? "not identified (" + report.variant.candidates + ")"
+                                    : report.variant.display + " (" + report.variant.how + ")"));
         walk_menus(probe, report);
     } else {
         progress("stopped: " + report.where.stopped);
@@ -385,11 +401,13 @@ int run_probe(const std::string& path, std::optional<int> baud, std::optional<bi
 
     DeepDiscovery deep(probe, words, report.where.root_prompt);
     deep.report.wordlist = deep_options.wordlist_path.empty() ? "(built in)" : deep_options.wordlist_path;
-    for (const auto& [line, why] : words.rejected) deep.report.not_tried.emplace_back(line, why);
+    for (const auto& [line, why] : words.rejected)
+        deep.report.not_tried.emplace_back(line, why);
     if (deep_options.enabled && !report.where.root_prompt.empty() && probe.prompt == report.where.root_prompt) {
         auto wanted = [&](const std::string& name) {
             return deep_options.submenus.empty() ||
-                   std::find(deep_options.submenus.begin(), deep_options.submenus.end(), name) != deep_options.submenus.end();
+                   std::find(deep_options.submenus.begin(), deep_options.submenus.end(), name) !=
+                       deep_options.submenus.end();
         };
         bool going = true;
         if (wanted("root")) {
@@ -398,14 +416,18 @@ int run_probe(const std::string& path, std::optional<int> baud, std::optional<bi
         }
         std::vector<std::string> to_enter;
         for (const auto& menu : report.menus)
-            if (wanted(menu.name)) to_enter.push_back(menu.name);
+            if (wanted(menu.name))
+                to_enter.push_back(menu.name);
         // A named submenu that `?` does not list (found by an earlier deep run) is entered too, if
         // the firmware facts name it.
         for (const auto& name : deep_options.submenus)
-            if (name != "root" && std::find(to_enter.begin(), to_enter.end(), name) == to_enter.end()) to_enter.push_back(name);
+            if (name != "root" && std::find(to_enter.begin(), to_enter.end(), name) == to_enter.end())
+                to_enter.push_back(name);
         for (const auto& name : to_enter) {
-            if (!going) break;
-            const auto listed = std::find_if(report.menus.begin(), report.menus.end(), [&](const Menu& m) { return m.name == name; });
+            if (!going)
+                break;
+            const auto listed =
+                std::find_if(report.menus.begin(), report.menus.end(), [&](const Menu& m) { return m.name == name; });
             DeepMenu menu{name, "", {}, 0, {}, {}};
             going = deep.run_menu(menu, name, listed == report.menus.end() ? std::vector<HelpEntry>{} : listed->help);
         }
@@ -468,16 +490,14 @@ a console whose place the probe could not tell, or an I/O error, 2 usage error, 
 )";
 
 // A usage error: one line on stderr, exit status 2.
-int usage_error(const std::string& message)
-{
+int usage_error(const std::string& message) {
     std::cerr << "birdcage-probe: " << message << " (see --help)\n";
     return 2;
 }
 
 }  // namespace
 
-int main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
     bool record = false, force = false, force_fd = false;
     DeepOptions deep;
     std::string port, output, source = "recorded with birdcage-probe record";
@@ -504,35 +524,50 @@ int main(int argc, char** argv)
             record = true;
         } else if (takes_value) {
             const auto text = args.value();
-            if (!text) return usage_error(arg + " needs a value");
-            if (arg == "--port") port = *text;
-            else if (arg == "--output") output = *text;
-            else if (arg == "--source") source = *text;
-            else if (arg == "--wordlist") deep.wordlist_path = *text;
-            else if (arg == "--submenu") deep.submenus.push_back(*text);
+            if (!text)
+                return usage_error(arg + " needs a value");
+            if (arg == "--port")
+                port = *text;
+            else if (arg == "--output")
+                output = *text;
+            else if (arg == "--source")
+                source = *text;
+            else if (arg == "--wordlist")
+                deep.wordlist_path = *text;
+            else if (arg == "--submenu")
+                deep.submenus.push_back(*text);
             else if (arg == "--baud") {
                 baud = int_arg(text->c_str());
-                if (!baud) return usage_error("--baud: expected a positive whole number, got '" + *text + "'");
+                if (!baud)
+                    return usage_error("--baud: expected a positive whole number, got '" + *text + "'");
             } else {
                 variant = birdcage::variant_from_name(*text);
-                if (!variant) return usage_error("--variant: expected hal000|hal205|pro|carryout2003|g2, got '" + *text + "'");
+                if (!variant)
+                    return usage_error("--variant: expected hal000|hal205|pro|carryout2003|g2, got '" + *text + "'");
             }
         } else if (arg == "--force" || arg == "--fd" || arg == "--deep") {
-            if (inline_value) return usage_error(arg + " takes no value");
+            if (inline_value)
+                return usage_error(arg + " takes no value");
             (arg == "--force" ? force : arg == "--fd" ? force_fd : deep.enabled) = true;
         } else {
             return usage_error("unknown argument '" + arg + "'");
         }
     }
-    if (port.empty()) return usage_error("--port is required");
-    if (record && output.empty()) return usage_error("record needs --output FILE");
-    if (record && deep.enabled) return usage_error("--deep is for the probe, not record");
-    if (!record && force) return usage_error("--force is for record: the probe never sends what the hazard rule refuses");
+    if (port.empty())
+        return usage_error("--port is required");
+    if (record && output.empty())
+        return usage_error("record needs --output FILE");
+    if (record && deep.enabled)
+        return usage_error("--deep is for the probe, not record");
+    if (!record && force)
+        return usage_error("--force is for record: the probe never sends what the hazard rule refuses");
     if (!deep.enabled && (!deep.wordlist_path.empty() || !deep.submenus.empty()))
         return usage_error("--wordlist and --submenu need --deep");
     if (record) {
-        const auto& profile = variant ? birdcage::profile(*variant) : birdcage::profile(birdcage::VariantId::carryout_g2);
-        return run_record(port, baud.value_or(variant ? profile.baud : 115200), profile, variant, force_fd, force, output, source);
+        const auto& profile =
+            variant ? birdcage::profile(*variant) : birdcage::profile(birdcage::VariantId::carryout_g2);
+        return run_record(port, baud.value_or(variant ? profile.baud : 115200), profile, variant, force_fd, force,
+                          output, source);
     }
     return run_probe(port, baud, variant, force_fd, deep);
 }

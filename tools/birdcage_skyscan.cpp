@@ -3,9 +3,9 @@
 
 // birdcage-skyscan: scans an AZ/EL grid with the dish and streams `az,el,value,time` CSV rows.
 // Talks to a running rotctld (our backend loaded) over TCP; see usage() for why.
-#include "skyscan.hpp"
 #include "birdcage_version.hpp"
 #include "cli_args.hpp"
+#include "skyscan.hpp"
 
 #include "rotctl_client.hpp"
 
@@ -79,7 +79,9 @@ std::string duration_text(double seconds) {
     return buffer;
 }
 
-double az_distance(double a, double b) { return std::fabs(std::remainder(a - b, 360.0)); }
+double az_distance(double a, double b) {
+    return std::fabs(std::remainder(a - b, 360.0));
+}
 
 // Waits until two successive `p` agree with the target: set_position returns at once, and a
 // reading asked before the move starts would measure the old direction.
@@ -94,16 +96,21 @@ bool arrive(rc::Client& rot, const sc::Point& target, double tolerance) {
     while (Clock::now() < deadline) {
         double az = 0, el = 0;
         const int got = rot.get_position(az, el);
-        if (!rot.connected()) return false;
+        if (!rot.connected())
+            return false;
         if (got == 0) {
-            agreeing = az_distance(az, target.az) <= tolerance && std::fabs(el - target.el) <= tolerance ? agreeing + 1 : 0;
-            if (agreeing >= 2) return true;
+            agreeing =
+                az_distance(az, target.az) <= tolerance && std::fabs(el - target.el) <= tolerance ? agreeing + 1 : 0;
+            if (agreeing >= 2)
+                return true;
             if (std::pair{az, el} != last) {
                 last = {az, el};
                 last_change = Clock::now();
             } else if (Clock::now() - last_change > resting_elsewhere) {
-                std::fprintf(stderr, "\nbirdcage-skyscan: the dish rests at %.2f %.2f instead; was rotctld started "
-                                     "with -C pointing=none?\n", az, el);
+                std::fprintf(stderr,
+                             "\nbirdcage-skyscan: the dish rests at %.2f %.2f instead; was rotctld started "
+                             "with -C pointing=none?\n",
+                             az, el);
                 return false;
             }
         }
@@ -121,7 +128,8 @@ int convert(const std::string& path) {
     std::stringstream text;
     text << in.rdbuf();
     std::cout << "az,el,value,time\n";
-    for (const auto& row : sc::parse_scan(text.str())) std::cout << sc::format_row(row) << "\n";
+    for (const auto& row : sc::parse_scan(text.str()))
+        std::cout << sc::format_row(row) << "\n";
     return 0;
 }
 
@@ -153,40 +161,53 @@ int main(int argc, char** argv) {
         } else if (arg == "--az" || arg == "--el") {
             const auto v = value();
             const auto range = v ? sc::parse_range(*v) : std::nullopt;
-            if (!range) return usage_error(arg + " needs FROM:TO:STEP with FROM <= TO and STEP > 0");
+            if (!range)
+                return usage_error(arg + " needs FROM:TO:STEP with FROM <= TO and STEP > 0");
             (arg == "--az" ? az : el) = range;
         } else if (arg == "--samples" || arg == "--lnb" || arg == "--port") {
             const auto v = value();
             char* end = nullptr;
             const long n = v ? std::strtol(v->c_str(), &end, 10) : 0;
-            if (!v || *end != '\0') return usage_error(arg + " needs a whole number");
+            if (!v || *end != '\0')
+                return usage_error(arg + " needs a whole number");
             if (arg == "--samples") {
-                if (n < 1 || n > 100) return usage_error("--samples is 1..100");
+                if (n < 1 || n > 100)
+                    return usage_error("--samples is 1..100");
                 samples = static_cast<int>(n);
             } else if (arg == "--lnb") {
-                if (n != 13 && n != 18) return usage_error("--lnb is 13 or 18");
+                if (n != 13 && n != 18)
+                    return usage_error("--lnb is 13 or 18");
                 lnb = static_cast<int>(n);
             } else {
-                if (n < 1 || n > 65535) return usage_error("--port is 1..65535");
+                if (n < 1 || n > 65535)
+                    return usage_error("--port is 1..65535");
                 port = static_cast<int>(n);
             }
         } else if (arg == "--out" || arg == "--host" || arg == "--convert" || arg == "--tolerance") {
             const auto v = value();
-            if (!v) return usage_error(arg + " needs a value");
-            if (arg == "--out") out_path = *v;
-            if (arg == "--host") host = *v;
-            if (arg == "--convert") convert_path = *v;
+            if (!v)
+                return usage_error(arg + " needs a value");
+            if (arg == "--out")
+                out_path = *v;
+            if (arg == "--host")
+                host = *v;
+            if (arg == "--convert")
+                convert_path = *v;
             if (arg == "--tolerance") {
                 tolerance = std::atof(v->c_str());
-                if (!(tolerance > 0)) return usage_error("--tolerance must be positive");
+                if (!(tolerance > 0))
+                    return usage_error("--tolerance must be positive");
             }
         } else {
             return usage_error("unknown argument '" + arg + "'");
         }
     }
-    if (!convert_path.empty()) return convert(convert_path);
-    if (!az || !el) return usage_error("--az and --el are required");
-    if (resume && out_path.empty()) return usage_error("--resume needs --out FILE");
+    if (!convert_path.empty())
+        return convert(convert_path);
+    if (!az || !el)
+        return usage_error("--az and --el are required");
+    if (resume && out_path.empty())
+        return usage_error("--resume needs --out FILE");
 
     const std::vector<sc::Point> plan = sc::serpentine(*az, *el);
     std::vector<sc::Point> todo = plan;
@@ -198,7 +219,7 @@ int main(int argc, char** argv) {
             std::stringstream text;
             text << in.rdbuf();
             existing = text.str();
-            existing.resize(sc::complete_length(existing));   // drop a row cut off by the interruption
+            existing.resize(sc::complete_length(existing));  // drop a row cut off by the interruption
             todo = sc::remaining(plan, sc::parse_scan(existing));
         }
         file.open(out_path, std::ios::binary | std::ios::trunc);
@@ -208,8 +229,8 @@ int main(int argc, char** argv) {
         }
         file << (existing.empty() ? "az,el,value,time\n" : existing);
         file.flush();
-        std::cerr << "birdcage-skyscan: " << plan.size() - todo.size() << " of " << plan.size()
-                  << " points already in " << out_path << "\n";
+        std::cerr << "birdcage-skyscan: " << plan.size() - todo.size() << " of " << plan.size() << " points already in "
+                  << out_path << "\n";
     } else {
         std::cout << "az,el,value,time\n";
     }
@@ -222,8 +243,8 @@ int main(int argc, char** argv) {
         return 1;
     }
     if (const int r = rot.set_level(rc::level::rssi_samples, samples); r != 0) {
-        std::cerr << "birdcage-skyscan: rotctld refused RSSI_SAMPLES (" << rc::error_name(r) << ": " << rc::error_text(r)
-                  << "); is the birdcage backend loaded and the dish a G2?\n";
+        std::cerr << "birdcage-skyscan: rotctld refused RSSI_SAMPLES (" << rc::error_name(r) << ": "
+                  << rc::error_text(r) << "); is the birdcage backend loaded and the dish a G2?\n";
         return 1;
     }
     if (lnb) {
@@ -253,8 +274,9 @@ int main(int argc, char** argv) {
         out.flush();
         const double elapsed = std::chrono::duration<double>(Clock::now() - started).count();
         const double eta = elapsed / static_cast<double>(n + 1) * static_cast<double>(todo.size() - n - 1);
-        std::fprintf(stderr, "\rbirdcage-skyscan: %zu/%zu  az %7.2f el %6.2f  value %6g  ETA %s ", plan.size() - todo.size() + n + 1,
-                     plan.size(), point.az, point.el, row.value, duration_text(eta).c_str());
+        std::fprintf(stderr, "\rbirdcage-skyscan: %zu/%zu  az %7.2f el %6.2f  value %6g  ETA %s ",
+                     plan.size() - todo.size() + n + 1, plan.size(), point.az, point.el, row.value,
+                     duration_text(eta).c_str());
     }
     std::fprintf(stderr, "\nbirdcage-skyscan: done, %zu points in %s\n", todo.size(),
                  duration_text(std::chrono::duration<double>(Clock::now() - started).count()).c_str());

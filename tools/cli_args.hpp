@@ -17,9 +17,9 @@ public:
 
     // Moves to the next argument; false when none is left. flag() is then the argument, or the
     // part before '=' of a `--flag=VALUE`.
-    bool next()
-    {
-        if (++index_ >= argc_) return false;
+    bool next() {
+        if (++index_ >= argc_)
+            return false;
         flag_ = argv_[index_];
         inline_value_.reset();
         if (const auto equals = flag_.find('='); flag_.starts_with("--") && equals != std::string::npos) {
@@ -30,14 +30,15 @@ public:
     }
 
     const std::string& flag() const { return flag_; }
-    int position() const { return index_; }   // 1 for the first argument
+    int position() const { return index_; }  // 1 for the first argument
     // The flag came as `--flag=VALUE`: an error for a switch that takes none.
     bool has_inline_value() const { return inline_value_.has_value(); }
     // The flag's value: the part after '=', else the next argument (consumed); none at the end.
-    std::optional<std::string> value()
-    {
-        if (inline_value_) return inline_value_;
-        if (index_ + 1 >= argc_) return std::nullopt;
+    std::optional<std::string> value() {
+        if (inline_value_)
+            return inline_value_;
+        if (index_ + 1 >= argc_)
+            return std::nullopt;
         return std::string(argv_[++index_]);
     }
 

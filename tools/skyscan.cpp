@@ -27,7 +27,8 @@ std::vector<std::string_view> split(std::string_view line, char separator) {
     while (true) {
         const std::size_t at = line.find(separator, start);
         fields.push_back(line.substr(start, at == std::string_view::npos ? std::string_view::npos : at - start));
-        if (at == std::string_view::npos) break;
+        if (at == std::string_view::npos)
+            break;
         start = at + 1;
     }
     return fields;
@@ -37,9 +38,11 @@ std::vector<std::string_view> split(std::string_view line, char separator) {
 
 std::optional<Range> parse_range(std::string_view text) {
     const auto fields = split(text, ':');
-    if (fields.size() != 3) return std::nullopt;
+    if (fields.size() != 3)
+        return std::nullopt;
     const auto from = number(fields[0]), to = number(fields[1]), step = number(fields[2]);
-    if (!from || !to || !step || *step <= 0 || *from > *to) return std::nullopt;
+    if (!from || !to || !step || *step <= 0 || *from > *to)
+        return std::nullopt;
     return Range{*from, *to, *step};
 }
 
@@ -47,7 +50,8 @@ std::vector<double> values(const Range& range) {
     std::vector<double> out;
     for (long i = 0;; ++i) {
         const double v = range.from + static_cast<double>(i) * range.step;
-        if (v > range.to + 1e-6) break;
+        if (v > range.to + 1e-6)
+            break;
         out.push_back(v);
     }
     return out;
@@ -65,22 +69,29 @@ std::vector<Point> serpentine(const Range& az, const Range& el) {
     return out;
 }
 
-Key key_of(double az, double el) { return {std::lround(az * 100.0), std::lround(el * 100.0)}; }
+Key key_of(double az, double el) {
+    return {std::lround(az * 100.0), std::lround(el * 100.0)};
+}
 
 std::optional<Row> parse_row(std::string_view line) {
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (!line.empty() && line.back() == '\r')
+        line.remove_suffix(1);
     if (line.find(',') != std::string_view::npos) {
         const auto f = split(line, ',');
-        if (f.size() < 3) return std::nullopt;
+        if (f.size() < 3)
+            return std::nullopt;
         const auto az = number(f[0]), el = number(f[1]), value = number(f[2]);
-        if (!az || !el || !value) return std::nullopt;   // the header, or garbage
+        if (!az || !el || !value)
+            return std::nullopt;  // the header, or garbage
         return Row{*az, *el, *value, f.size() > 3 ? std::string(f[3]) : std::string()};
     }
     std::istringstream in{std::string(line)};
     std::string a, e, v, extra;
-    if (!(in >> a >> e >> v) || (in >> extra)) return std::nullopt;
+    if (!(in >> a >> e >> v) || (in >> extra))
+        return std::nullopt;
     const auto az = number(a), el = number(e), value = number(v);
-    if (!az || !el || !value) return std::nullopt;
+    if (!az || !el || !value)
+        return std::nullopt;
     return Row{*az, *el, *value, {}};
 }
 
@@ -95,7 +106,8 @@ std::vector<Row> parse_scan(std::string_view text) {
     std::size_t start = 0;
     while (start < complete.size()) {
         const std::size_t end = complete.find('\n', start);
-        if (auto row = parse_row(complete.substr(start, end - start))) rows.push_back(std::move(*row));
+        if (auto row = parse_row(complete.substr(start, end - start)))
+            rows.push_back(std::move(*row));
         start = end + 1;
     }
     return rows;
@@ -103,10 +115,12 @@ std::vector<Row> parse_scan(std::string_view text) {
 
 std::vector<Point> remaining(const std::vector<Point>& plan, const std::vector<Row>& done) {
     std::set<Key> seen;
-    for (const Row& row : done) seen.insert(key_of(row.az, row.el));
+    for (const Row& row : done)
+        seen.insert(key_of(row.az, row.el));
     std::vector<Point> out;
     for (const Point& p : plan) {
-        if (!seen.count(key_of(p.az, p.el))) out.push_back(p);
+        if (!seen.count(key_of(p.az, p.el)))
+            out.push_back(p);
     }
     return out;
 }

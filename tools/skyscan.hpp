@@ -35,7 +35,7 @@ Key key_of(double az, double el);
 
 struct Row {
     double az = 0, el = 0, value = 0;
-    std::string time;   // empty in the upstream format
+    std::string time;  // empty in the upstream format
 };
 // One line of our CSV (`az,el,value,time`) or of the upstream scan (`az el rssi`); nullopt for a
 // header, a blank or a malformed line.
@@ -48,6 +48,6 @@ std::size_t complete_length(std::string_view text);
 // The points of `plan` not in `done`, in plan order.
 std::vector<Point> remaining(const std::vector<Point>& plan, const std::vector<Row>& done);
 
-std::string format_row(const Row& row);   // "174.00,43.00,562,2026-11-23T21:00:00Z"
+std::string format_row(const Row& row);  // "174.00,43.00,562,2026-11-23T21:00:00Z"
 
 }  // namespace birdcage::skyscan

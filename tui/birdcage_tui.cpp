@@ -11,6 +11,7 @@
 
 #include <curses.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <csignal>
@@ -25,7 +26,6 @@
 #include <optional>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace tui = birdcage::tui;
@@ -56,7 +56,9 @@ int usage_error(const std::string& message) {
 }
 
 volatile std::sig_atomic_t quit_signal = 0;
-extern "C" void on_quit_signal(int) { quit_signal = 1; }
+extern "C" void on_quit_signal(int) {
+    quit_signal = 1;
+}
 
 enum class Screen { dashboard, control, signal, info };
 constexpr const char* kScreenNames[] = {"Dashboard", "Control", "Signal", "Info"};
@@ -95,7 +97,8 @@ void put(int y, int x, const std::string& text, attr_t attributes = A_NORMAL) {
     }
     // A control character would move the cursor: what a server sends is shown, never obeyed.
     std::string shown = text.substr(0, static_cast<std::size_t>(COLS - x));
-    std::replace_if(shown.begin(), shown.end(), [](char c) { return static_cast<unsigned char>(c) < 32 || c == 127; }, ' ');
+    std::replace_if(
+        shown.begin(), shown.end(), [](char c) { return static_cast<unsigned char>(c) < 32 || c == 127; }, ' ');
     attron(attributes);
     mvaddnstr(y, x, shown.c_str(), static_cast<int>(shown.size()));
     attroff(attributes);
@@ -107,7 +110,9 @@ void put_char(int y, int x, chtype c) {
     }
 }
 
-attr_t colour(const Ui& ui, Colour c) { return ui.colour ? COLOR_PAIR(c) : A_NORMAL; }
+attr_t colour(const Ui& ui, Colour c) {
+    return ui.colour ? COLOR_PAIR(c) : A_NORMAL;
+}
 
 // `value` with `decimals` decimals, right-aligned in `width` columns.
 std::string fixed(double value, int decimals, int width = 0) {
@@ -116,13 +121,18 @@ std::string fixed(double value, int decimals, int width = 0) {
     return text;
 }
 
-std::string degrees(double value) { return fixed(value, 2, 7); }
+std::string degrees(double value) {
+    return fixed(value, 2, 7);
+}
 
 std::string link_word(const tui::Snapshot& s) {
     switch (s.link) {
-    case tui::LinkState::connected: return "connected";
-    case tui::LinkState::connecting: return "connecting";
-    case tui::LinkState::reconnecting: return "RECONNECTING";
+        case tui::LinkState::connected:
+            return "connected";
+        case tui::LinkState::connecting:
+            return "connecting";
+        case tui::LinkState::reconnecting:
+            return "RECONNECTING";
     }
     return "?";
 }
@@ -143,7 +153,8 @@ std::vector<std::string> wrap(const std::string& text, int width) {
         }
         line += (line.empty() ? "" : " ") + w;
     }
-    if (!line.empty()) lines.push_back(line);
+    if (!line.empty())
+        lines.push_back(line);
     return lines;
 }
 
@@ -189,13 +200,17 @@ void draw_compass(const Ui& ui, const tui::Snapshot& s, int top, int left, int h
         const double az = s.position->first;
         // The needle's character follows its slope, so it reads as a line at any angle.
         const double folded = std::fmod(std::fmod(az, 180.0) + 180.0, 180.0);
-        const chtype stroke = folded < 22.5 || folded >= 157.5 ? '|' : folded < 67.5 ? '/' : folded < 112.5 ? '-' : '\\';
+        const chtype stroke = folded < 22.5 || folded >= 157.5 ? '|'
+                              : folded < 67.5                  ? '/'
+                              : folded < 112.5                 ? '-'
+                                                               : '\\';
         const int steps = rx * 2;
         int last_y = cy, last_x = cx;
         for (int i = 1; i <= steps; ++i) {
             int y, x;
             at(az, 0.85 * i / steps, y, x);
-            if (y == last_y && x == last_x) continue;
+            if (y == last_y && x == last_x)
+                continue;
             put_char(y, x, stroke | colour(ui, kGood));
             last_y = y;
             last_x = x;
@@ -233,7 +248,9 @@ void draw_elevation_gauge(const Ui& ui, const tui::Snapshot& s, int top, int lef
 // ---- screens ------------------------------------------------------------------------------------
 
 // The numbers' column: the right 26 columns, the rose and gauge take the rest.
-int panel_left() { return std::max(28, COLS - 26); }
+int panel_left() {
+    return std::max(28, COLS - 26);
+}
 
 void draw_numbers(const Ui& ui, const tui::Snapshot& s, int& y, int x) {
     if (s.position) {
@@ -276,7 +293,8 @@ void draw_dashboard(const Ui& ui, const tui::Snapshot& s, int top, int height) {
     put(y++, x, "Info (_):", A_BOLD);
     const int width = COLS - x - 1;
     for (const auto& line : wrap(s.info.empty() ? "(none)" : s.info, width)) {
-        if (y >= top + height) break;
+        if (y >= top + height)
+            break;
         put(y++, x, line);
     }
 }
@@ -298,7 +316,8 @@ void draw_control(const Ui& ui, const tui::Snapshot& s, int top, int height) {
         put(y++, x, "busy: " + s.busy, colour(ui, kTarget));
     }
     for (const auto& line : wrap(s.last_result, COLS - x - 1)) {
-        if (y >= top + height) break;
+        if (y >= top + height)
+            break;
         put(y++, x, line);
     }
 }
@@ -317,8 +336,9 @@ void draw_scan(const Ui& ui, int y) {
     if (ui.scan.total > 0) {
         const int w = std::max(10, COLS - 24);
         const int filled = ui.scan.done * w / ui.scan.total;
-        put(y, 1, "[" + std::string(static_cast<std::size_t>(filled), '=') +
-                      std::string(static_cast<std::size_t>(w - filled), ' ') + "]");
+        put(y, 1,
+            "[" + std::string(static_cast<std::size_t>(filled), '=') +
+                std::string(static_cast<std::size_t>(w - filled), ' ') + "]");
         put(y, w + 4, std::to_string(ui.scan.done) + "/" + std::to_string(ui.scan.total));
         ++y;
     }
@@ -370,8 +390,11 @@ void draw_signal(const Ui& ui, const tui::Snapshot& s, int top, int height) {
     put(y + 1, 14, fixed(floor_level, 0));
     put(y + 1, 14 + bar_width - 3, fixed(full, 0, 5));
     y += 2;
-    put(y++, 1, "LNB  " + (s.lnb ? fixed(*s.lnb, 0) + " V" + (*s.lnb < 15 ? "  (13 V: vertical)" : "  (18 V: horizontal)")
-                                  : std::string("--")) + "    l toggles 13/18 V");
+    put(y++, 1,
+        "LNB  " +
+            (s.lnb ? fixed(*s.lnb, 0) + " V" + (*s.lnb < 15 ? "  (13 V: vertical)" : "  (18 V: horizontal)")
+                   : std::string("--")) +
+            "    l toggles 13/18 V");
     if (s.position) {
         put(y++, 1, "Dish " + degrees(s.position->first) + degrees(s.position->second) + " (az el)");
     }
@@ -401,7 +424,8 @@ std::vector<std::string> log_tail(const std::string& path, std::size_t count) {
     std::deque<std::string> lines;
     for (std::string line; std::getline(in, line);) {
         lines.push_back(line);
-        if (lines.size() > count) lines.pop_front();
+        if (lines.size() > count)
+            lines.pop_front();
     }
     return {lines.begin(), lines.end()};
 }
@@ -429,15 +453,19 @@ void draw_info(const Ui& ui, const tui::Snapshot& s, int top, int height) {
     }
     put(y++, 1, "Model    " + (s.caps.model.empty() ? std::string("?") : s.caps.model), A_BOLD);
     put(y++, 1, "Backend  " + s.caps.backend);
-    put(y++, 1, "Can      " + std::string(s.caps.can_park ? "park " : "") + (s.caps.can_reset ? "home(R) " : "") +
-                    (s.caps.can_status ? "status " : "") + (s.levels.empty() ? "" : "levels"));
-    put(y++, 1, "Limits   az " + fixed(s.limits.min_az, 2) + ".." + fixed(s.limits.max_az, 2) + "  el " +
-                    fixed(s.limits.min_el, 2) + ".." + fixed(s.limits.max_el, 2));
+    put(y++, 1,
+        "Can      " + std::string(s.caps.can_park ? "park " : "") + (s.caps.can_reset ? "home(R) " : "") +
+            (s.caps.can_status ? "status " : "") + (s.levels.empty() ? "" : "levels"));
+    put(y++, 1,
+        "Limits   az " + fixed(s.limits.min_az, 2) + ".." + fixed(s.limits.max_az, 2) + "  el " +
+            fixed(s.limits.min_el, 2) + ".." + fixed(s.limits.max_el, 2));
     // The Winegard backend's `_` is long (variant, limits, wrap, pointing, mapping): all of it.
-    const int info_room = std::max(2, height - 7 - static_cast<int>(s.caps.levels.size()) - (ui.log_path.empty() ? 0 : 5));
+    const int info_room =
+        std::max(2, height - 7 - static_cast<int>(s.caps.levels.size()) - (ui.log_path.empty() ? 0 : 5));
     int info_lines = 0;
     for (const auto& line : wrap("Info (_) " + (s.info.empty() ? std::string("(none)") : s.info), COLS - 2)) {
-        if (++info_lines > info_room) break;
+        if (++info_lines > info_room)
+            break;
         put(y++, 1, line);
     }
     ++y;
@@ -460,8 +488,10 @@ void draw(Ui& ui, const tui::Snapshot& s) {
     // Below 80x24 the screens overlap and the key bar is cut: say so, as cgps does, and keep going
     // (q still quits; a larger window brings the screens back).
     if (COLS < kMinColumns || LINES < kMinLines) {
-        put(0, 0, "terminal too small (need " + std::to_string(kMinColumns) + "x" + std::to_string(kMinLines) + ", have " +
-                      std::to_string(COLS) + "x" + std::to_string(LINES) + ")", A_BOLD);
+        put(0, 0,
+            "terminal too small (need " + std::to_string(kMinColumns) + "x" + std::to_string(kMinLines) + ", have " +
+                std::to_string(COLS) + "x" + std::to_string(LINES) + ")",
+            A_BOLD);
         put(1, 0, "enlarge it, or q to quit");
         curs_set(0);
         refresh();
@@ -475,7 +505,8 @@ void draw(Ui& ui, const tui::Snapshot& s) {
     int x = 1;
     for (int i = 0; i < 4; ++i) {
         const bool current = static_cast<int>(ui.screen) == i;
-        const std::string tab = (current ? "[" : " ") + std::to_string(i + 1) + " " + kScreenNames[i] + (current ? "]" : " ");
+        const std::string tab =
+            (current ? "[" : " ") + std::to_string(i + 1) + " " + kScreenNames[i] + (current ? "]" : " ");
         put(1, x, tab, current ? A_BOLD : A_NORMAL);
         x += static_cast<int>(tab.size()) + 1;
     }
@@ -485,10 +516,18 @@ void draw(Ui& ui, const tui::Snapshot& s) {
     }
     const int body_top = up ? top : top + 1, body_height = up ? height : height - 1;
     switch (ui.screen) {
-    case Screen::dashboard: draw_dashboard(ui, s, body_top, body_height); break;
-    case Screen::control: draw_control(ui, s, body_top, body_height); break;
-    case Screen::signal: draw_signal(ui, s, body_top, body_height); break;
-    case Screen::info: draw_info(ui, s, body_top, body_height); break;
+        case Screen::dashboard:
+            draw_dashboard(ui, s, body_top, body_height);
+            break;
+        case Screen::control:
+            draw_control(ui, s, body_top, body_height);
+            break;
+        case Screen::signal:
+            draw_signal(ui, s, body_top, body_height);
+            break;
+        case Screen::info:
+            draw_info(ui, s, body_top, body_height);
+            break;
     }
     // Row LINES-2: the prompt or the last message; row LINES-1: the keys.
     if (ui.prompt.purpose != Prompt::Purpose::none) {
@@ -496,8 +535,8 @@ void draw(Ui& ui, const tui::Snapshot& s) {
         move(LINES - 2, std::min(COLS - 1, static_cast<int>(ui.prompt.label.size() + ui.prompt.text.size())));
         curs_set(1);
     } else {
-        std::string line = !ui.message.empty() ? ui.message
-                           : !s.busy.empty()     ? "busy: " + s.busy
+        std::string line = !ui.message.empty()            ? ui.message
+                           : !s.busy.empty()              ? "busy: " + s.busy
                            : !s.last_result.empty() || up ? s.last_result
                                                           : "not connected";
         put(LINES - 2, 0, line);
@@ -554,9 +593,11 @@ void submit_scan(Ui& ui, const std::string& text) {
     ui.scan_file = name;
     const auto colon = ui.station.address().rfind(':');
     std::string host = ui.station.address().substr(0, colon);
-    if (host.size() > 2 && host.front() == '[') host = host.substr(1, host.size() - 2);
-    std::vector<std::string> args{"--host", host, "--port", ui.station.address().substr(colon + 1),
-                                  "--az", az, "--el", el, "--out", ui.scan_file};
+    if (host.size() > 2 && host.front() == '[')
+        host = host.substr(1, host.size() - 2);
+    std::vector<std::string> args{"--host", host,        "--port", ui.station.address().substr(colon + 1),
+                                  "--az",   az,          "--el",   el,
+                                  "--out",  ui.scan_file};
     if (!lnb.empty()) {
         args.insert(args.end(), {"--lnb", lnb});
     }
@@ -595,10 +636,12 @@ void prompt_key(Ui& ui, const tui::Snapshot& s, int key) {
         } else if (done.purpose == Prompt::Purpose::go) {
             submit_go(ui, s, done.text);
         }
-        if (done.purpose == Prompt::Purpose::scan) submit_scan(ui, done.text);
+        if (done.purpose == Prompt::Purpose::scan)
+            submit_scan(ui, done.text);
     } else if (key == KEY_BACKSPACE || key == 127 || key == 8) {
-        if (!ui.prompt.text.empty()) ui.prompt.text.pop_back();
-    } else if (key == 21) {   // ^U, as in a shell
+        if (!ui.prompt.text.empty())
+            ui.prompt.text.pop_back();
+    } else if (key == 21) {  // ^U, as in a shell
         ui.prompt.text.clear();
     } else if (key >= 32 && key < 127 && ui.prompt.text.size() < 60) {
         ui.prompt.text.push_back(static_cast<char>(key));
@@ -620,51 +663,101 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
         return;
     }
     switch (key) {
-    case 'q': case 'Q': ui.quit = true; break;
-    case '1': case '2': case '3': case '4': ui.screen = static_cast<Screen>(key - '1'); ui.message.clear(); break;
-    case '\t': ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 1) % 4); ui.message.clear(); break;
-    case KEY_BTAB: ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 3) % 4); ui.message.clear(); break;
-    case KEY_LEFT: jog(ui, -step, 0); break;
-    case KEY_RIGHT: jog(ui, step, 0); break;
-    case KEY_UP: jog(ui, 0, step); break;
-    case KEY_DOWN: jog(ui, 0, -step); break;
-    case '+': case '=': ui.step_index = std::min(ui.step_index + 1, 3); ui.message = "step " + fixed(kSteps[ui.step_index], 1) + " deg"; break;
-    case '-': case '_': ui.step_index = std::max(ui.step_index - 1, 0); ui.message = "step " + fixed(kSteps[ui.step_index], 1) + " deg"; break;
-    case 'g': case 'G': ui.prompt = {Prompt::Purpose::go, "Go to AZ EL: ", ""}; break;
-    case 's': case 'S': case ' ':
-        ui.station.submit({tui::Command::Kind::stop, 0, 0, {}});
-        ui.message.clear();
-        break;
-    case 'k': case 'K':
-        if (s.caps.can_park) ui.station.submit({tui::Command::Kind::park, 0, 0, {}});
-        ui.message = s.caps.can_park ? "" : "this rotator cannot park";
-        break;
-    case 'h': case 'H':
-        if (s.caps.can_reset) ui.station.submit({tui::Command::Kind::home, 0, 0, {}});
-        ui.message = s.caps.can_reset ? "" : "this rotator cannot home (no R)";
-        break;
-    case 'l': case 'L':
-        if (ui.screen != Screen::signal) break;
-        if (!has_level(s, "LNB")) {
-            ui.message = "this rotator has no LNB level";
-        } else {
-            ui.station.submit({tui::Command::Kind::set_level, s.lnb && *s.lnb < 15 ? 18.0 : 13.0, 0, "LNB"});
+        case 'q':
+        case 'Q':
+            ui.quit = true;
+            break;
+        case '1':
+        case '2':
+        case '3':
+        case '4':
+            ui.screen = static_cast<Screen>(key - '1');
             ui.message.clear();
-        }
-        break;
-    case 'n': case 'N':
-        if (ui.screen != Screen::signal) break;
-        if (!has_level(s, "RSSI") || (!s.rssi && !s.signal_error.empty())) ui.message = "this rotator has no RSSI to scan with";
-        else open_scan_prompt(ui, s);
-        break;
-    case 'x': case 'X':
-        if (ui.screen == Screen::signal && ui.scan.running()) {
-            ui.scan.cancel();
-            ui.message = "scan stopped; birdcage-skyscan --resume continues it";
-        }
-        break;
-    case KEY_RESIZE: clearok(stdscr, TRUE); break;
-    default: break;
+            break;
+        case '\t':
+            ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 1) % 4);
+            ui.message.clear();
+            break;
+        case KEY_BTAB:
+            ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 3) % 4);
+            ui.message.clear();
+            break;
+        case KEY_LEFT:
+            jog(ui, -step, 0);
+            break;
+        case KEY_RIGHT:
+            jog(ui, step, 0);
+            break;
+        case KEY_UP:
+            jog(ui, 0, step);
+            break;
+        case KEY_DOWN:
+            jog(ui, 0, -step);
+            break;
+        case '+':
+        case '=':
+            ui.step_index = std::min(ui.step_index + 1, 3);
+            ui.message = "step " + fixed(kSteps[ui.step_index], 1) + " deg";
+            break;
+        case '-':
+        case '_':
+            ui.step_index = std::max(ui.step_index - 1, 0);
+            ui.message = "step " + fixed(kSteps[ui.step_index], 1) + " deg";
+            break;
+        case 'g':
+        case 'G':
+            ui.prompt = {Prompt::Purpose::go, "Go to AZ EL: ", ""};
+            break;
+        case 's':
+        case 'S':
+        case ' ':
+            ui.station.submit({tui::Command::Kind::stop, 0, 0, {}});
+            ui.message.clear();
+            break;
+        case 'k':
+        case 'K':
+            if (s.caps.can_park)
+                ui.station.submit({tui::Command::Kind::park, 0, 0, {}});
+            ui.message = s.caps.can_park ? "" : "this rotator cannot park";
+            break;
+        case 'h':
+        case 'H':
+            if (s.caps.can_reset)
+                ui.station.submit({tui::Command::Kind::home, 0, 0, {}});
+            ui.message = s.caps.can_reset ? "" : "this rotator cannot home (no R)";
+            break;
+        case 'l':
+        case 'L':
+            if (ui.screen != Screen::signal)
+                break;
+            if (!has_level(s, "LNB")) {
+                ui.message = "this rotator has no LNB level";
+            } else {
+                ui.station.submit({tui::Command::Kind::set_level, s.lnb && *s.lnb < 15 ? 18.0 : 13.0, 0, "LNB"});
+                ui.message.clear();
+            }
+            break;
+        case 'n':
+        case 'N':
+            if (ui.screen != Screen::signal)
+                break;
+            if (!has_level(s, "RSSI") || (!s.rssi && !s.signal_error.empty()))
+                ui.message = "this rotator has no RSSI to scan with";
+            else
+                open_scan_prompt(ui, s);
+            break;
+        case 'x':
+        case 'X':
+            if (ui.screen == Screen::signal && ui.scan.running()) {
+                ui.scan.cancel();
+                ui.message = "scan stopped; birdcage-skyscan --resume continues it";
+            }
+            break;
+        case KEY_RESIZE:
+            clearok(stdscr, TRUE);
+            break;
+        default:
+            break;
     }
 }
 
@@ -681,7 +774,7 @@ void start_colour(Ui& ui) {
     ui.colour = true;
 }
 
-} // namespace
+}  // namespace
 
 int main(int argc, char** argv) {
     std::string host = "localhost", log_path;
@@ -701,20 +794,22 @@ int main(int argc, char** argv) {
             return usage_error(arg + " takes no value");
         } else if (arg == "--host" || arg == "--log") {
             const auto v = value();
-            if (!v || v->empty()) return usage_error(arg + " needs a value");
+            if (!v || v->empty())
+                return usage_error(arg + " needs a value");
             (arg == "--host" ? host : log_path) = *v;
         } else if (arg == "--port") {
             const auto v = value();
             char* end = nullptr;
             const long n = v ? std::strtol(v->c_str(), &end, 10) : 0;
-            if (!v || v->empty() || *end != '\0' || n < 1 || n > 65535) return usage_error("--port needs a number 1..65535");
+            if (!v || v->empty() || *end != '\0' || n < 1 || n > 65535)
+                return usage_error("--port needs a number 1..65535");
             port = static_cast<int>(n);
         } else {
             return usage_error("unknown argument '" + arg + "'");
         }
     }
 
-    std::signal(SIGPIPE, SIG_IGN);   // a write to a rotctld that just went away must not kill us
+    std::signal(SIGPIPE, SIG_IGN);  // a write to a rotctld that just went away must not kill us
     struct sigaction quit_action {};
     quit_action.sa_handler = on_quit_signal;
     sigaction(SIGINT, &quit_action, nullptr);
@@ -727,8 +822,8 @@ int main(int argc, char** argv) {
     }
     SCREEN* terminal = newterm(nullptr, stdout, stdin);
     if (terminal == nullptr) {
-        std::cerr << "birdcage-tui: cannot drive this terminal (TERM=" << (std::getenv("TERM") ? std::getenv("TERM") : "")
-                  << ")\n";
+        std::cerr << "birdcage-tui: cannot drive this terminal (TERM="
+                  << (std::getenv("TERM") ? std::getenv("TERM") : "") << ")\n";
         return 1;
     }
     cbreak();

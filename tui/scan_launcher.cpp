@@ -131,7 +131,7 @@ std::string ScanLauncher::outcome() const {
         return "running, x stops it";
     }
     if (stopped) {
-        return "scan stopped";   // its SIGTERM status (143) is ours, not a failure
+        return "scan stopped";  // its SIGTERM status (143) is ours, not a failure
     }
     return exit_status == 0 ? "done" : "failed with status " + std::to_string(exit_status.value_or(-1));
 }
@@ -160,4 +160,4 @@ std::string skyscan_program(const std::string& argv0) {
     return "birdcage-skyscan";
 }
 
-} // namespace birdcage::tui
+}  // namespace birdcage::tui

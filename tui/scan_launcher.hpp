@@ -5,9 +5,9 @@
 // ("birdcage-skyscan: 12/77  az ... ETA ..."), for the signal screen's launcher.
 #pragma once
 
+#include <sys/types.h>
 #include <optional>
 #include <string>
-#include <sys/types.h>
 #include <vector>
 
 namespace birdcage::tui {
@@ -26,11 +26,11 @@ public:
     void cancel();
     bool running() const { return pid_ > 0; }
 
-    std::string progress;                 // the last progress or message line
-    int done = 0, total = 0;              // points measured / planned, from the progress line
-    std::optional<int> exit_status;       // set once the child has ended (128+N: signal N)
+    std::string progress;            // the last progress or message line
+    int done = 0, total = 0;         // points measured / planned, from the progress line
+    std::optional<int> exit_status;  // set once the child has ended (128+N: signal N)
     bool started = false;
-    bool stopped = false;                 // ended by cancel(), not by itself
+    bool stopped = false;  // ended by cancel(), not by itself
     // "running, x stops it", "done", "scan stopped" (cancel), or "failed with status N".
     std::string outcome() const;
 
@@ -46,4 +46,4 @@ private:
 // both in one directory), else on PATH.
 std::string skyscan_program(const std::string& argv0);
 
-} // namespace birdcage::tui
+}  // namespace birdcage::tui

@@ -27,17 +27,26 @@ std::string seconds_text(std::chrono::milliseconds ms) {
     return text;
 }
 
-} // namespace
+}  // namespace
 
 std::string describe(const Command& command) {
     char text[96];
     switch (command.kind) {
-    case Command::Kind::move: std::snprintf(text, sizeof text, "P %.2f %.2f", command.a, command.b); return text;
-    case Command::Kind::jog: std::snprintf(text, sizeof text, "jog %+.2f %+.2f", command.a, command.b); return text;
-    case Command::Kind::stop: return "S (stop)";
-    case Command::Kind::park: return "K (park)";
-    case Command::Kind::home: return "R (home)";
-    case Command::Kind::set_level: std::snprintf(text, sizeof text, "V %s %g", command.name.c_str(), command.a); return text;
+        case Command::Kind::move:
+            std::snprintf(text, sizeof text, "P %.2f %.2f", command.a, command.b);
+            return text;
+        case Command::Kind::jog:
+            std::snprintf(text, sizeof text, "jog %+.2f %+.2f", command.a, command.b);
+            return text;
+        case Command::Kind::stop:
+            return "S (stop)";
+        case Command::Kind::park:
+            return "K (park)";
+        case Command::Kind::home:
+            return "R (home)";
+        case Command::Kind::set_level:
+            std::snprintf(text, sizeof text, "V %s %g", command.name.c_str(), command.a);
+            return text;
     }
     return "?";
 }
@@ -66,7 +75,7 @@ Station::~Station() {
         stopping_ = true;
     }
     wake_.notify_all();
-    client_.interrupt();   // quitting must not wait for a rotctld that does not answer
+    client_.interrupt();  // quitting must not wait for a rotctld that does not answer
     worker_.join();
 }
 
@@ -95,7 +104,8 @@ void Station::watch_signal(bool on) {
     wake_.notify_all();
 }
 
-template <class F> void Station::update(F&& change) {
+template <class F>
+void Station::update(F&& change) {
     std::lock_guard<std::mutex> lock(mutex_);
     change(snapshot_);
     ++snapshot_.revision;
@@ -257,7 +267,8 @@ void Station::poll() {
     bool read_signal = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        const bool has_rssi = std::find(snapshot_.levels.begin(), snapshot_.levels.end(), "RSSI") != snapshot_.levels.end();
+        const bool has_rssi =
+            std::find(snapshot_.levels.begin(), snapshot_.levels.end(), "RSSI") != snapshot_.levels.end();
         read_signal = signal_wanted_ && has_rssi && Clock::now() - last_signal_read_ >= kSignalPeriod;
     }
     std::optional<double> rssi, lnb;
@@ -333,12 +344,23 @@ void Station::execute(const Command& command) {
     }
     int code = RIG_OK;
     switch (sent.kind) {
-    case Command::Kind::jog: break;   // made a move above
-    case Command::Kind::move: code = client_.set_position(sent.a, sent.b); break;
-    case Command::Kind::stop: code = client_.stop(); break;
-    case Command::Kind::park: code = client_.park(); break;
-    case Command::Kind::home: code = client_.reset(); break;
-    case Command::Kind::set_level: code = client_.set_level(command.name, command.a); break;
+        case Command::Kind::jog:
+            break;  // made a move above
+        case Command::Kind::move:
+            code = client_.set_position(sent.a, sent.b);
+            break;
+        case Command::Kind::stop:
+            code = client_.stop();
+            break;
+        case Command::Kind::park:
+            code = client_.park();
+            break;
+        case Command::Kind::home:
+            code = client_.reset();
+            break;
+        case Command::Kind::set_level:
+            code = client_.set_level(command.name, command.a);
+            break;
     }
     if (link_lost(code)) {
         update([&](Snapshot& s) { s.last_result = what + ": the link dropped before rotctld answered"; });
@@ -353,8 +375,9 @@ void Station::execute(const Command& command) {
             s.target = std::make_pair(sent.a, sent.b);
         }
         if ((command.kind == Command::Kind::stop || command.kind == Command::Kind::park ||
-             command.kind == Command::Kind::home) && code == RIG_OK) {
-            s.target.reset();   // the rotator no longer heads for what this client last sent
+             command.kind == Command::Kind::home) &&
+            code == RIG_OK) {
+            s.target.reset();  // the rotator no longer heads for what this client last sent
         }
         if (command.kind == Command::Kind::set_level && command.name == "LNB" && code == RIG_OK) {
             s.lnb = command.a;
@@ -388,11 +411,12 @@ std::string squeeze_flags(const std::string& flags) {
     std::vector<std::string> seen;
     std::string text;
     for (std::string w; words >> w;) {
-        if (std::find(seen.begin(), seen.end(), w) != seen.end()) continue;
+        if (std::find(seen.begin(), seen.end(), w) != seen.end())
+            continue;
         seen.push_back(w);
         text += (text.empty() ? "" : " ") + w;
     }
     return text.empty() ? "idle" : text;
 }
 
-} // namespace birdcage::tui
+}  // namespace birdcage::tui

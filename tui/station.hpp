@@ -28,26 +28,26 @@ enum class LinkState { connecting, connected, reconnecting };
 
 struct Snapshot {
     LinkState link = LinkState::connecting;
-    std::string link_detail;            // why the link is down, when the next attempt is
-    int connects = 0;                   // successful connects so far (more than one: reconnected)
+    std::string link_detail;  // why the link is down, when the next attempt is
+    int connects = 0;         // successful connects so far (more than one: reconnected)
 
-    std::optional<std::pair<double, double>> position;   // az, el
-    std::string position_error;         // rotctld's error for `p`, when it gave one
-    std::optional<std::pair<double, double>> target;     // the last position this client sent
-    std::optional<std::string> status;  // `s` flags, when the rotator reports them
-    std::string info;                   // `_`
+    std::optional<std::pair<double, double>> position;  // az, el
+    std::string position_error;                         // rotctld's error for `p`, when it gave one
+    std::optional<std::pair<double, double>> target;    // the last position this client sent
+    std::optional<std::string> status;                  // `s` flags, when the rotator reports them
+    std::string info;                                   // `_`
     Limits limits;
     RotatorCaps caps;
-    std::vector<std::string> levels;    // `v ?`; empty: the rotator has no extension levels
+    std::vector<std::string> levels;  // `v ?`; empty: the rotator has no extension levels
 
     std::optional<double> rssi;
-    std::deque<double> rssi_trend;      // oldest first, at most kTrendLength
+    std::deque<double> rssi_trend;  // oldest first, at most kTrendLength
     std::optional<double> lnb;
-    std::string signal_error;           // what `v RSSI` answered instead of a value
+    std::string signal_error;  // what `v RSSI` answered instead of a value
 
-    std::string busy;                   // the command in flight
-    std::string last_result;            // "P 200.00 35.00: ok"; cleared when the link drops
-    std::uint64_t revision = 0;         // grows with every change
+    std::string busy;            // the command in flight
+    std::string last_result;     // "P 200.00 35.00: ok"; cleared when the link drops
+    std::uint64_t revision = 0;  // grows with every change
 };
 
 struct Command {
@@ -86,7 +86,8 @@ private:
     bool jog_target(const Command& jog, double& az, double& el);
     bool link_lost(int code);
     void wait_for(std::chrono::milliseconds period);
-    template <class F> void update(F&& change);
+    template <class F>
+    void update(F&& change);
 
     rotctl::Client client_;
     std::string address_;
@@ -94,7 +95,7 @@ private:
     std::condition_variable wake_;
     Snapshot snapshot_;
     std::deque<Command> queue_;
-    Limits base_limits_;   // the caps' range, before `_` narrows it
+    Limits base_limits_;  // the caps' range, before `_` narrows it
     bool signal_wanted_ = false;
     bool stopping_ = false;
     // A restarted rotctld is back within seconds; a longer wait would only delay noticing it.
@@ -109,4 +110,4 @@ std::string describe(const Command& command);
 // The status flags as shown: repeated names once, "idle" for none.
 std::string squeeze_flags(const std::string& flags);
 
-} // namespace birdcage::tui
+}  // namespace birdcage::tui

@@ -3,16 +3,16 @@
 
 #include "birdcage_sim/emulator.hpp"
 
+#include <poll.h>
+#include <unistd.h>
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <mutex>
-#include <poll.h>
 #include <random>
 #include <system_error>
 #include <thread>
-#include <unistd.h>
 
 #include "birdcage_sim/console.hpp"
 #include "pty.hpp"
@@ -29,8 +29,7 @@ constexpr std::size_t max_unsent_bytes = 1 << 20;
 using Clock = std::chrono::steady_clock;
 
 // Points `link` at `target`, replacing an existing link atomically.
-void link_to(const std::string& target, const std::string& link)
-{
+void link_to(const std::string& target, const std::string& link) {
     const std::string temporary = link + ".new";
     ::unlink(temporary.c_str());
     if (::symlink(target.c_str(), temporary.c_str()) != 0 || ::rename(temporary.c_str(), link.c_str()) != 0) {
@@ -53,8 +52,7 @@ struct Emulator::Impl {
           console(options),
           faults(options.line_faults),
           drop_rng(options.seed ^ 0xd409u),
-          noise_rng(options.seed ^ 0xfa17u)
-    {
+          noise_rng(options.seed ^ 0xfa17u) {
         if (options.replay != ReplayMode::off)
             replayer.emplace(load_transcript(options.transcript_path), options.replay, options.transcript_path);
         device_path = pty->slave_path();
@@ -65,18 +63,17 @@ struct Emulator::Impl {
         thread = std::thread([this] { run(); });
     }
 
-    ~Impl()
-    {
+    ~Impl() {
         stopping = true;
         thread.join();
-        if (!options.link_path.empty()) ::unlink(options.link_path.c_str());
+        if (!options.link_path.empty())
+            ::unlink(options.link_path.c_str());
     }
 
     unsigned char random_byte() { return static_cast<unsigned char>(noise_rng() >> 24); }
 
     // Under `mutex`. Drop and polarity act on what the dish sends, before the stall gate.
-    std::string filter_dish_output(const std::string& bytes)
-    {
+    std::string filter_dish_output(const std::string& bytes) {
         std::string kept;
         kept.reserve(bytes.size());
         // One draw per byte while dropping is on: the same seed and output give the same losses.
@@ -92,12 +89,11 @@ struct Emulator::Impl {
         return kept;
     }
 
-    void run()
-    {
+    void run() {
         auto last = Clock::now();
-        std::string wire;             // bytes on their way to the client
-        auto line_free_at = last;     // pacing: when the line has sent every byte given to it
-        double noise_credit = 0.0;    // idle noise bytes due
+        std::string wire;           // bytes on their way to the client
+        auto line_free_at = last;   // pacing: when the line has sent every byte given to it
+        double noise_credit = 0.0;  // idle noise bytes due
         char buffer[4096];
         // The pacing rate is read with the output it applies to (after poll(), under `mutex`):
         // read before poll(), a set_output_pacing() made while the thread waited would let the
@@ -116,7 +112,8 @@ struct Emulator::Impl {
                 const int ready = ::poll(&descriptor, 1, poll_timeout_ms);
                 if (ready > 0 && (descriptor.revents & POLLIN) != 0) {
                     const ssize_t count = ::read(fd, buffer, sizeof buffer);
-                    if (count > 0) received.assign(buffer, static_cast<std::size_t>(count));
+                    if (count > 0)
+                        received.assign(buffer, static_cast<std::size_t>(count));
                 }
                 if (ready > 0 && (descriptor.revents & (POLLHUP | POLLERR)) != 0)
                     std::this_thread::sleep_for(std::chrono::milliseconds(poll_timeout_ms));
@@ -128,7 +125,7 @@ struct Emulator::Impl {
             const double dt = real_dt * options.time_scale;
             last = now;
 
-            std::string sent;     // dish output released to the line this iteration
+            std::string sent;  // dish output released to the line this iteration
             std::string noise;
             {
                 std::lock_guard lock(mutex);
@@ -142,29 +139,35 @@ struct Emulator::Impl {
                     held_input += received;
                 }
                 const bool stalled = console.time() < stall_until;
-                if (!stalled) input = std::exchange(held_input, {});
+                if (!stalled)
+                    input = std::exchange(held_input, {});
                 std::string output;
                 if (replayer && (replayer->replaying() || replayer->failure())) {
                     // The model keeps its own time but stays silent until a lenient fallback.
                     const std::string unmatched = replayer->receive(input);
                     replayer->advance(dt);
                     output = replayer->take_output();
-                    if (!unmatched.empty()) console.feed(unmatched);
+                    if (!unmatched.empty())
+                        console.feed(unmatched);
                     console.advance(dt);
                     const std::string model_output = console.take_output();
-                    if (replayer->fell_back()) output += model_output;
+                    if (replayer->fell_back())
+                        output += model_output;
                 } else {
-                    if (!input.empty()) console.feed(input);
+                    if (!input.empty())
+                        console.feed(input);
                     console.advance(dt);
                     output = console.take_output();
                 }
                 counters.motor_stalls = console.motor_stalls();
                 held_output += filter_dish_output(output);
-                if (console.time() >= stall_until) sent = std::exchange(held_output, {});
+                if (console.time() >= stall_until)
+                    sent = std::exchange(held_output, {});
                 noise = std::exchange(pending_garbage, {});
                 if (faults.idle_noise_bps > 0.0 && wire.empty() && sent.empty() && noise.empty()) {
                     noise_credit += faults.idle_noise_bps * real_dt;
-                    for (; noise_credit >= 1.0; noise_credit -= 1.0) noise.push_back(static_cast<char>(random_byte()));
+                    for (; noise_credit >= 1.0; noise_credit -= 1.0)
+                        noise.push_back(static_cast<char>(random_byte()));
                 } else if (faults.idle_noise_bps <= 0.0) {
                     noise_credit = 0.0;
                 }
@@ -175,29 +178,39 @@ struct Emulator::Impl {
                 }
             }
             if (options.trace) {
-                if (!received.empty()) options.trace(true, received);
-                if (!sent.empty()) options.trace(false, sent);
-                if (!noise.empty()) options.trace(false, noise);
+                if (!received.empty())
+                    options.trace(true, received);
+                if (!sent.empty())
+                    options.trace(false, sent);
+                if (!noise.empty())
+                    options.trace(false, noise);
             }
             if (fd < 0) {  // unplugged: nobody hears the dish
                 wire.clear();
                 continue;
             }
-            if (wire.empty() || baud <= 0) line_free_at = std::max(line_free_at, now);
+            if (wire.empty() || baud <= 0)
+                line_free_at = std::max(line_free_at, now);
             wire += sent;
             wire += noise;
-            if (wire.size() > max_unsent_bytes) wire.erase(0, wire.size() - max_unsent_bytes);
-            if (wire.empty()) continue;
+            if (wire.size() > max_unsent_bytes)
+                wire.erase(0, wire.size() - max_unsent_bytes);
+            if (wire.empty())
+                continue;
             std::size_t allowed = wire.size();
             if (baud > 0) {
                 const auto elapsed = Clock::now() - line_free_at;
-                allowed = elapsed < byte_time ? 0 : std::min<std::size_t>(allowed, static_cast<std::size_t>(elapsed / byte_time));
+                allowed = elapsed < byte_time
+                              ? 0
+                              : std::min<std::size_t>(allowed, static_cast<std::size_t>(elapsed / byte_time));
             }
-            if (allowed == 0) continue;
+            if (allowed == 0)
+                continue;
             // The count of paced bytes changes under the same lock as the write that sends them, so
             // a client that has read the bytes never sees a count without them (fault_counters()).
             std::unique_lock counting(mutex, std::defer_lock);
-            if (baud > 0) counting.lock();
+            if (baud > 0)
+                counting.lock();
             const ssize_t count = ::write(fd, wire.data(), allowed);
             if (count > 0) {
                 wire.erase(0, static_cast<std::size_t>(count));
@@ -209,12 +222,13 @@ struct Emulator::Impl {
         }
     }
 
-    void hang_up()
-    {
+    void hang_up() {
         std::lock_guard io(io_mutex);
-        if (!pty) return;
+        if (!pty)
+            return;
         pty.reset();  // master and guard closed: the slave side is hung up
-        if (!options.link_path.empty()) ::unlink(options.link_path.c_str());
+        if (!options.link_path.empty())
+            ::unlink(options.link_path.c_str());
         std::lock_guard lock(mutex);
         ++injected;
         // Bytes on their way in are lost with the adapter.
@@ -222,12 +236,13 @@ struct Emulator::Impl {
         held_input.clear();
     }
 
-    void reconnect()
-    {
+    void reconnect() {
         std::lock_guard io(io_mutex);
-        if (pty) return;
+        if (pty)
+            return;
         auto fresh = std::make_unique<Pty>();
-        if (!options.link_path.empty()) link_to(fresh->slave_path(), options.link_path);
+        if (!options.link_path.empty())
+            link_to(fresh->slave_path(), options.link_path);
         std::lock_guard lock(mutex);
         device_path = options.link_path.empty() ? fresh->slave_path() : options.link_path;
         pty = std::move(fresh);
@@ -241,7 +256,7 @@ struct Emulator::Impl {
     std::optional<Replayer> replayer;
     std::string device_path;
     LineFaults faults;
-    std::mt19937 drop_rng;   // separate streams: noise does not shift which bytes drop
+    std::mt19937 drop_rng;  // separate streams: noise does not shift which bytes drop
     std::mt19937 noise_rng;
     double stall_until = 0.0;     // simulated time
     std::string held_input;       // client bytes not yet given to the console (stall)
@@ -256,173 +271,151 @@ struct Emulator::Impl {
 Emulator::Emulator(Options options) : impl_(std::make_unique<Impl>(std::move(options))) {}
 Emulator::~Emulator() = default;
 
-std::string Emulator::device_path() const
-{
+std::string Emulator::device_path() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->device_path;
 }
 
-Pose Emulator::true_position() const
-{
+Pose Emulator::true_position() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.position();
 }
 
-double Emulator::true_mechanical_az() const
-{
+double Emulator::true_mechanical_az() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.mechanical_az();
 }
 
-bool Emulator::moving() const
-{
+bool Emulator::moving() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.moving();
 }
 
-bool Emulator::search_running() const
-{
+bool Emulator::search_running() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.search_running();
 }
 
-bool Emulator::shell_alive() const
-{
+bool Emulator::shell_alive() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.shell_alive();
 }
 
-std::vector<Sample> Emulator::history() const
-{
+std::vector<Sample> Emulator::history() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.history();
 }
 
-unsigned Emulator::hazards_received() const
-{
+unsigned Emulator::hazards_received() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.hazards();
 }
 
-std::vector<std::string> Emulator::hazard_commands() const
-{
+std::vector<std::string> Emulator::hazard_commands() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.hazard_commands();
 }
 
-std::vector<std::string> Emulator::received_commands() const
-{
+std::vector<std::string> Emulator::received_commands() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.commands();
 }
 
-double Emulator::sim_time() const
-{
+double Emulator::sim_time() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.time();
 }
 
-std::optional<std::string> Emulator::replay_failure() const
-{
+std::optional<std::string> Emulator::replay_failure() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->replayer ? impl_->replayer->failure() : std::nullopt;
 }
 
-bool Emulator::replay_complete() const
-{
+bool Emulator::replay_complete() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->replayer && impl_->replayer->complete();
 }
 
-bool Emulator::replay_fell_back() const
-{
+bool Emulator::replay_fell_back() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->replayer && impl_->replayer->fell_back();
 }
 
-void Emulator::power_cycle()
-{
+void Emulator::power_cycle() {
     std::lock_guard lock(impl_->mutex);
     ++impl_->injected;
     impl_->console.power_cycle();
 }
 
-void Emulator::inject_garbage(std::size_t bytes)
-{
+void Emulator::inject_garbage(std::size_t bytes) {
     std::lock_guard lock(impl_->mutex);
     ++impl_->injected;
-    for (std::size_t i = 0; i < bytes; ++i) impl_->pending_garbage.push_back(static_cast<char>(impl_->random_byte()));
+    for (std::size_t i = 0; i < bytes; ++i)
+        impl_->pending_garbage.push_back(static_cast<char>(impl_->random_byte()));
 }
 
-void Emulator::set_idle_noise(double bytes_per_second)
-{
+void Emulator::set_idle_noise(double bytes_per_second) {
     std::lock_guard lock(impl_->mutex);
     impl_->faults.idle_noise_bps = std::max(bytes_per_second, 0.0);
 }
 
-void Emulator::set_inverted_polarity(bool on)
-{
+void Emulator::set_inverted_polarity(bool on) {
     std::lock_guard lock(impl_->mutex);
     impl_->faults.inverted_polarity = on;
 }
 
-void Emulator::set_ignore_input(bool on)
-{
+void Emulator::set_ignore_input(bool on) {
     std::lock_guard lock(impl_->mutex);
     impl_->faults.ignore_input = on;
 }
 
-void Emulator::set_drop_probability(double p)
-{
+void Emulator::set_drop_probability(double p) {
     std::lock_guard lock(impl_->mutex);
     impl_->faults.drop_probability = std::clamp(p, 0.0, 1.0);
 }
 
-void Emulator::set_output_pacing(int baud)
-{
+void Emulator::set_output_pacing(int baud) {
     std::lock_guard lock(impl_->mutex);
     impl_->faults.pace_baud = std::max(baud, 0);
 }
 
-void Emulator::stall_output(double sim_seconds)
-{
+void Emulator::stall_output(double sim_seconds) {
     std::lock_guard lock(impl_->mutex);
     ++impl_->injected;
     impl_->stall_until = std::max(impl_->stall_until, impl_->console.time() + std::max(sim_seconds, 0.0));
 }
 
-void Emulator::hang_up() { impl_->hang_up(); }
-void Emulator::reconnect() { impl_->reconnect(); }
+void Emulator::hang_up() {
+    impl_->hang_up();
+}
+void Emulator::reconnect() {
+    impl_->reconnect();
+}
 
-bool Emulator::connected() const
-{
+bool Emulator::connected() const {
     std::lock_guard io(impl_->io_mutex);
     return impl_->pty != nullptr;
 }
 
-void Emulator::inject_motor_stall(int motor)
-{
+void Emulator::inject_motor_stall(int motor) {
     std::lock_guard lock(impl_->mutex);
     ++impl_->injected;
     impl_->console.inject_motor_stall(motor);
 }
 
-unsigned Emulator::faults_injected() const
-{
+unsigned Emulator::faults_injected() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->injected;
 }
 
-FaultCounters Emulator::fault_counters() const
-{
+FaultCounters Emulator::fault_counters() const {
     std::lock_guard lock(impl_->mutex);
     FaultCounters counters = impl_->counters;
     counters.motor_stalls = impl_->console.motor_stalls();
     return counters;
 }
 
-LineFaults Emulator::line_faults() const
-{
+LineFaults Emulator::line_faults() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->faults;
 }

@@ -20,58 +20,67 @@ namespace {
 // What the known clients legitimately ask of a console (docs/firmware.md §15): well-formed moves and
 // homes, the documented search stops and the LNB switch. Any other word the core's hazard rule
 // names counts as a hazard, however the emulated firmware answers it.
-constexpr birdcage::HazardRequests client_requests = birdcage::request_move | birdcage::request_home |
-                                                     birdcage::request_search_stop | birdcage::request_lnb_supply;
+constexpr birdcage::HazardRequests client_requests =
+    birdcage::request_move | birdcage::request_home | birdcage::request_search_stop | birdcage::request_lnb_supply;
 
-birdcage::VariantId core_variant(Variant variant)
-{
+birdcage::VariantId core_variant(Variant variant) {
     switch (variant) {
-    case Variant::travler_hal000: return birdcage::VariantId::travler_hal000;
-    case Variant::travler_hal205: return birdcage::VariantId::travler_hal205;
-    case Variant::travler_pro: return birdcage::VariantId::travler_pro;
-    case Variant::carryout2003: return birdcage::VariantId::carryout2003;
-    case Variant::carryout_g2: return birdcage::VariantId::carryout_g2;
+        case Variant::travler_hal000:
+            return birdcage::VariantId::travler_hal000;
+        case Variant::travler_hal205:
+            return birdcage::VariantId::travler_hal205;
+        case Variant::travler_pro:
+            return birdcage::VariantId::travler_pro;
+        case Variant::carryout2003:
+            return birdcage::VariantId::carryout2003;
+        case Variant::carryout_g2:
+            return birdcage::VariantId::carryout_g2;
     }
     return birdcage::VariantId::carryout_g2;
 }
 
 // The core's name of a menu: "root" for a shell root, "eeprom" for the G2's EE>, otherwise the
 // prompt's word in lower case (as the backend's session names them).
-std::string core_menu_name(const Menu& menu)
-{
-    if (menu.shell_root) return "root";
-    if (menu.prompt_name == "EE") return "eeprom";
+std::string core_menu_name(const Menu& menu) {
+    if (menu.shell_root)
+        return "root";
+    if (menu.prompt_name == "EE")
+        return "eeprom";
     std::string name(menu.prompt_name);
-    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (char& c : name)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return name;
 }
 
-constexpr double max_tick = 0.02;           // simulated seconds per event step
-constexpr double search_dwell = 0.5;        // INVENTED pause between search moves
+constexpr double max_tick = 0.02;     // simulated seconds per event step
+constexpr double search_dwell = 0.5;  // INVENTED pause between search moves
 
-AxisParams with_dynamics(AxisParams axis, std::optional<double> velocity, const MotorDynamics& motor)
-{
-    if (velocity) axis.max_velocity = *velocity;
-    if (motor.accel) axis.max_accel = *motor.accel;
+AxisParams with_dynamics(AxisParams axis, std::optional<double> velocity, const MotorDynamics& motor) {
+    if (velocity)
+        axis.max_velocity = *velocity;
+    if (motor.accel)
+        axis.max_accel = *motor.accel;
     axis.startup_delay = motor.startup_delay;
     return axis;
 }
 
-double initial_mechanical_az(const VariantProfile& profile, double start_az)
-{
-    if (start_az >= profile.az.min && start_az <= profile.az.max) return start_az;
+double initial_mechanical_az(const VariantProfile& profile, double start_az) {
+    if (start_az >= profile.az.min && start_az <= profile.az.max)
+        return start_az;
     return nearest_wrap_branch(start_az, 0.0, profile.az.min, profile.az.max);
 }
 
-std::vector<std::string_view> split_words(std::string_view line)
-{
+std::vector<std::string_view> split_words(std::string_view line) {
     std::vector<std::string_view> words;
     std::size_t pos = 0;
     while (pos < line.size()) {
-        while (pos < line.size() && (line[pos] == ' ' || line[pos] == '\t')) ++pos;
+        while (pos < line.size() && (line[pos] == ' ' || line[pos] == '\t'))
+            ++pos;
         const std::size_t start = pos;
-        while (pos < line.size() && line[pos] != ' ' && line[pos] != '\t') ++pos;
-        if (pos > start) words.push_back(line.substr(start, pos - start));
+        while (pos < line.size() && line[pos] != ' ' && line[pos] != '\t')
+            ++pos;
+        if (pos > start)
+            words.push_back(line.substr(start, pos - start));
     }
     return words;
 }
@@ -79,18 +88,22 @@ std::vector<std::string_view> split_words(std::string_view line)
 // The documented boot steps with the dialect's extra lines and silences inserted before the
 // documented line they name; those after the last one follow the completion marker, where input is
 // already kept (a client may answer the marker at once, §3.6).
-std::vector<BootStep> with_extra_boot_lines(std::vector<BootStep> documented, const std::vector<ExtraBootLine>& extras)
-{
-    if (extras.empty()) return documented;
+std::vector<BootStep> with_extra_boot_lines(std::vector<BootStep> documented,
+                                            const std::vector<ExtraBootLine>& extras) {
+    if (extras.empty())
+        return documented;
     using K = BootStep::Kind;
     const auto documented_lines = static_cast<std::size_t>(
         std::count_if(documented.begin(), documented.end(), [](const BootStep& step) { return step.kind == K::line; }));
     std::vector<BootStep> steps;
     auto append_extras = [&](auto belongs) {
         for (const ExtraBootLine& extra : extras) {
-            if (!belongs(extra.before_documented)) continue;
-            if (extra.silence_before > 0.0) steps.push_back({K::pause, "", 0, 0.0, extra.silence_before});
-            if (!extra.text.empty()) steps.push_back({K::line, extra.text});
+            if (!belongs(extra.before_documented))
+                continue;
+            if (extra.silence_before > 0.0)
+                steps.push_back({K::pause, "", 0, 0.0, extra.silence_before});
+            if (!extra.text.empty())
+                steps.push_back({K::line, extra.text});
         }
     };
     // Index 0 is the power-on banner, before anything the documented boot does (moves included);
@@ -105,8 +118,10 @@ std::vector<BootStep> with_extra_boot_lines(std::vector<BootStep> documented, co
         ready_seen = ready_seen || step.kind == K::ready;
         steps.push_back(std::move(step));
     }
-    if (documented_lines == 0) return steps;
-    if (!ready_seen) steps.push_back({K::ready, ""});
+    if (documented_lines == 0)
+        return steps;
+    if (!ready_seen)
+        steps.push_back({K::ready, ""});
     append_extras([&](std::size_t index) { return index >= documented_lines; });
     return steps;
 }
@@ -118,12 +133,10 @@ Engine::Engine(const Options& opts)
       profile(profile_for(opts.variant)),
       motors(with_dynamics(profile.az, opts.motor.az_velocity, opts.motor),
              with_dynamics(profile.el, opts.motor.el_velocity, opts.motor), profile.skew,
-             initial_mechanical_az(profile, opts.start_az),
-             std::clamp(opts.start_el, profile.el.min, profile.el.max)),
+             initial_mechanical_az(profile, opts.start_az), std::clamp(opts.start_el, profile.el.min, profile.el.max)),
       sky(opts.seed, opts.rssi_floor),
       rng(opts.seed ^ 0x5eedu),
-      nvs(profile.nvs_table())
-{
+      nvs(profile.nvs_table()) {
     menus = {profile.root};
     if (profile.nvs_disable_tracker_index >= 0) {
         // The G2's search runs exactly when NVS 20 is FALSE (§6.2).
@@ -136,69 +149,77 @@ Engine::Engine(const Options& opts)
     if (!opts.already_booted) {
         start_boot();
     } else {
-        if (profile.needs_homing) homed = {opts.g2_homed, opts.g2_homed};
+        if (profile.needs_homing)
+            homed = {opts.g2_homed, opts.g2_homed};
         next_idle_line_ = opts.idle_line_period;
-        if (opts.search_running) start_search();
+        if (opts.search_running)
+            start_search();
     }
     record_sample();
 }
 
-std::string Engine::eol() const
-{
+std::string Engine::eol() const {
     switch (options.line_ending) {
-    case LineEnding::crlf: return "\r\n";
-    case LineEnding::lf: return "\n";
-    case LineEnding::lfcr: return "\n\r";
-    case LineEnding::cr: return "\r";
+        case LineEnding::crlf:
+            return "\r\n";
+        case LineEnding::lf:
+            return "\n";
+        case LineEnding::lfcr:
+            return "\n\r";
+        case LineEnding::cr:
+            return "\r";
     }
     return "\r\n";
 }
 
-std::string Engine::take_output()
-{
-    if (!options.pace_at_line_rate) return on_line_ + std::exchange(output, {});
+std::string Engine::take_output() {
+    if (!options.pace_at_line_rate)
+        return on_line_ + std::exchange(output, {});
     return std::exchange(on_line_, {});
 }
 
 // 10 bits per byte at the variant's baud rate, in simulated time.
-void Engine::run_line(double dt)
-{
-    if (!options.pace_at_line_rate) return;
+void Engine::run_line(double dt) {
+    if (!options.pace_at_line_rate)
+        return;
     line_credit_ += dt * profile.baud / 10.0;
     const auto sendable = static_cast<std::size_t>(std::min(line_credit_, static_cast<double>(output.size())));
     on_line_.append(output, 0, sendable);
     output.erase(0, sendable);
     line_credit_ -= static_cast<double>(sendable);
-    if (output.empty()) line_credit_ = std::min(line_credit_, 1.0);  // an idle line saves no time
+    if (output.empty())
+        line_credit_ = std::min(line_credit_, 1.0);  // an idle line saves no time
 }
 
-void Engine::print(std::string_view text) { output.append(text); }
+void Engine::print(std::string_view text) {
+    output.append(text);
+}
 
-void Engine::print_line(std::string_view text)
-{
+void Engine::print_line(std::string_view text) {
     output.append(text);
     output.append(eol());
 }
 
-void Engine::print_prompt()
-{
+void Engine::print_prompt() {
     const bool named = profile.fixed_prompts || options.prompt_style == PromptStyle::named;
     output.append(options.prompt_prefix);
-    if (named) output.append(menus.back()->prompt_name);
+    if (named)
+        output.append(menus.back()->prompt_name);
     output.push_back('>');
     output.append(options.prompt_suffix);
-    if (options.prompt_space) output.push_back(' ');
+    if (options.prompt_space)
+        output.push_back(' ');
 }
 
-void Engine::unknown_command()
-{
+void Engine::unknown_command() {
     // The captured G2's text (§6.3); every other console's is unknown (§14 HAL0.4: INVENTED).
-    const std::string reply = options.unknown_command_reply.value_or(captured_g2() ? "Invalid command" : "Unknown command");
-    if (!reply.empty()) print_line(reply);
+    const std::string reply =
+        options.unknown_command_reply.value_or(captured_g2() ? "Invalid command" : "Unknown command");
+    if (!reply.empty())
+        print_line(reply);
 }
 
-void Engine::invalid_params()
-{
+void Engine::invalid_params() {
     if (captured_g2() && !options.unknown_command_reply) {
         print_line("Invalid params");  // §6.3: a setter without its arguments
         return;
@@ -206,35 +227,34 @@ void Engine::invalid_params()
     unknown_command();
 }
 
-std::size_t Engine::reply_indent() const
-{
+std::size_t Engine::reply_indent() const {
     return static_cast<std::size_t>(std::clamp(options.position_indent.value_or(captured_g2() ? 4 : 0), 0, 16));
 }
 
-HelpLayout Engine::help_layout() const
-{
+HelpLayout Engine::help_layout() const {
     return options.help_layout.value_or(captured_g2() ? HelpLayout::available : HelpLayout::described);
 }
 
-double Engine::displayed_az() const { return normalize_360(motors.axis(axis_az).position()); }
+double Engine::displayed_az() const {
+    return normalize_360(motors.axis(axis_az).position());
+}
 
-double Engine::reported_az() const
-{
+double Engine::reported_az() const {
     return options.az_report == AzReport::displayed ? displayed_az() : motors.axis(axis_az).position();
 }
 
-void Engine::apply_nvs_limits()
-{
+void Engine::apply_nvs_limits() {
     el_min_active_ = profile.el_min;
     el_max_active_ = profile.el_max;
-    if (const NvsEntry* entry = nvs.find(profile.nvs_min_el_index)) el_min_active_ = entry->current;
-    if (const NvsEntry* entry = nvs.find(profile.nvs_max_el_index)) el_max_active_ = entry->current;
+    if (const NvsEntry* entry = nvs.find(profile.nvs_min_el_index))
+        el_min_active_ = entry->current;
+    if (const NvsEntry* entry = nvs.find(profile.nvs_max_el_index))
+        el_max_active_ = entry->current;
 }
 
 // --- input ---------------------------------------------------------------------------------
 
-void Engine::record_received(char byte)
-{
+void Engine::record_received(char byte) {
     if (byte == '\r' || byte == '\n') {
         commands.push_back(std::exchange(received_line_, {}));
     } else {
@@ -242,17 +262,19 @@ void Engine::record_received(char byte)
     }
 }
 
-void Engine::feed(std::string_view bytes)
-{
+void Engine::feed(std::string_view bytes) {
     for (const char byte : bytes) {
         // CR LF (X2-style clients, §9.2) is one terminator: the LF neither ends a second,
         // empty line nor counts as the keystroke that aborts a `g`.
         const bool terminator_tail = byte == '\n' && previous_raw_ == '\r';
         previous_raw_ = byte;
-        if (terminator_tail) continue;
+        if (terminator_tail)
+            continue;
         record_received(byte);
-        if ((booting_ && !boot_input_kept_) || !shell_alive) continue;  // nobody is reading the UART
-        if (!booting_ && now < input_deaf_until_ - 1e-9) continue;     // Options::boot_input_drop
+        if ((booting_ && !boot_input_kept_) || !shell_alive)
+            continue;  // nobody is reading the UART
+        if (!booting_ && now < input_deaf_until_ - 1e-9)
+            continue;  // Options::boot_input_drop
         if (busy.kind == Busy::Kind::goto_move && g_aborts_on_input()) {
             motors.stop_all();
             busy.kind = Busy::Kind::until_idle;
@@ -263,17 +285,18 @@ void Engine::feed(std::string_view bytes)
 }
 
 // The shell is single-threaded: typed bytes wait while a command is still running (§6.1).
-void Engine::process_pending()
-{
+void Engine::process_pending() {
     while (shell_alive && !booting_ && !pending_.empty()) {
         if (busy.kind == Busy::Kind::stream) {
             // A streaming command reads the UART itself: the next byte ends it and is consumed
             // (§6.3: "run until CR interrupts"); an endless one (PEAK `ts`) swallows everything.
             pending_.erase(0, 1);
-            if (!busy.endless) end_stream();
+            if (!busy.endless)
+                end_stream();
             continue;
         }
-        if (busy.kind != Busy::Kind::none) break;
+        if (busy.kind != Busy::Kind::none)
+            break;
         const char byte = pending_.front();
         pending_.erase(0, 1);
         if (byte == '\r' || byte == '\n') {
@@ -282,13 +305,13 @@ void Engine::process_pending()
         } else {
             // No line editing (§2): backspace and DEL are ordinary characters.
             line_.push_back(byte);
-            if (options.echo) output.push_back(byte);
+            if (options.echo)
+                output.push_back(byte);
         }
     }
 }
 
-void Engine::execute(const std::string& line)
-{
+void Engine::execute(const std::string& line) {
     const Args args = split_words(line);
     if (args.empty()) {  // bare CR reprints the prompt (§6.1)
         print_prompt();
@@ -325,11 +348,11 @@ void Engine::execute(const std::string& line)
     } else {
         unknown_command();
     }
-    if (busy.kind == Busy::Kind::none && shell_alive && !booting_) print_prompt();
+    if (busy.kind == Busy::Kind::none && shell_alive && !booting_)
+        print_prompt();
 }
 
-void Engine::quit()
-{
+void Engine::quit() {
     if (!menus.back()->shell_root) {
         menus.pop_back();
         print_prompt();
@@ -347,23 +370,28 @@ void Engine::quit()
         // probe looked for (§14 G2.2).
         const char* last_words = captured_g2() ? "Terminating shell." : "Terminating shell";
         switch (options.g2_root_q) {
-        case G2RootQ::kill: kill_shell(last_words); return;
-        case G2RootQ::restart: print_line(last_words); break;
-        case G2RootQ::harmless: break;
+            case G2RootQ::kill:
+                kill_shell(last_words);
+                return;
+            case G2RootQ::restart:
+                print_line(last_words);
+                break;
+            case G2RootQ::harmless:
+                break;
         }
     }
     print_prompt();
 }
 
-void Engine::help()
-{
+void Engine::help() {
     struct Entry {
         std::string word;
         std::string_view text;
     };
     std::vector<Entry> entries;
     for (const Command& command : menus.back()->commands) {
-        if (!command.listed || (command.available != nullptr && !command.available(options))) continue;
+        if (!command.listed || (command.available != nullptr && !command.available(options)))
+            continue;
         entries.push_back({std::string(command.word), command.help});
     }
     const HelpLayout layout = help_layout();
@@ -373,7 +401,8 @@ void Engine::help()
         print_line("Available commands:");
         for (Entry& entry : entries) {
             if (options.help_upper_case)
-                for (char& c : entry.word) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+                for (char& c : entry.word)
+                    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
             std::string row = "   " + entry.word;
             row.append(entry.word.size() < 14 ? 14 - entry.word.size() : 1, ' ');
             print_line(row + std::string(entry.text));
@@ -382,48 +411,60 @@ void Engine::help()
     }
     if (layout == HelpLayout::generated) {
         std::vector<HelpEntry> generated;
-        for (const Entry& entry : entries) generated.push_back({entry.word, std::string(entry.text)});
+        for (const Entry& entry : entries)
+            generated.push_back({entry.word, std::string(entry.text)});
         for (const std::string& line : render_help(options.help_grammar, menus.back()->prompt_name, generated))
             print_line(line);
         return;
     }
     entries.push_back({"q", "Quit this menu"});  // INVENTED description
-    if (layout != HelpLayout::described) entries.push_back({"?", "Help"});  // INVENTED
+    if (layout != HelpLayout::described)
+        entries.push_back({"?", "Help"});  // INVENTED
     std::size_t width = 0;
     for (Entry& entry : entries) {
         if (options.help_upper_case)
-            for (char& c : entry.word) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+            for (char& c : entry.word)
+                c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
         width = std::max(width, entry.word.size());
     }
     std::string joined;
     for (const Entry& entry : entries) {
         switch (layout) {
-        case HelpLayout::described:
-            print_line("Enter <" + entry.word + "> - " + std::string(entry.text));
-            break;
-        case HelpLayout::words: print_line(entry.word); break;
-        case HelpLayout::one_line:
-        case HelpLayout::comma_line:
-        case HelpLayout::labelled_line:
-            if (joined.empty() && layout == HelpLayout::labelled_line) joined = "Commands:";
-            if (!joined.empty()) joined += layout == HelpLayout::comma_line ? ", " : " ";
-            joined += entry.word;
-            break;
-        case HelpLayout::colon_table:
-            print_line(entry.word + std::string(width - entry.word.size(), ' ') + " : " + std::string(entry.text));
-            break;
-        case HelpLayout::tab_table: print_line(entry.word + "\t" + std::string(entry.text)); break;
-        case HelpLayout::available:
-        case HelpLayout::generated: break;  // rendered above
+            case HelpLayout::described:
+                print_line("Enter <" + entry.word + "> - " + std::string(entry.text));
+                break;
+            case HelpLayout::words:
+                print_line(entry.word);
+                break;
+            case HelpLayout::one_line:
+            case HelpLayout::comma_line:
+            case HelpLayout::labelled_line:
+                if (joined.empty() && layout == HelpLayout::labelled_line)
+                    joined = "Commands:";
+                if (!joined.empty())
+                    joined += layout == HelpLayout::comma_line ? ", " : " ";
+                joined += entry.word;
+                break;
+            case HelpLayout::colon_table:
+                print_line(entry.word + std::string(width - entry.word.size(), ' ') + " : " + std::string(entry.text));
+                break;
+            case HelpLayout::tab_table:
+                print_line(entry.word + "\t" + std::string(entry.text));
+                break;
+            case HelpLayout::available:
+            case HelpLayout::generated:
+                break;  // rendered above
         }
     }
-    if (!joined.empty()) print_line(joined);
-    if (layout == HelpLayout::described) print_line("help [<command>]");  // the predecessor's, §6.3
+    if (!joined.empty())
+        print_line(joined);
+    if (layout == HelpLayout::described)
+        print_line("help [<command>]");  // the predecessor's, §6.3
 }
 
-void Engine::kill_shell(std::string_view last_words)
-{
-    if (!last_words.empty()) print_line(last_words);
+void Engine::kill_shell(std::string_view last_words) {
+    if (!last_words.empty())
+        print_line(last_words);
     shell_alive = false;
     busy = {};
     pending_.clear();
@@ -432,28 +473,23 @@ void Engine::kill_shell(std::string_view last_words)
 
 // --- activities ------------------------------------------------------------------------------
 
-void Engine::wait_until_idle(std::function<void(Engine&)> finish)
-{
+void Engine::wait_until_idle(std::function<void(Engine&)> finish) {
     busy = {Busy::Kind::until_idle, 0.0, 0.0, std::move(finish)};
 }
 
-void Engine::wait_for(double seconds, std::function<void(Engine&)> finish)
-{
+void Engine::wait_for(double seconds, std::function<void(Engine&)> finish) {
     busy = {Busy::Kind::until_time, now + seconds, 0.0, std::move(finish)};
 }
 
-void Engine::start_goto(std::function<void(Engine&)> finish)
-{
+void Engine::start_goto(std::function<void(Engine&)> finish) {
     busy = {Busy::Kind::goto_move, 0.0, now, std::move(finish)};
 }
 
-void Engine::start_stream(double period, bool drop_to_root, std::function<void(Engine&)> line, bool endless)
-{
+void Engine::start_stream(double period, bool drop_to_root, std::function<void(Engine&)> line, bool endless) {
     busy = {Busy::Kind::stream, now + period, 0.0, std::move(line), period, drop_to_root, endless};
 }
 
-void Engine::end_stream()
-{
+void Engine::end_stream() {
     const bool drop = busy.drop_to_root;
     busy = {};
     if (drop) {
@@ -463,44 +499,49 @@ void Engine::end_stream()
     print_prompt();
 }
 
-void Engine::finish_busy()
-{
+void Engine::finish_busy() {
     auto finish = std::move(busy.finish);
     busy = {};
-    if (finish) finish(*this);
-    if (busy.kind == Busy::Kind::none && shell_alive && !booting_) print_prompt();
+    if (finish)
+        finish(*this);
+    if (busy.kind == Busy::Kind::none && shell_alive && !booting_)
+        print_prompt();
 }
 
-void Engine::run_busy()
-{
+void Engine::run_busy() {
     switch (busy.kind) {
-    case Busy::Kind::none: return;
-    case Busy::Kind::until_time:
-        if (now >= busy.until - 1e-9) finish_busy();
-        return;
-    case Busy::Kind::stream:
-        if (now >= busy.until - 1e-9) {
-            busy.until += busy.period;
-            if (busy.finish) busy.finish(*this);
-        }
-        return;
-    case Busy::Kind::goto_move:
-    case Busy::Kind::until_idle:
-        if (busy.kind == Busy::Kind::goto_move && profile.live_goto_output && now >= busy.next_live_line) {
-            busy.next_live_line += options.carryout_live_line_period;
-            if (busy.finish) busy.finish(*this);  // the live line printer doubles as the final line
-        }
-        if (!motors.moving()) finish_busy();
-        return;
+        case Busy::Kind::none:
+            return;
+        case Busy::Kind::until_time:
+            if (now >= busy.until - 1e-9)
+                finish_busy();
+            return;
+        case Busy::Kind::stream:
+            if (now >= busy.until - 1e-9) {
+                busy.until += busy.period;
+                if (busy.finish)
+                    busy.finish(*this);
+            }
+            return;
+        case Busy::Kind::goto_move:
+        case Busy::Kind::until_idle:
+            if (busy.kind == Busy::Kind::goto_move && profile.live_goto_output && now >= busy.next_live_line) {
+                busy.next_live_line += options.carryout_live_line_period;
+                if (busy.finish)
+                    busy.finish(*this);  // the live line printer doubles as the final line
+            }
+            if (!motors.moving())
+                finish_busy();
+            return;
     }
 }
 
 // --- boot, search ------------------------------------------------------------------------------
 
-void Engine::start_boot()
-{
+void Engine::start_boot() {
     motors.stop_all();
-    for (std::size_t index : {axis_az, axis_el, axis_skew}) motors.axis(index).set_position(motors.axis(index).position());
+    for (std::size_t index : {axis_az, axis_el, axis_skew})
+        motors.axis(index).set_position(motors.axis(index).position());
     booting_ = true;
     boot_input_kept_ = false;
     shell_alive = true;
@@ -515,16 +556,18 @@ void Engine::start_boot()
     lnb_supply = LnbSupply::stb_18v;
     stall_arms_ = {};  // an injected stall meant for the interrupted move does not hit homing
     const bool keeps_calibration = options.g2_boot_calibrated.value_or(options.g2_console == G2Console::captured);
-    if (profile.needs_homing && !keeps_calibration) homed = {false, false};
+    if (profile.needs_homing && !keeps_calibration)
+        homed = {false, false};
     boot_steps_ = with_extra_boot_lines(profile.boot_script(*this), options.boot_extra);
     boot_index_ = 0;
     boot_resume_at_ = now;
 }
 
-void Engine::reboot() { start_boot(); }
+void Engine::reboot() {
+    start_boot();
+}
 
-void Engine::run_boot()
-{
+void Engine::run_boot() {
     while (booting_ && now >= boot_resume_at_ - 1e-9 && !motors.moving()) {
         if (boot_index_ == boot_steps_.size()) {
             finish_boot();
@@ -532,24 +575,34 @@ void Engine::run_boot()
         }
         const BootStep& step = boot_steps_[boot_index_++];
         switch (step.kind) {
-        case BootStep::Kind::line:
-            print_line(step.text);
-            // The gap separates one line from the next; a pause or a move sets its own time, and
-            // the last line ends the boot at once: a client may answer it straight away (§3.6).
-            if (!step.burst && boot_index_ < boot_steps_.size() && boot_steps_[boot_index_].kind == BootStep::Kind::line)
-                boot_resume_at_ = now + options.boot_line_gap;
-            break;
-        case BootStep::Kind::raw: print(step.text); break;
-        case BootStep::Kind::move: motors.enqueue(step.axis, step.target); break;
-        case BootStep::Kind::home: homed[step.axis] = true; break;
-        case BootStep::Kind::pause: boot_resume_at_ = now + step.seconds; break;
-        case BootStep::Kind::ready: boot_input_kept_ = true; break;
+            case BootStep::Kind::line:
+                print_line(step.text);
+                // The gap separates one line from the next; a pause or a move sets its own time, and
+                // the last line ends the boot at once: a client may answer it straight away (§3.6).
+                if (!step.burst && boot_index_ < boot_steps_.size() &&
+                    boot_steps_[boot_index_].kind == BootStep::Kind::line)
+                    boot_resume_at_ = now + options.boot_line_gap;
+                break;
+            case BootStep::Kind::raw:
+                print(step.text);
+                break;
+            case BootStep::Kind::move:
+                motors.enqueue(step.axis, step.target);
+                break;
+            case BootStep::Kind::home:
+                homed[step.axis] = true;
+                break;
+            case BootStep::Kind::pause:
+                boot_resume_at_ = now + step.seconds;
+                break;
+            case BootStep::Kind::ready:
+                boot_input_kept_ = true;
+                break;
         }
     }
 }
 
-void Engine::finish_boot()
-{
+void Engine::finish_boot() {
     booting_ = false;
     boot_input_kept_ = false;
     input_deaf_until_ = now + options.boot_input_drop;
@@ -559,26 +612,26 @@ void Engine::finish_boot()
         const NvsEntry* entry = nvs.find(profile.nvs_disable_tracker_index);
         searching = entry != nullptr && entry->current == 0.0 && homed[axis_az] && homed[axis_el];
     }
-    if (profile.boot_prints_prompt && !searching) print_prompt();
-    if (searching) start_search();
+    if (profile.boot_prints_prompt && !searching)
+        print_prompt();
+    if (searching)
+        start_search();
 }
 
-void Engine::start_search()
-{
+void Engine::start_search() {
     search = true;
     search_resume_at = now;
     search_ends_at = now + options.carryout_search_seconds;
 }
 
-void Engine::stop_search()
-{
+void Engine::stop_search() {
     search = false;
     motors.stop_all();
 }
 
-void Engine::run_search()
-{
-    if (!search || booting_) return;
+void Engine::run_search() {
+    if (!search || booting_)
+        return;
     if (profile.search_stop == SearchStop::runs_out && now >= search_ends_at) {
         stop_search();
         return;
@@ -587,7 +640,8 @@ void Engine::run_search()
         search_resume_at = now + search_dwell;
         return;
     }
-    if (now < search_resume_at) return;
+    if (now < search_resume_at)
+        return;
     const double margin = 5.0;
     std::uniform_real_distribution<double> az(profile.az.min + margin, profile.az.max - margin);
     std::uniform_real_distribution<double> el(el_limit_min(), el_limit_max());
@@ -598,31 +652,31 @@ void Engine::run_search()
 // --- time ----------------------------------------------------------------------------------------
 
 // Every tick while the dish moves; at rest one sample a second keeps long idle runs small.
-void Engine::record_sample()
-{
+void Engine::record_sample() {
     const Sample sample{now, displayed_az(), motors.axis(axis_el).position()};
     if (!history.empty()) {
         const Sample& last = history.back();
         const bool still = last.az == sample.az && last.el == sample.el;
-        if (now - last.t < (still ? 1.0 : max_tick) - 1e-9) return;
+        if (now - last.t < (still ? 1.0 : max_tick) - 1e-9)
+            return;
     }
     history.push_back(sample);
 }
 
 // --- injected motor stalls -------------------------------------------------------------------
 
-void Engine::inject_motor_stall(std::size_t axis)
-{
-    if (axis != axis_az && axis != axis_el) return;
+void Engine::inject_motor_stall(std::size_t axis) {
+    if (axis != axis_az && axis != axis_el)
+        return;
     stall_arms_[axis] = StallArm{true, false, 0.0, 0.0, 0.0};
 }
 
-void Engine::run_stalls()
-{
+void Engine::run_stalls() {
     for (const std::size_t index : {axis_az, axis_el}) {
         StallArm& arm = stall_arms_[index];
         Axis& axis = motors.axis(index);
-        if (!arm.armed) continue;
+        if (!arm.armed)
+            continue;
         if (!axis.moving()) {
             arm.tracking = false;  // that move ended short of the stall point: wait for the next
             continue;
@@ -634,10 +688,11 @@ void Engine::run_stalls()
             arm.stall_at = 0.5 * (axis.position() + axis.target());
             arm.direction = axis.target() >= axis.position() ? 1.0 : -1.0;
         }
-        if ((axis.position() - arm.stall_at) * arm.direction < 0.0) continue;
+        if ((axis.position() - arm.stall_at) * arm.direction < 0.0)
+            continue;
         arm = {};
-        motors.stop_all();                     // the firmware abandons the rest of the command
-        axis.set_position(axis.position());    // a stalled stepper stops dead
+        motors.stop_all();                   // the firmware abandons the rest of the command
+        axis.set_position(axis.position());  // a stalled stepper stops dead
         ++motor_stalls;
         // §6.3 / §3.3 text; where it lands relative to the prompt is INVENTED (printed when it
         // happens, no prompt reprint; a waiting command prints its prompt when motion ends).
@@ -646,16 +701,16 @@ void Engine::run_stalls()
 }
 
 // Unsolicited output from another firmware task: it lands wherever the shell happens to be.
-void Engine::run_idle_line()
-{
-    if (options.idle_line_period <= 0.0 || options.idle_line.empty() || booting_ || !shell_alive) return;
-    if (now < next_idle_line_ - 1e-9) return;
+void Engine::run_idle_line() {
+    if (options.idle_line_period <= 0.0 || options.idle_line.empty() || booting_ || !shell_alive)
+        return;
+    if (now < next_idle_line_ - 1e-9)
+        return;
     next_idle_line_ = now + options.idle_line_period;
     print_line(options.idle_line);
 }
 
-void Engine::tick()
-{
+void Engine::tick() {
     run_stalls();
     run_boot();
     run_search();
@@ -665,8 +720,7 @@ void Engine::tick()
     record_sample();
 }
 
-void Engine::advance(double dt)
-{
+void Engine::advance(double dt) {
     while (dt > 0.0) {
         const double step = std::min(dt, max_tick);
         dt -= step;

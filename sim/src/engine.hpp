@@ -27,18 +27,18 @@ using Handler = void (*)(Engine&, const Args&);
 struct Menu;
 struct Command {
     std::string_view word;
-    Handler run;            // nullptr when the command only enters `submenu`
+    Handler run;  // nullptr when the command only enters `submenu`
     const Menu* submenu;
     std::string_view help;  // INVENTED descriptions (only the `Enter <cmd> - …` shape is known, §6.3)
     bool (*available)(const Options&) = nullptr;  // nullptr = always
-    bool listed = true;     // false: accepted but left out of `?` (Options::unlisted_commands)
+    bool listed = true;                           // false: accepted but left out of `?` (Options::unlisted_commands)
 };
 
 struct Menu {
     std::string_view prompt_name;  // prompt is prompt_name + ">" (or ">" in bare style)
     std::span<const Command> commands;
-    Handler fallback = nullptr;    // unknown words; nullptr = unknown-command reply
-    bool shell_root = false;       // `q` here does not leave a submenu (see Engine::quit)
+    Handler fallback = nullptr;  // unknown words; nullptr = unknown-command reply
+    bool shell_root = false;     // `q` here does not leave a submenu (see Engine::quit)
 };
 
 enum class PositionFormat {
@@ -59,18 +59,18 @@ struct BootStep {
     // raw: bytes with no line ending (the captured G2's binary bursts).
     enum class Kind { line, raw, move, home, pause, ready };
     Kind kind;
-    std::string text;         // line, raw
-    std::size_t axis = 0;     // move, home
-    double target = 0.0;      // move (mechanical degrees)
-    double seconds = 0.0;     // pause
-    bool burst = false;       // line: the next step follows at once (no boot_line_gap)
+    std::string text;      // line, raw
+    std::size_t axis = 0;  // move, home
+    double target = 0.0;   // move (mechanical degrees)
+    double seconds = 0.0;  // pause
+    bool burst = false;    // line: the next step follows at once (no boot_line_gap)
 };
 
 struct VariantProfile {
     Variant variant;
     const char* name;
-    int baud;                 // informational: a pty has no baud rate
-    const Menu* root;         // console root after boot (Pro: the IDU console)
+    int baud;          // informational: a pty has no baud rate
+    const Menu* root;  // console root after boot (Pro: the IDU console)
     PositionFormat position_format;
     bool move_ack_angle;      // G2: `Angle = <deg>` after `a <id> <deg>` (§6.3, §7.1)
     bool relative_moves;      // G2: `a <id> +d` / `-d` (§6.3)
@@ -89,7 +89,7 @@ struct VariantProfile {
     std::size_t nvs_page_rows;  // `d` pages through the table (Pro, §5.3); 0 = all at once
     std::vector<NvsEntry> (*nvs_table)();
     std::vector<BootStep> (*boot_script)(const Engine&);
-    bool g_aborts_on_input;   // default of Options::g_aborts_on_input
+    bool g_aborts_on_input;  // default of Options::g_aborts_on_input
 };
 
 const VariantProfile& profile_for(Variant variant);
@@ -112,9 +112,9 @@ struct Busy {
     double until = 0.0;
     double next_live_line = 0.0;
     std::function<void(Engine&)> finish;  // prints the rest of the reply and the prompt
-    double period = 0.0;        // stream
-    bool drop_to_root = false;  // stream
-    bool endless = false;       // stream: input does not end it (only a power cycle does)
+    double period = 0.0;                  // stream
+    bool drop_to_root = false;            // stream
+    bool endless = false;                 // stream: input does not end it (only a power cycle does)
 };
 
 struct Engine {
@@ -127,7 +127,7 @@ struct Engine {
     void print_line(std::string_view text);  // text + line ending
     void print_prompt();
     std::string eol() const;
-    std::string take_output();               // bytes on the line (all, or paced at the baud rate)
+    std::string take_output();  // bytes on the line (all, or paced at the baud rate)
     bool g_aborts_on_input() const { return options.g_aborts_on_input.value_or(profile.g_aborts_on_input); }
 
     // --- shared behaviour used by handlers ----------------------------------------------
@@ -135,8 +135,7 @@ struct Engine {
     // A known command with missing or bad arguments: the captured G2's `Invalid params`; elsewhere
     // the unknown-command reply (no other console's text is known).
     void invalid_params();
-    bool captured_g2() const
-    {
+    bool captured_g2() const {
         return profile.variant == Variant::carryout_g2 && options.g2_console == G2Console::captured;
     }
     std::size_t reply_indent() const;  // Options::position_indent, or the console's
@@ -144,11 +143,12 @@ struct Engine {
     // One hazard per command line at most: the dispatch counts by the core's hazard rule (execute())
     // and a handler may count the same line again for what only it can see (an unhomed axis, the
     // Pro's elevation stall).
-    void count_hazard()
-    {
-        if (hazard_counted_for_line_) return;
+    void count_hazard() {
+        if (hazard_counted_for_line_)
+            return;
         ++hazards;
-        if (hazard_lines.size() < 1000) hazard_lines.push_back(executing_line_);
+        if (hazard_lines.size() < 1000)
+            hazard_lines.push_back(executing_line_);
         hazard_counted_for_line_ = true;
     }
     void kill_shell(std::string_view last_words);  // console dead until power cycle
@@ -177,7 +177,7 @@ struct Engine {
     SkyModel sky;
     std::mt19937 rng;
     std::vector<const Menu*> menus;  // menus.front() is the console root
-    std::string output;  // printed, not yet on the line
+    std::string output;              // printed, not yet on the line
     std::vector<std::string> commands;
     std::vector<Sample> history;
     unsigned hazards = 0;
@@ -192,7 +192,7 @@ struct Engine {
     int nvs_cursor = -1;
     // The LNB supply the sky model hears: 18 V at boot (`Enabled LNB ODU 18V`, §6.2 item 4).
     LnbSupply lnb_supply = LnbSupply::stb_18v;
-    unsigned motor_stalls = 0;     // injected stalls that have happened
+    unsigned motor_stalls = 0;  // injected stalls that have happened
 
 private:
     void record_received(char byte);
@@ -218,7 +218,7 @@ private:
         bool tracking = false;  // the armed axis is moving; stall_at is set
         double stall_at = 0.0;  // mechanical position where it stalls
         double direction = 0.0;
-        double target = 0.0;    // the move being tracked
+        double target = 0.0;  // the move being tracked
     };
     std::array<StallArm, 2> stall_arms_{};
 
@@ -229,11 +229,11 @@ private:
     std::string received_line_;
     char previous_raw_ = 0;
     bool booting_ = false;
-    bool boot_input_kept_ = false;     // past the completion line: input waits for the shell
-    double input_deaf_until_ = -1.0;   // Options::boot_input_drop window
+    bool boot_input_kept_ = false;    // past the completion line: input waits for the shell
+    double input_deaf_until_ = -1.0;  // Options::boot_input_drop window
     double next_idle_line_ = 0.0;
-    std::string on_line_;              // pace_at_line_rate: bytes already sent
-    double line_credit_ = 0.0;         // bytes the line may still send this tick
+    std::string on_line_;       // pace_at_line_rate: bytes already sent
+    double line_credit_ = 0.0;  // bytes the line may still send this tick
     std::vector<BootStep> boot_steps_;
     std::size_t boot_index_ = 0;
     double boot_resume_at_ = 0.0;

@@ -5,36 +5,35 @@
 
 #include <algorithm>
 #include <climits>
-#include <cstdarg>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
 namespace birdcage::sim::handlers {
 namespace {
 
-std::optional<double> parse_number(std::string_view text)
-{
+std::optional<double> parse_number(std::string_view text) {
     const std::string owned(text);
     char* end = nullptr;
     const double value = std::strtod(owned.c_str(), &end);
-    if (owned.empty() || end == nullptr || *end != '\0' || !std::isfinite(value)) return std::nullopt;
+    if (owned.empty() || end == nullptr || *end != '\0' || !std::isfinite(value))
+        return std::nullopt;
     return value;
 }
 
-std::optional<int> parse_int(std::string_view text)
-{
+std::optional<int> parse_int(std::string_view text) {
     const auto value = parse_number(text);
-    if (!value || *value != std::floor(*value) || std::abs(*value) > 1e9) return std::nullopt;
+    if (!value || *value != std::floor(*value) || std::abs(*value) > 1e9)
+        return std::nullopt;
     return static_cast<int>(*value);
 }
 
-__attribute__((format(printf, 1, 2))) std::string format(const char* pattern, ...)
-{
+__attribute__((format(printf, 1, 2))) std::string format(const char* pattern, ...) {
     char text[256];
     va_list arguments;
     va_start(arguments, pattern);
@@ -43,18 +42,18 @@ __attribute__((format(printf, 1, 2))) std::string format(const char* pattern, ..
     return text;
 }
 
-long centi(double degrees) { return std::lround(degrees * 100.0); }
+long centi(double degrees) {
+    return std::lround(degrees * 100.0);
+}
 
 constexpr double unhomed_angle = INT_MAX;  // §6.4: uncalibrated axes read 2147483647
 
 // `<label><value>` with Options::position_decimals.
-std::string field(Engine& e, const char* label, double value)
-{
+std::string field(Engine& e, const char* label, double value) {
     return format("%s%.*f", label, std::clamp(e.options.position_decimals, 0, 6), value);
 }
 
-void print_position(Engine& e)
-{
+void print_position(Engine& e) {
     const double el = e.motors.axis(axis_el).position();
     const std::string indent(e.reply_indent(), ' ');
     if (e.profile.position_format == PositionFormat::travler) {
@@ -65,7 +64,8 @@ void print_position(Engine& e)
         if (e.options.travler_position_layout == TravlerPositionLayout::one_line) {
             e.print_line(indent + az + " " + elevation + " " + skew);
         } else {
-            for (const std::string& line : {az, elevation, skew}) e.print_line(indent + line);
+            for (const std::string& line : {az, elevation, skew})
+                e.print_line(indent + line);
         }
         return;
     }
@@ -74,17 +74,16 @@ void print_position(Engine& e)
 }
 
 // §6.3 error string (known for EL; the AZ form is the obvious analogue, INVENTED).
-bool refuse_if_unhomed(Engine& e, std::size_t axis)
-{
-    if (!e.profile.needs_homing || e.homed[axis]) return false;
+bool refuse_if_unhomed(Engine& e, std::size_t axis) {
+    if (!e.profile.needs_homing || e.homed[axis])
+        return false;
     e.count_hazard();
     e.print_line(format("Step to Position %s angle error: %d", axis == axis_az ? "AZ" : "EL", INT_MAX));
     return true;
 }
 
 // Mechanical target for a requested angle, or nullopt after printing the refusal.
-std::optional<double> resolve_target(Engine& e, std::size_t axis, double value, bool relative)
-{
+std::optional<double> resolve_target(Engine& e, std::size_t axis, double value, bool relative) {
     const Axis& motor = e.motors.axis(axis);
     const double base = motor.target();
     const auto out_of_range = [&](double clamped) -> std::optional<double> {
@@ -98,36 +97,43 @@ std::optional<double> resolve_target(Engine& e, std::size_t axis, double value, 
         const double min = e.profile.az.min;
         const double max = e.profile.az.max;
         const auto within = [&](double target) -> std::optional<double> {
-            if (target < min - 1e-9 || target > max + 1e-9) return out_of_range(std::clamp(target, min, max));
+            if (target < min - 1e-9 || target > max + 1e-9)
+                return out_of_range(std::clamp(target, min, max));
             return target;
         };
         switch (e.options.az_mapping) {
-        case AzMapping::wrap_manager:
-            // Relative moves too: the manager never lets the axis through the wrap point.
-            return within(wrap_manager_target(relative ? base + value : value, e.options.az_wrap_point,
-                                              motor.position(), min, max));
-        case AzMapping::literal:
-            if (relative || (value >= min && value <= max)) return within(relative ? base + value : value);
-            // No negative absolute numbers exist on a console where '-' means relative (G2): there
-            // a number names the angle 360 below it (see AzMapping).
-            if (e.profile.relative_moves && value - 360.0 >= min && value - 360.0 <= max) return value - 360.0;
-            return within(value);
-        case AzMapping::nearest:
-            break;
+            case AzMapping::wrap_manager:
+                // Relative moves too: the manager never lets the axis through the wrap point.
+                return within(wrap_manager_target(relative ? base + value : value, e.options.az_wrap_point,
+                                                  motor.position(), min, max));
+            case AzMapping::literal:
+                if (relative || (value >= min && value <= max))
+                    return within(relative ? base + value : value);
+                // No negative absolute numbers exist on a console where '-' means relative (G2): there
+                // a number names the angle 360 below it (see AzMapping).
+                if (e.profile.relative_moves && value - 360.0 >= min && value - 360.0 <= max)
+                    return value - 360.0;
+                return within(value);
+            case AzMapping::nearest:
+                break;
         }
-        if (relative) return within(base + value);
+        if (relative)
+            return within(base + value);
         // A 0..360 target goes to the branch of the wrap window nearest to where the dish is
         // (§2 "refuses to wind past its wrap limit", docs/tracking.md §2.3); an explicit
         // mechanical angle inside the window (Trav'ler 360..455) is taken literally.
-        if (value >= 0.0 && value < 360.0) return nearest_wrap_branch(value, base, min, max);
-        if (value >= min && value <= max) return value;
+        if (value >= 0.0 && value < 360.0)
+            return nearest_wrap_branch(value, base, min, max);
+        if (value >= min && value <= max)
+            return value;
         return nearest_wrap_branch(value, base, min, max);
     }
     if (axis == axis_el) {
         double target = relative ? base + value : value;
         if (target < e.el_limit_min() || target > e.el_limit_max()) {
             const auto accepted = out_of_range(std::clamp(target, e.el_limit_min(), e.el_limit_max()));
-            if (!accepted) return std::nullopt;
+            if (!accepted)
+                return std::nullopt;
             target = *accepted;
         }
         if (target > e.profile.el_stall_above) {  // Pro: stalls at ~75 (§5.4, §5.5)
@@ -141,33 +147,32 @@ std::optional<double> resolve_target(Engine& e, std::size_t axis, double value, 
 
 // Options::g2_overshoot: the captured settling error (§6.4), AZ +0.01 / -0.02 and EL +0.05 / -0.06
 // for moves up / down, applied to where the motor stops (the acknowledgement shows the target).
-double with_overshoot(const Engine& e, std::size_t axis, double target)
-{
-    if (!e.options.g2_overshoot || e.profile.variant != Variant::carryout_g2 || axis > axis_el) return target;
+double with_overshoot(const Engine& e, std::size_t axis, double target) {
+    if (!e.options.g2_overshoot || e.profile.variant != Variant::carryout_g2 || axis > axis_el)
+        return target;
     const bool upward = target >= e.motors.axis(axis).target();
     const double error = axis == axis_az ? (upward ? 0.01 : -0.02) : (upward ? 0.05 : -0.06);
     return target + error;
 }
 
-std::optional<std::size_t> parse_axis(Engine& e, std::string_view text)
-{
+std::optional<std::size_t> parse_axis(Engine& e, std::string_view text) {
     const auto id = parse_int(text);
-    if (!id || *id < 0) return std::nullopt;
+    if (!id || *id < 0)
+        return std::nullopt;
     const int last = e.profile.position_format == PositionFormat::travler ? 2 : 1;
-    if (*id > last) return std::nullopt;
+    if (*id > last)
+        return std::nullopt;
     return static_cast<std::size_t>(*id);
 }
 
-void print_live_position(Engine& e)
-{
+void print_live_position(Engine& e) {
     // §8.4 reconstruction: `el` three tokens after the AZ centidegrees, one before EL's.
     e.print_line(format("az = %ld   el = %ld", centi(e.displayed_az()), centi(e.motors.axis(axis_el).position())));
 }
 
 }  // namespace
 
-void angle(Engine& e, const Args& args)
-{
+void angle(Engine& e, const Args& args) {
     if (args.size() == 1) {
         if (!e.options.answer_position_while_moving && e.motors.moving()) {
             e.wait_until_idle(print_position);
@@ -184,8 +189,8 @@ void angle(Engine& e, const Args& args)
             return;
         }
         const double value = *axis == axis_az ? e.reported_az() : e.motors.axis(axis_el).position();
-        e.print_line(std::string(e.reply_indent(), ' ') +
-                     field(e, *axis == axis_az ? "Angle[0] = " : "Angle[1] = ", e.homed[*axis] ? value : unhomed_angle));
+        e.print_line(std::string(e.reply_indent(), ' ') + field(e, *axis == axis_az ? "Angle[0] = " : "Angle[1] = ",
+                                                                e.homed[*axis] ? value : unhomed_angle));
         return;
     }
     const auto axis = args.size() == 3 ? parse_axis(e, args[1]) : std::nullopt;
@@ -194,21 +199,24 @@ void angle(Engine& e, const Args& args)
         e.invalid_params();
         return;
     }
-    if (refuse_if_unhomed(e, *axis)) return;
+    if (refuse_if_unhomed(e, *axis))
+        return;
     const bool relative = e.profile.relative_moves && (args[2].front() == '+' || args[2].front() == '-');
     const auto target = resolve_target(e, *axis, *value, relative);
-    if (!target) return;
+    if (!target)
+        return;
     e.motors.enqueue(*axis, with_overshoot(e, *axis, *target));
     if (e.profile.move_ack_angle) {
         double shown = *target;
-        if (*axis == axis_az && e.options.az_report == AzReport::displayed) shown = normalize_360(shown);
+        if (*axis == axis_az && e.options.az_report == AzReport::displayed)
+            shown = normalize_360(shown);
         e.print_line(std::string(e.reply_indent(), ' ') + field(e, "Angle = ", shown));
     }
-    if (e.options.move_ack == MoveAck::after_motion) e.wait_until_idle(nullptr);
+    if (e.options.move_ack == MoveAck::after_motion)
+        e.wait_until_idle(nullptr);
 }
 
-void go_to(Engine& e, const Args& args)
-{
+void go_to(Engine& e, const Args& args) {
     const bool with_skew = e.profile.position_format == PositionFormat::travler && args.size() == 4;
     if (args.size() != 3 && !with_skew) {
         e.invalid_params();
@@ -221,14 +229,18 @@ void go_to(Engine& e, const Args& args)
         e.invalid_params();
         return;
     }
-    if (refuse_if_unhomed(e, axis_az) || refuse_if_unhomed(e, axis_el)) return;
+    if (refuse_if_unhomed(e, axis_az) || refuse_if_unhomed(e, axis_el))
+        return;
     const auto az_target = resolve_target(e, axis_az, *az, false);
-    if (!az_target) return;
+    if (!az_target)
+        return;
     const auto el_target = resolve_target(e, axis_el, *el, false);
-    if (!el_target) return;
+    if (!el_target)
+        return;
     e.motors.enqueue(axis_az, *az_target);
     e.motors.enqueue(axis_el, *el_target);
-    if (with_skew) e.motors.enqueue(axis_skew, *skew);
+    if (with_skew)
+        e.motors.enqueue(axis_skew, *skew);
     e.start_goto(e.profile.live_goto_output ? print_live_position : nullptr);
 }
 
@@ -236,17 +248,16 @@ namespace {
 
 // The captured homing output (§6.3, `h *`): each axis announces itself, runs to its stop and
 // reports; AZ runs to the top of its travel, then back to its zero.
-void print_az_home_report(Engine& e)
-{
+void print_az_home_report(Engine& e) {
     if (e.options.home_report == HomeReport::g2plus_status) {
         e.print_line("AZ - Angle: 1 Wrap: 0");  // §7.1: shape inferred from mjlangan's regex
     } else {
-        e.print_line(format("home:0  wrap_pos:0  wrap_min:%ld  wrap_max:%ld", centi(e.profile.az.min), centi(e.profile.az.max)));
+        e.print_line(
+            format("home:0  wrap_pos:0  wrap_min:%ld  wrap_max:%ld", centi(e.profile.az.min), centi(e.profile.az.max)));
     }
 }
 
-void home_az_captured(Engine& e)
-{
+void home_az_captured(Engine& e) {
     e.print_line("MotorHome:0 timeout:8000");
     e.print_line("Home TwelInch Az");
     e.motors.enqueue(axis_az, e.profile.az.max);
@@ -261,8 +272,7 @@ void home_az_captured(Engine& e)
     });
 }
 
-void home_captured(Engine& e, bool home_el, bool home_az)
-{
+void home_captured(Engine& e, bool home_el, bool home_az) {
     if (!home_el) {
         home_az_captured(e);
         return;
@@ -274,7 +284,8 @@ void home_captured(Engine& e, bool home_el, bool home_az)
     e.wait_until_idle([home_az](Engine& engine) {
         engine.print_line("EL Stall Timeout");
         engine.print_line(format("El Home Angle: %ld", centi(engine.profile.home_el)));
-        if (!home_az) return;
+        if (!home_az)
+            return;
         engine.print_line("");
         home_az_captured(engine);
     });
@@ -282,8 +293,7 @@ void home_captured(Engine& e, bool home_el, bool home_az)
 
 }  // namespace
 
-void home(Engine& e, const Args& args)
-{
+void home(Engine& e, const Args& args) {
     if (args.size() != 2 || !(args[1] == "0" || args[1] == "1" || args[1] == "*")) {
         e.invalid_params();
         return;
@@ -306,11 +316,13 @@ void home(Engine& e, const Args& args)
         e.homed[axis_az] = true;
     }
     e.wait_until_idle([home_az](Engine& engine) {
-        if (!home_az) return;
+        if (!home_az)
+            return;
         if (engine.options.home_report == HomeReport::g2plus_status) {
             engine.print_line("AZ - Angle: 1 Wrap: 0");  // §7.1: shape inferred from mjlangan's regex
         } else {
-            engine.print_line(format("wrap_min:%ld wrap_max:%ld", centi(engine.profile.az.min), centi(engine.profile.az.max)));
+            engine.print_line(
+                format("wrap_min:%ld wrap_max:%ld", centi(engine.profile.az.min), centi(engine.profile.az.max)));
         }
     });
 }
@@ -319,8 +331,7 @@ namespace {
 
 // The step counter of the angle `a` shows: the capture's `p` reads 19998 where `a` reads 179.98
 // (§6.3), although 179.98 lies outside the travel the homing report gives (§6.4).
-long motor_steps(const Engine& e, std::size_t axis)
-{
+long motor_steps(const Engine& e, std::size_t axis) {
     const Axis& motor = e.motors.axis(axis);
     const double angle = axis == axis_az ? e.reported_az() : motor.position();
     return std::lround(angle / 360.0 * motor.params().steps_per_rev);
@@ -331,8 +342,7 @@ long motor_steps(const Engine& e, std::size_t axis)
 // MOT `p`: the step counters; `p <motor> <pos>` goes to a step position (the captured listing's
 // "Go To Position [motor] [pos]"). The reply's text is the capture's paraphrase (§6.3), its
 // indentation that of the captured one-line MOT replies (INF).
-void step_positions(Engine& e, const Args& args)
-{
+void step_positions(Engine& e, const Args& args) {
     if (args.size() > 1 && e.captured_g2()) {
         const auto axis = args.size() == 3 ? parse_axis(e, args[1]) : std::nullopt;
         const auto steps = args.size() == 3 ? parse_number(args[2]) : std::nullopt;
@@ -340,43 +350,45 @@ void step_positions(Engine& e, const Args& args)
             e.invalid_params();
             return;
         }
-        if (refuse_if_unhomed(e, *axis)) return;
-        const auto target = resolve_target(e, *axis, *steps * 360.0 / e.motors.axis(*axis).params().steps_per_rev, false);
-        if (target) e.motors.enqueue(*axis, *target);
+        if (refuse_if_unhomed(e, *axis))
+            return;
+        const auto target =
+            resolve_target(e, *axis, *steps * 360.0 / e.motors.axis(*axis).params().steps_per_rev, false);
+        if (target)
+            e.motors.enqueue(*axis, *target);
         return;
     }
     e.print_line(std::string(e.reply_indent(), ' ') +
                  format("Position[0] = %ld  Position[1] = %ld", motor_steps(e, axis_az), motor_steps(e, axis_el)));
 }
 
-void max_velocity(Engine& e, const Args& args)
-{
-    if (args.size() > 1) return;  // setting is accepted but not modelled
+void max_velocity(Engine& e, const Args& args) {
+    if (args.size() > 1)
+        return;             // setting is accepted but not modelled
     if (e.captured_g2()) {  // §6.3, the capture's paraphrase: one line, one decimal
-        e.print_line(std::string(e.reply_indent(), ' ') +
-                     format("Max Vel[0] = %.1f  Max Vel[1] = %.1f", e.motors.axis(axis_az).params().max_velocity,
-                            e.motors.axis(axis_el).params().max_velocity));
+        e.print_line(std::string(e.reply_indent(), ' ') + format("Max Vel[0] = %.1f  Max Vel[1] = %.1f",
+                                                                 e.motors.axis(axis_az).params().max_velocity,
+                                                                 e.motors.axis(axis_el).params().max_velocity));
         return;
     }
     e.print_line(format("Max Vel [0] = %.2f", e.motors.axis(axis_az).params().max_velocity));
     e.print_line(format("Max Vel [1] = %.2f", e.motors.axis(axis_el).params().max_velocity));
 }
 
-void max_accel(Engine& e, const Args& args)
-{
-    if (args.size() > 1) return;
+void max_accel(Engine& e, const Args& args) {
+    if (args.size() > 1)
+        return;
     if (e.captured_g2()) {
-        e.print_line(std::string(e.reply_indent(), ' ') +
-                     format("Accel[0] = %.1f  Accel[1] = %.1f", e.motors.axis(axis_az).params().max_accel,
-                            e.motors.axis(axis_el).params().max_accel));
+        e.print_line(std::string(e.reply_indent(), ' ') + format("Accel[0] = %.1f  Accel[1] = %.1f",
+                                                                 e.motors.axis(axis_az).params().max_accel,
+                                                                 e.motors.axis(axis_el).params().max_accel));
         return;
     }
     e.print_line(format("Accel[0] = %.2f", e.motors.axis(axis_az).params().max_accel));
     e.print_line(format("Accel[1] = %.2f", e.motors.axis(axis_el).params().max_accel));
 }
 
-void el_min_max_home(Engine& e, const Args&)
-{
+void el_min_max_home(Engine& e, const Args&) {
     e.print_line(std::string(e.captured_g2() ? e.reply_indent() : 0, ' ') +
                  format("Min: %ld  Max: %ld  Home: %ld", centi(e.el_limit_min()), centi(e.el_limit_max()),
                         centi(e.profile.home_el)));
@@ -384,8 +396,7 @@ void el_min_max_home(Engine& e, const Args&)
 
 // `ela2s <angle>` / `els2a <steps>`: the linear law the capture found (24960 steps per turn,
 // angles held to the limits with a `Min:`/`Max:` warning, steps truncated). Reply text INVENTED.
-void el_angle_to_steps(Engine& e, const Args& args)
-{
+void el_angle_to_steps(Engine& e, const Args& args) {
     const auto angle = args.size() == 2 ? parse_number(args[1]) : std::nullopt;
     if (!angle) {
         e.invalid_params();
@@ -400,11 +411,11 @@ void el_angle_to_steps(Engine& e, const Args& args)
         held = e.el_limit_max();
     }
     const int per_turn = e.motors.axis(axis_el).params().steps_per_rev;
-    e.print_line(std::string(e.reply_indent(), ' ') + format("Steps = %ld", static_cast<long>(held * per_turn / 360.0)));
+    e.print_line(std::string(e.reply_indent(), ' ') +
+                 format("Steps = %ld", static_cast<long>(held * per_turn / 360.0)));
 }
 
-void el_steps_to_angle(Engine& e, const Args& args)
-{
+void el_steps_to_angle(Engine& e, const Args& args) {
     const auto steps = args.size() == 2 ? parse_number(args[1]) : std::nullopt;
     if (!steps) {
         e.invalid_params();
@@ -417,15 +428,14 @@ void el_steps_to_angle(Engine& e, const Args& args)
 // A command that needs arguments (§6.3: `st` without them answers `Invalid params`); with them it
 // is accepted and, in this emulator, has no effect (motor tests, PID, wrap and position registers,
 // velocity modes, DiSEqC packets: no client of this project uses them).
-void setter(Engine& e, const Args& args)
-{
-    if (args.size() < 2) e.invalid_params();
+void setter(Engine& e, const Args& args) {
+    if (args.size() < 2)
+        e.invalid_params();
 }
 
 void silent(Engine&, const Args&) {}
 
-void list_motors(Engine& e, const Args&)
-{
+void list_motors(Engine& e, const Args&) {
     if (e.captured_g2()) {  // §6.3, verbatim
         e.print_line("Motors:");
         e.print_line("    0 - AZIMUTH: local");
@@ -437,12 +447,12 @@ void list_motors(Engine& e, const Args&)
     e.print_line("1 ELEVATION");
 }
 
-void nvs_dump(Engine& e, const Args& args)
-{
+void nvs_dump(Engine& e, const Args& args) {
     if (args.size() >= 2) {
         const auto index = parse_int(args[1]);
         const NvsEntry* entry = index ? e.nvs.find(*index) : nullptr;
-        if (entry == nullptr) return;
+        if (entry == nullptr)
+            return;
         e.print_line(NvsTable::header());
         e.print_line(NvsTable::rule());
         e.print_line(NvsTable::row(*entry));
@@ -453,16 +463,17 @@ void nvs_dump(Engine& e, const Args& args)
     e.print_line(NvsTable::rule());
     std::size_t shown = 0;
     for (const NvsEntry& entry : e.nvs.entries()) {
-        if (e.profile.nvs_page_rows != 0 && entry.index <= e.nvs_cursor) continue;
+        if (e.profile.nvs_page_rows != 0 && entry.index <= e.nvs_cursor)
+            continue;
         e.print_line(NvsTable::row(entry));
         e.nvs_cursor = entry.index;
-        if (e.profile.nvs_page_rows != 0 && ++shown == e.profile.nvs_page_rows) return;
+        if (e.profile.nvs_page_rows != 0 && ++shown == e.profile.nvs_page_rows)
+            return;
     }
     e.nvs_cursor = -1;  // the next page starts over
 }
 
-void nvs_edit(Engine& e, const Args& args)
-{
+void nvs_edit(Engine& e, const Args& args) {
     const auto index = args.size() >= 2 ? parse_int(args[1]) : std::nullopt;
     NvsEntry* entry = index ? e.nvs.find(*index) : nullptr;
     if (entry == nullptr || args.size() > 3) {
@@ -485,8 +496,7 @@ void nvs_edit(Engine& e, const Args& args)
     e.print_line(NvsTable::edit_row(*entry, old_value));
 }
 
-void nvs_save(Engine& e, const Args&)
-{
+void nvs_save(Engine& e, const Args&) {
     e.count_hazard();
     e.nvs.save_all();
     // Davidson's verbatim transcript (§6.3).
@@ -497,16 +507,15 @@ void nvs_save(Engine& e, const Args&)
 }
 
 // §6.3: any unrecognised input in NVS> reads the next index.
-void nvs_next(Engine& e, const Args&)
-{
+void nvs_next(Engine& e, const Args&) {
     const NvsEntry* entry = e.nvs.next_after(e.nvs_cursor);
-    if (entry == nullptr) return;
+    if (entry == nullptr)
+        return;
     e.print_line(NvsTable::row(*entry));
     e.nvs_cursor = entry->index;
 }
 
-void os_id(Engine& e, const Args&)
-{
+void os_id(Engine& e, const Args&) {
     // Appendix B.
     for (const char* line :
          {"NVS Version:    1.02.13", "System ID:  TWELINCH", " K60-144pin", " Silicon Rev 2.4", " Mask Set 4N22D",
@@ -517,43 +526,41 @@ void os_id(Engine& e, const Args&)
         e.print_line(line);
 }
 
-void os_tasks(Engine& e, const Args&)
-{
+void os_tasks(Engine& e, const Args&) {
     // §14 HAL0.8: the listing is unknown; INVENTED, only the task name `Search` is known.
     e.print_line("Shell");
     e.print_line("Motor");
-    if (e.search) e.print_line("Search");
+    if (e.search)
+        e.print_line("Search");
 }
 
-void os_kill(Engine& e, const Args& args)
-{
+void os_kill(Engine& e, const Args& args) {
     if (args.size() != 2) {
         e.invalid_params();
         return;
     }
-    if (args[1] == "Search" && e.profile.search_stop == SearchStop::os_kill && e.search) e.stop_search();
+    if (args[1] == "Search" && e.profile.search_stop == SearchStop::os_kill && e.search)
+        e.stop_search();
 }
 
-void ngsearch_stop(Engine& e, const Args&)
-{
-    if (e.profile.search_stop == SearchStop::ngsearch_stop && e.search) e.stop_search();
+void ngsearch_stop(Engine& e, const Args&) {
+    if (e.profile.search_stop == SearchStop::ngsearch_stop && e.search)
+        e.stop_search();
 }
 
-void reboot(Engine& e, const Args&)
-{
+void reboot(Engine& e, const Args&) {
     e.count_hazard();
     e.reboot();
 }
 
-void stow(Engine& e, const Args&)
-{
+void stow(Engine& e, const Args&) {
     e.count_hazard();
-    if (e.search) e.stop_search();
+    if (e.search)
+        e.stop_search();
     e.motors.enqueue(axis_el, e.profile.stow_el);  // firmware limits do not apply to stow
 }
 
-void dvb_rssi(Engine& e, const Args& args)
-{
+void dvb_rssi(Engine& e, const Args& args) {
     const auto count = args.size() >= 2 ? parse_int(args[1]) : std::optional<int>(1);
     if (!count || *count < 1 || args.size() > 2) {
         e.invalid_params();
@@ -569,12 +576,12 @@ void dvb_rssi(Engine& e, const Args& args)
             sum += current;
         }
         engine.print_line(format("iterations:%d  interval(msec):20", reads));
-        engine.print_line(format(" Reads:%d  RSSI[avg: %ld  cur: %d]", reads, std::lround(static_cast<double>(sum) / reads), current));
+        engine.print_line(format(" Reads:%d  RSSI[avg: %ld  cur: %d]", reads,
+                                 std::lround(static_cast<double>(sum) / reads), current));
     });
 }
 
-void dvb_lnbdc(Engine& e, const Args& args)
-{
+void dvb_lnbdc(Engine& e, const Args& args) {
     // §6.3: reply text undocumented; prints nothing.
     if (args.size() == 2 && args[1] == "odu") {
         e.lnb_supply = LnbSupply::odu_13v;
@@ -585,18 +592,17 @@ void dvb_lnbdc(Engine& e, const Args& args)
     }
 }
 
-void dvb_config(Engine& e, const Args&)
-{
+void dvb_config(Engine& e, const Args&) {
     e.print_line("BCM Hardware=  ID: 0x4515  VER: 0xB0");
     e.print_line("BCM Firmware=  MAJOR VER: 0x71 (113)  MINOR VER: 0x25 (37)");
     e.print_line("BCM Strap Config: 0x25018");
 }
 
-void dvb_quick_lock(Engine& e, const Args&)
-{
+void dvb_quick_lock(Engine& e, const Args&) {
     const auto line = [](Engine& engine) {
-        engine.print_line(format("Lock:0  rssi:%d  cnt:0", engine.sky.read(engine.displayed_az(),
-                                                                           engine.motors.axis(axis_el).position(), engine.lnb_supply)));
+        engine.print_line(
+            format("Lock:0  rssi:%d  cnt:0",
+                   engine.sky.read(engine.displayed_az(), engine.motors.axis(axis_el).position(), engine.lnb_supply)));
     };
     if (!e.captured_g2()) {  // the reconstruction printed one line
         line(e);
@@ -609,24 +615,27 @@ void dvb_quick_lock(Engine& e, const Args&)
 // DVB/PEAK streaming commands (§6.3, §6.5): a line per period until a byte arrives. `ls` and
 // `rssits` end the submenu's shell when interrupted (`Terminating shell.`, back at TRK>). Line
 // texts are the capture's samples; periods INVENTED except `rssits` (a minute).
-void dvb_stream(Engine& e, const Args& args)
-{
+void dvb_stream(Engine& e, const Args& args) {
     const std::string_view word = args.front();
     const auto rssi = [](Engine& engine) {
         return engine.sky.read(engine.displayed_az(), engine.motors.axis(axis_el).position(), engine.lnb_supply);
     };
     auto reads = std::make_shared<long>(0);
     if (word == "snr") {
-        e.start_stream(0.1, false, [reads](Engine& en) { en.print_line(format("Reads:%ld  SNR[avg: 0.0  cur: 0.0]", ++*reads)); });
+        e.start_stream(0.1, false,
+                       [reads](Engine& en) { en.print_line(format("Reads:%ld  SNR[avg: 0.0  cur: 0.0]", ++*reads)); });
     } else if (word == "agc") {
         e.start_stream(0.1, false, [reads](Engine& en) {
-            en.print_line(format("Reads:%ld  RF_AGC[avg: 1327353088  cur: 1327353088] IF_AGC[avg: 2684354560  cur: "
-                                 "2684354560]  SNR: 0.0  NID: FFFF/none", ++*reads));
+            en.print_line(
+                format("Reads:%ld  RF_AGC[avg: 1327353088  cur: 1327353088] IF_AGC[avg: 2684354560  cur: "
+                       "2684354560]  SNR: 0.0  NID: FFFF/none",
+                       ++*reads));
         });
     } else if (word == "lnbv") {
         e.start_stream(0.1, false, [reads](Engine& en) {
             const bool low = en.lnb_supply == LnbSupply::odu_13v;
-            en.print_line(format("Reads:%ld  LNB Voltage (mV): %d  ( ADC value: %d )", ++*reads, low ? 13182 : 18204, low ? 118 : 163));
+            en.print_line(format("Reads:%ld  LNB Voltage (mV): %d  ( ADC value: %d )", ++*reads, low ? 13182 : 18204,
+                                 low ? 118 : 163));
         });
     } else if (word == "nid") {
         e.start_stream(0.1, false, [](Engine& en) { en.print("nid: FFFF/none\r"); });  // overwritten in place
@@ -644,12 +653,12 @@ void dvb_stream(Engine& e, const Args& args)
     }
 }
 
-void dvb_fixed_reply(Engine& e, const Args& args)
-{
+void dvb_fixed_reply(Engine& e, const Args& args) {
     // One-shot DVB replies as the capture paraphrases them (§6.3); with arguments (the timeouts'
     // setters, `di2cs`'s switch configuration) accepted silently.
     const std::string_view word = args.front();
-    if (args.size() > 1) return;
+    if (args.size() > 1)
+        return;
     static const std::pair<std::string_view, std::string_view> replies[] = {
         {"freqs", "Non-Stacked"},
         {"range", "Transponder Range: [ 1 - 32 ]"},
@@ -665,12 +674,12 @@ void dvb_fixed_reply(Engine& e, const Args& args)
         {"di2cs", "No Parameters Specified"},
     };
     for (const auto& [command, reply] : replies)
-        if (command == word) e.print_line(reply);
+        if (command == word)
+            e.print_line(reply);
 }
 
 // §6.3: "the channel parameters"; the layout and values are INVENTED.
-void dvb_channel(Engine& e, const Args&)
-{
+void dvb_channel(Engine& e, const Args&) {
     const bool at_13v = e.lnb_supply == LnbSupply::odu_13v;
     if (!e.captured_g2()) {
         e.print_line(format("Freq:1450000  SymRate:20000  Pol:%s  Lock:0", at_13v ? "V" : "H"));  // INVENTED
@@ -703,15 +712,18 @@ void dvb_channel(Engine& e, const Args&)
         "14   PScnSymRtRngMax      24000 (ksps)             24000 (ksps)",
         "15   SignalDetectMode      off                     off",
     };
-    for (const char* line : head) e.print_line(line);
+    for (const char* line : head)
+        e.print_line(line);
     e.print_line(format("5    LNB Polarity         ODU:%s                  ---", at_13v ? "13V" : "18V"));
-    for (const char* line : tail) e.print_line(line);
+    for (const char* line : tail)
+        e.print_line(line);
 }
 
-void hazard_only(Engine& e, const Args&) { e.count_hazard(); }
+void hazard_only(Engine& e, const Args&) {
+    e.count_hazard();
+}
 
-void eeprom_read(Engine& e, const Args& args)
-{
+void eeprom_read(Engine& e, const Args& args) {
     const auto index = args.size() >= 2 ? parse_int(args[1]) : std::nullopt;
     if (!index) {
         e.invalid_params();
@@ -727,7 +739,8 @@ void eeprom_read(Engine& e, const Args& args)
         e.print_line(format("Index out of bounds:%d Min:0 Max:16", *index));
         return;
     }
-    if (args.size() > 2) return;  // a write: accepted, not modelled
+    if (args.size() > 2)
+        return;  // a write: accepted, not modelled
     constexpr long valid[] = {0, 0, 22897, 3748, 4346, 11637};
     if (*index >= 1 && *index <= 5) {
         e.print_line(format("Read value = %ld", valid[*index]));
@@ -736,17 +749,19 @@ void eeprom_read(Engine& e, const Args& args)
     }
 }
 
-void adc_board_id(Engine& e, const Args&) { e.print_line("STATIONARY"); }
-void adc_board_rev(Engine& e, const Args&) { e.print_line("A"); }
+void adc_board_id(Engine& e, const Args&) {
+    e.print_line("STATIONARY");
+}
+void adc_board_rev(Engine& e, const Args&) {
+    e.print_line("A");
+}
 
-void adc_rssi(Engine& e, const Args&)
-{
+void adc_rssi(Engine& e, const Args&) {
     std::uniform_int_distribution<int> noise(233, 238);  // raw ADC floor (§6.3 ADC>)
     e.print_line(format("%d", noise(e.rng)));
 }
 
-void adc_scan(Engine& e, const Args& args)
-{
+void adc_scan(Engine& e, const Args& args) {
     if (args.size() == 1) {
         // §6.5: targets 2147483647 and blocks forever; nothing recovers but a power cycle.
         e.count_hazard();
@@ -754,15 +769,13 @@ void adc_scan(Engine& e, const Args& args)
     }
 }
 
-void a3981_diag(Engine& e, const Args&)
-{
+void a3981_diag(Engine& e, const Args&) {
     e.print_line("AZ DIAG: OK");
     e.print_line("EL DIAG: OK");
 }
 
 // A3981 `ss` and `reset` as captured; `sm` and `cm` as the capture paraphrases them (§6.3).
-void a3981_reply(Engine& e, const Args& args)
-{
+void a3981_reply(Engine& e, const Args& args) {
     const std::string_view word = args.front();
     if (word == "ss") {
         e.print_line("KEY: FULL-16, HALF-8, QTR-4, EIGHTH-2, SIXTEENTH-1");
@@ -781,8 +794,7 @@ void a3981_reply(Engine& e, const Args& args)
 
 // LATLON `l <satlon1> <satlon2> <satel1> <satel2>` (§6.3): the echo line as captured; the position
 // is the captured example's for every input (the firmware's algorithm is unknown).
-void latlon(Engine& e, const Args& args)
-{
+void latlon(Engine& e, const Args& args) {
     if (args.size() != 5) {
         e.invalid_params();
         return;
@@ -801,30 +813,27 @@ void latlon(Engine& e, const Args& args)
 }
 
 // PEAK `ts` (§6.5): probes a DiSEqC switch for ever; nothing typed stops it, only a power cycle.
-void peak_switch_test(Engine& e, const Args&)
-{
+void peak_switch_test(Engine& e, const Args&) {
     e.count_hazard();
-    e.start_stream(0.1, false, [](Engine& engine) { engine.print_line("0b0000 0"); }, true);
+    e.start_stream(
+        0.1, false, [](Engine& engine) { engine.print_line("0b0000 0"); }, true);
 }
 
 // PEAK `stb` (§6.3, as captured): the supply is left at STB.
-void peak_stb(Engine& e, const Args&)
-{
-    for (const char* line : {"Enabled LNB ODU 18V", "Even_sig = 504", "Enabled LNB STB", "Odd_sig = 232", "Enabled LNB STB",
-                             "Odd_sig = 233 Ctr = 0"})
+void peak_stb(Engine& e, const Args&) {
+    for (const char* line : {"Enabled LNB ODU 18V", "Even_sig = 504", "Enabled LNB STB", "Odd_sig = 232",
+                             "Enabled LNB STB", "Odd_sig = 233 Ctr = 0"})
         e.print_line(line);
 }
 
-void dipswitch(Engine& e, const Args&)
-{
+void dipswitch(Engine& e, const Args&) {
     e.print_line("val:ffffff01");
     e.print_line("app_dipswitch:101");
 }
 
 // STEP> replies: the capture's paraphrases (§6.3), one line each; the reconstruction printed one
 // line per motor.
-void step_max_velocity(Engine& e, const Args&)
-{
+void step_max_velocity(Engine& e, const Args&) {
     if (e.captured_g2()) {
         e.print_line("Max Vel [0] = 7222    Max Vel [1] = 3120");
         return;
@@ -833,8 +842,7 @@ void step_max_velocity(Engine& e, const Args&)
     e.print_line("Max Vel [1] = 3120");
 }
 
-void step_accel(Engine& e, const Args&)
-{
+void step_accel(Engine& e, const Args&) {
     if (e.captured_g2()) {
         e.print_line("Accel[0] = 44         Accel[1] = 28");
         return;
@@ -843,15 +851,18 @@ void step_accel(Engine& e, const Args&)
     e.print_line("Accel[1] = 28");
 }
 
-void step_engage(Engine& e, const Args&) { e.print_line("Motors engaged"); }
+void step_engage(Engine& e, const Args&) {
+    e.print_line("Motors engaged");
+}
 
-void step_reply(Engine& e, const Args& args)
-{
+void step_reply(Engine& e, const Args& args) {
     if (args.front() == "pid") {
-        if (args.size() == 1) e.print_line("Kp=250  Kv=50");
+        if (args.size() == 1)
+            e.print_line("Kp=250  Kv=50");
         return;
     }
-    if (args.size() > 1) return;  // `p <motor> <pos>`: a raw step move, not modelled
+    if (args.size() > 1)
+        return;  // `p <motor> <pos>`: a raw step move, not modelled
     e.print_line(format("Step Pos[0] = %-9ld Step Pos[1] = %ld", motor_steps(e, axis_az), motor_steps(e, axis_el)));
 }
 

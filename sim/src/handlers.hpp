@@ -10,18 +10,18 @@
 namespace birdcage::sim::handlers {
 
 // motor submenus
-void angle(Engine&, const Args&);        // `a`, `a <id> <deg>`, `a <id> ±<d>`
-void go_to(Engine&, const Args&);        // `g <az> <el> [<sk>]`
-void home(Engine&, const Args&);         // `h <id>` / `h *`
+void angle(Engine&, const Args&);  // `a`, `a <id> <deg>`, `a <id> ±<d>`
+void go_to(Engine&, const Args&);  // `g <az> <el> [<sk>]`
+void home(Engine&, const Args&);   // `h <id>` / `h *`
 void step_positions(Engine&, const Args&);
 void max_velocity(Engine&, const Args&);
 void max_accel(Engine&, const Args&);
 void el_min_max_home(Engine&, const Args&);
-void list_motors(Engine&, const Args&);  // G2 `l`
+void list_motors(Engine&, const Args&);        // G2 `l`
 void el_angle_to_steps(Engine&, const Args&);  // G2 `ela2s`
 void el_steps_to_angle(Engine&, const Args&);  // G2 `els2a`
-void setter(Engine&, const Args&);       // needs arguments (`Invalid params`), otherwise no effect
-void silent(Engine&, const Args&);       // accepted, prints nothing (`e`, `r`, `lnbdc`)
+void setter(Engine&, const Args&);             // needs arguments (`Invalid params`), otherwise no effect
+void silent(Engine&, const Args&);             // accepted, prints nothing (`e`, `r`, `lnbdc`)
 
 // nvs
 void nvs_dump(Engine&, const Args&);
@@ -44,15 +44,15 @@ void dvb_rssi(Engine&, const Args&);
 void dvb_lnbdc(Engine&, const Args&);
 void dvb_config(Engine&, const Args&);
 void dvb_quick_lock(Engine&, const Args&);
-void dvb_channel(Engine&, const Args&);   // G2 `dis`
-void dvb_stream(Engine&, const Args&);    // `snr`, `agc`, `lnbv`, `nid`, `stats`, `ls`, PEAK `rssits`
+void dvb_channel(Engine&, const Args&);  // G2 `dis`
+void dvb_stream(Engine&, const Args&);   // `snr`, `agc`, `lnbv`, `nid`, `stats`, `ls`, PEAK `rssits`
 void dvb_fixed_reply(Engine&, const Args&);
-void a3981_reply(Engine&, const Args&);   // `sm`, `ss`, `cm`, `reset`
+void a3981_reply(Engine&, const Args&);  // `sm`, `ss`, `cm`, `reset`
 void latlon(Engine&, const Args&);
 void peak_switch_test(Engine&, const Args&);  // `ts`
 void peak_stb(Engine&, const Args&);
 void step_engage(Engine&, const Args&);
-void step_reply(Engine&, const Args&);    // STEP `p`, `pid`
+void step_reply(Engine&, const Args&);   // STEP `p`, `pid`
 void hazard_only(Engine&, const Args&);  // `def`, EEPROM `inv`: counted, otherwise no effect
 void eeprom_read(Engine&, const Args&);
 void adc_board_id(Engine&, const Args&);

@@ -11,95 +11,103 @@
 
 namespace birdcage::sim {
 
-NvsEntry* NvsTable::find(int index)
-{
+NvsEntry* NvsTable::find(int index) {
     for (auto& entry : entries_)
-        if (entry.index == index) return &entry;
+        if (entry.index == index)
+            return &entry;
     return nullptr;
 }
 
-const NvsEntry* NvsTable::find(int index) const
-{
+const NvsEntry* NvsTable::find(int index) const {
     for (const auto& entry : entries_)
-        if (entry.index == index) return &entry;
+        if (entry.index == index)
+            return &entry;
     return nullptr;
 }
 
-const NvsEntry* NvsTable::next_after(int index) const
-{
+const NvsEntry* NvsTable::next_after(int index) const {
     for (const auto& entry : entries_)
-        if (entry.index > index) return &entry;
+        if (entry.index > index)
+            return &entry;
     return entries_.empty() ? nullptr : &entries_.front();
 }
 
-void NvsTable::load_saved()
-{
-    for (auto& entry : entries_) entry.current = entry.saved;
+void NvsTable::load_saved() {
+    for (auto& entry : entries_)
+        entry.current = entry.saved;
 }
 
-void NvsTable::save_all()
-{
-    for (auto& entry : entries_) entry.saved = entry.current;
+void NvsTable::save_all() {
+    for (auto& entry : entries_)
+        entry.saved = entry.current;
 }
 
-std::string NvsTable::format_value(const NvsEntry& entry, double value)
-{
+std::string NvsTable::format_value(const NvsEntry& entry, double value) {
     char text[48];
     switch (entry.kind) {
-    case NvsEntry::Kind::boolean: return value != 0.0 ? "TRUE" : "FALSE";
-    case NvsEntry::Kind::integer: std::snprintf(text, sizeof text, "%ld", std::lround(value)); break;
-    case NvsEntry::Kind::signed_integer: std::snprintf(text, sizeof text, "%+ld", std::lround(value)); break;
-    case NvsEntry::Kind::hex:
-        std::snprintf(text, sizeof text, "0x%08lx", static_cast<unsigned long>(std::lround(value)));
-        break;
-    case NvsEntry::Kind::real: std::snprintf(text, sizeof text, "%.2f", value); break;
-    case NvsEntry::Kind::real_mph: std::snprintf(text, sizeof text, "%.2f MPH", value); break;
+        case NvsEntry::Kind::boolean:
+            return value != 0.0 ? "TRUE" : "FALSE";
+        case NvsEntry::Kind::integer:
+            std::snprintf(text, sizeof text, "%ld", std::lround(value));
+            break;
+        case NvsEntry::Kind::signed_integer:
+            std::snprintf(text, sizeof text, "%+ld", std::lround(value));
+            break;
+        case NvsEntry::Kind::hex:
+            std::snprintf(text, sizeof text, "0x%08lx", static_cast<unsigned long>(std::lround(value)));
+            break;
+        case NvsEntry::Kind::real:
+            std::snprintf(text, sizeof text, "%.2f", value);
+            break;
+        case NvsEntry::Kind::real_mph:
+            std::snprintf(text, sizeof text, "%.2f MPH", value);
+            break;
     }
     return text;
 }
 
-std::optional<double> NvsTable::parse_value(const NvsEntry& entry, std::string_view text)
-{
+std::optional<double> NvsTable::parse_value(const NvsEntry& entry, std::string_view text) {
     const std::string owned(text);
     if (entry.kind == NvsEntry::Kind::boolean) {
-        if (owned == "TRUE" || owned == "true") return 1.0;
-        if (owned == "FALSE" || owned == "false") return 0.0;
+        if (owned == "TRUE" || owned == "true")
+            return 1.0;
+        if (owned == "FALSE" || owned == "false")
+            return 0.0;
     }
     char* end = nullptr;
     const bool is_hex = owned.size() > 2 && owned[0] == '0' && (owned[1] == 'x' || owned[1] == 'X');
-    const double value = is_hex ? static_cast<double>(std::strtoul(owned.c_str(), &end, 16))
-                                : std::strtod(owned.c_str(), &end);
-    if (owned.empty() || end == nullptr || *end != '\0') return std::nullopt;
-    if (entry.kind == NvsEntry::Kind::boolean) return value != 0.0 ? 1.0 : 0.0;
+    const double value =
+        is_hex ? static_cast<double>(std::strtoul(owned.c_str(), &end, 16)) : std::strtod(owned.c_str(), &end);
+    if (owned.empty() || end == nullptr || *end != '\0')
+        return std::nullopt;
+    if (entry.kind == NvsEntry::Kind::boolean)
+        return value != 0.0 ? 1.0 : 0.0;
     return value;
 }
 
-std::string NvsTable::header()
-{
+std::string NvsTable::header() {
     return "Num  Name                         Current      Saved      Default";
 }
 
-std::string NvsTable::rule()
-{
+std::string NvsTable::rule() {
     return "---- --------------------------  ----------  ----------  ----------";
 }
 
 // The columns end at fixed places: a name longer than its 26 characters eats into the first
 // value's field instead of pushing the row right (the captured dump's row 71, §6.3 / Appendix A).
-std::string NvsTable::row(const NvsEntry& entry)
-{
+std::string NvsTable::row(const NvsEntry& entry) {
     constexpr int first_value_end = 5 + 26 + 12;
     char text[160];
     const int name_end = std::snprintf(text, sizeof text, "%3d) %-26s", entry.index, entry.name.c_str());
     const std::string current = format_value(entry, entry.current);
     const int width = std::max(first_value_end - name_end, static_cast<int>(current.size()) + 1);
     std::snprintf(text + name_end, sizeof text - static_cast<std::size_t>(name_end), "%*s%12s%12s", width,
-                  current.c_str(), format_value(entry, entry.saved).c_str(), format_value(entry, entry.default_value).c_str());
+                  current.c_str(), format_value(entry, entry.saved).c_str(),
+                  format_value(entry, entry.default_value).c_str());
     return text;
 }
 
-std::string NvsTable::edit_row(const NvsEntry& entry, double old_value)
-{
+std::string NvsTable::edit_row(const NvsEntry& entry, double old_value) {
     char text[160];
     std::snprintf(text, sizeof text, "%3d) %-26s%11s .%11s", entry.index, entry.name.c_str(),
                   format_value(entry, old_value).c_str(), format_value(entry, entry.current).c_str());
@@ -108,8 +116,7 @@ std::string NvsTable::edit_row(const NvsEntry& entry, double old_value)
 
 namespace {
 
-NvsEntry same(int index, const char* name, NvsEntry::Kind kind, double value)
-{
+NvsEntry same(int index, const char* name, NvsEntry::Kind kind, double value) {
     return {index, name, kind, value, value, value};
 }
 
@@ -117,8 +124,7 @@ NvsEntry same(int index, const char* name, NvsEntry::Kind kind, double value)
 
 // Appendix A: the captured dump of a 02.02.48 unit (sim/transcripts/captured/), which
 // agrees with the predecessor's demo table except for the names of 75-77.
-std::vector<NvsEntry> g2_nvs_table()
-{
+std::vector<NvsEntry> g2_nvs_table() {
     using K = NvsEntry::Kind;
     return {
         same(0, "Log ID's", K::hex, 7),
@@ -204,23 +210,20 @@ std::vector<NvsEntry> g2_nvs_table()
 
 // §3.3: only the indices are known (125 search minimum EL, 127 safe minimum EL); names and
 // the 15 deg default (§3.4 "doesn't like to go below 15") are INVENTED.
-std::vector<NvsEntry> travler_nvs_table()
-{
+std::vector<NvsEntry> travler_nvs_table() {
     using K = NvsEntry::Kind;
     return {same(125, "Search Minimum Elevation", K::real, 15), same(127, "Safe Minimum Elevation", K::real, 15)};
 }
 
 // §5.3/§5.4: the Pro's indices are unknown (§14 Pro.4); the Trav'ler's are reused with the
 // Pro's 12 deg floor. INVENTED.
-std::vector<NvsEntry> travler_pro_nvs_table()
-{
+std::vector<NvsEntry> travler_pro_nvs_table() {
     using K = NvsEntry::Kind;
     return {same(125, "Search Minimum Elevation", K::real, 12), same(127, "Safe Minimum Elevation", K::real, 12)};
 }
 
 // §8.3: NVS 102 = maximum elevation, default 73. Name INVENTED (taken from the G2's row).
-std::vector<NvsEntry> carryout2003_nvs_table()
-{
+std::vector<NvsEntry> carryout2003_nvs_table() {
     using K = NvsEntry::Kind;
     return {same(102, "Maximum Elevation Angle", K::real, 73)};
 }

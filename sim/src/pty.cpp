@@ -3,48 +3,57 @@
 
 #include "pty.hpp"
 
-#include <cerrno>
-#include <cstdlib>
 #include <fcntl.h>
-#include <system_error>
 #include <termios.h>
 #include <unistd.h>
+#include <cerrno>
+#include <cstdlib>
+#include <system_error>
 
 namespace birdcage::sim {
 namespace {
 
-[[noreturn]] void fail(const char* what) { throw std::system_error(errno, std::generic_category(), what); }
+[[noreturn]] void fail(const char* what) {
+    throw std::system_error(errno, std::generic_category(), what);
+}
 
 }  // namespace
 
-Pty::Pty()
-{
+Pty::Pty() {
     // Close-on-exec: a program the tests start (rotctld, the probe) must not hold the dish's side.
     master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
-    if (master_ < 0) fail("posix_openpt");
+    if (master_ < 0)
+        fail("posix_openpt");
     try {
-        if (::grantpt(master_) != 0) fail("grantpt");
-        if (::unlockpt(master_) != 0) fail("unlockpt");
+        if (::grantpt(master_) != 0)
+            fail("grantpt");
+        if (::unlockpt(master_) != 0)
+            fail("unlockpt");
         char name[128];
-        if (::ptsname_r(master_, name, sizeof name) != 0) fail("ptsname_r");
+        if (::ptsname_r(master_, name, sizeof name) != 0)
+            fail("ptsname_r");
         slave_path_ = name;
         guard_ = ::open(name, O_RDWR | O_NOCTTY | O_CLOEXEC);
-        if (guard_ < 0) fail("open pty slave");
+        if (guard_ < 0)
+            fail("open pty slave");
         termios attributes{};
-        if (::tcgetattr(guard_, &attributes) != 0) fail("tcgetattr");
+        if (::tcgetattr(guard_, &attributes) != 0)
+            fail("tcgetattr");
         ::cfmakeraw(&attributes);  // no echo or CR/LF translation by the tty layer itself
-        if (::tcsetattr(guard_, TCSANOW, &attributes) != 0) fail("tcsetattr");
+        if (::tcsetattr(guard_, TCSANOW, &attributes) != 0)
+            fail("tcsetattr");
         const int flags = ::fcntl(master_, F_GETFL);
-        if (flags < 0 || ::fcntl(master_, F_SETFL, flags | O_NONBLOCK) != 0) fail("fcntl O_NONBLOCK");
+        if (flags < 0 || ::fcntl(master_, F_SETFL, flags | O_NONBLOCK) != 0)
+            fail("fcntl O_NONBLOCK");
     } catch (...) {
-        if (guard_ >= 0) ::close(guard_);
+        if (guard_ >= 0)
+            ::close(guard_);
         ::close(master_);
         throw;
     }
 }
 
-Pty::~Pty()
-{
+Pty::~Pty() {
     ::close(guard_);
     ::close(master_);
 }

@@ -10,7 +10,7 @@ namespace birdcage::sim {
 
 class Pty {
 public:
-    Pty();   // throws std::system_error
+    Pty();  // throws std::system_error
     ~Pty();
     Pty(const Pty&) = delete;
     Pty& operator=(const Pty&) = delete;

@@ -14,42 +14,45 @@ constexpr std::size_t context_chunks = 3;
 }  // namespace
 
 Replayer::Replayer(Transcript transcript, ReplayMode mode, std::string source)
-    : transcript_(std::move(transcript)), mode_(mode), source_(std::move(source))
-{
+    : transcript_(std::move(transcript)), mode_(mode), source_(std::move(source)) {
     // Until the recording shows a prompt, a poke after the dish's boot output is answered with the
     // first prompt it shows at all: the root it comes up in.
     for (const TranscriptEntry& entry : transcript_.entries) {
-        if (entry.direction != Direction::dish_to_host) continue;
+        if (entry.direction != Direction::dish_to_host)
+            continue;
         note_prompt(entry.bytes);
-        if (!last_prompt_.empty()) break;
+        if (!last_prompt_.empty())
+            break;
     }
     pump();
 }
 
-std::string Replayer::receive(std::string_view bytes)
-{
-    if (fell_back_) return std::string(bytes);
-    if (failure_) return {};
+std::string Replayer::receive(std::string_view bytes) {
+    if (fell_back_)
+        return std::string(bytes);
+    if (failure_)
+        return {};
     input_.append(bytes);
     pump();
     return std::exchange(fallback_bytes_, {});
 }
 
-void Replayer::advance(double dt)
-{
+void Replayer::advance(double dt) {
     now_ += dt;
     pump();
 }
 
-std::string Replayer::take_output() { return std::exchange(output_, {}); }
+std::string Replayer::take_output() {
+    return std::exchange(output_, {});
+}
 
-void Replayer::pump()
-{
+void Replayer::pump() {
     while (replaying() && next_ < transcript_.entries.size()) {
         const TranscriptEntry& entry = transcript_.entries[next_];
         if (entry.direction == Direction::dish_to_host) {
             const double due = last_event_ + entry.delay_ms / 1000.0;
-            if (now_ < due) return;
+            if (now_ < due)
+                return;
             output_ += entry.bytes;
             note_prompt(entry.bytes);
             last_event_ = due;
@@ -63,18 +66,21 @@ void Replayer::pump()
             ++matched_;
         }
         if (matched_ < entry.bytes.size() && used < input_.size()) {
-            if (matched_ == 0 && answer_poke()) continue;
+            if (matched_ == 0 && answer_poke())
+                continue;
             diverge(entry.bytes.substr(0, matched_) + input_, "");
             return;
         }
         input_.erase(0, used);
-        if (matched_ < entry.bytes.size()) return;  // wait for the rest of the command
+        if (matched_ < entry.bytes.size())
+            return;  // wait for the rest of the command
         matched_ = 0;
         last_event_ = now_;
         ++next_;
     }
     while (replaying() && next_ == transcript_.entries.size() && !input_.empty())
-        if (!answer_poke()) diverge(std::exchange(input_, {}), "the transcript has ended");
+        if (!answer_poke())
+            diverge(std::exchange(input_, {}), "the transcript has ended");
 }
 
 // A client that does not trust a single line pokes the console (a bare line ending, or `?` where
@@ -85,15 +91,16 @@ void Replayer::pump()
 // the recording goes on. While recorded dish output is still due (the dish is busy, e.g. booting)
 // a poke gets no answer: a booting dish ignores its input. `?` is never answered from nothing; it
 // is ignored the same way.
-bool Replayer::answer_poke()
-{
+bool Replayer::answer_poke() {
     static constexpr std::string_view pokes[] = {"\r\n", "\r", "\n", "?\r\n", "?\r", "?\n"};
     for (std::string_view poke : pokes) {
-        if (input_.compare(0, poke.size(), poke) != 0) continue;
+        if (input_.compare(0, poke.size(), poke) != 0)
+            continue;
         input_.erase(0, poke.size());
-        const bool busy = next_ < transcript_.entries.size() &&
-                          transcript_.entries[next_].direction == Direction::dish_to_host;
-        if (poke.front() != '?' && !busy && !last_prompt_.empty()) output_ += "\r\n" + last_prompt_;
+        const bool busy =
+            next_ < transcript_.entries.size() && transcript_.entries[next_].direction == Direction::dish_to_host;
+        if (poke.front() != '?' && !busy && !last_prompt_.empty())
+            output_ += "\r\n" + last_prompt_;
         ++pokes_answered_;
         return true;
     }
@@ -101,15 +108,14 @@ bool Replayer::answer_poke()
 }
 
 // The prompt a recorded dish chunk ends with (`WORD>`, after its last line ending), if any.
-void Replayer::note_prompt(std::string_view bytes)
-{
+void Replayer::note_prompt(std::string_view bytes) {
     const std::size_t line_start = bytes.find_last_of("\r\n");
     const std::string_view tail = bytes.substr(line_start == std::string_view::npos ? 0 : line_start + 1);
-    if (!tail.empty() && tail.back() == '>' && tail.find_first_of(" <") == std::string_view::npos) last_prompt_ = tail;
+    if (!tail.empty() && tail.back() == '>' && tail.find_first_of(" <") == std::string_view::npos)
+        last_prompt_ = tail;
 }
 
-void Replayer::diverge(std::string received, const std::string& why)
-{
+void Replayer::diverge(std::string received, const std::string& why) {
     input_.clear();
     matched_ = 0;
     if (mode_ == ReplayMode::lenient) {

@@ -24,8 +24,8 @@ public:
     // Bytes from the client. While replaying they are matched against the transcript; returns the
     // bytes the model console must handle instead (non-empty only once lenient mode fell back).
     std::string receive(std::string_view bytes);
-    void advance(double dt);     // simulated seconds
-    std::string take_output();   // recorded dish bytes now due
+    void advance(double dt);    // simulated seconds
+    std::string take_output();  // recorded dish bytes now due
 
     // False once the replay has failed (strict) or handed over to the model console (lenient).
     bool replaying() const { return !failure_ && !fell_back_; }
@@ -45,15 +45,15 @@ private:
     Transcript transcript_;
     ReplayMode mode_;
     std::string source_;
-    std::size_t next_ = 0;        // the entry being waited for
-    std::size_t matched_ = 0;     // bytes of a host entry matched so far
-    std::string input_;           // client bytes not yet matched
+    std::size_t next_ = 0;     // the entry being waited for
+    std::size_t matched_ = 0;  // bytes of a host entry matched so far
+    std::string input_;        // client bytes not yet matched
     std::string output_;
     double now_ = 0.0;
-    double last_event_ = 0.0;     // when the previous chunk was sent or completely received
+    double last_event_ = 0.0;  // when the previous chunk was sent or completely received
     std::optional<std::string> failure_;
     bool fell_back_ = false;
-    std::string last_prompt_;      // the prompt the recorded dish output last ended with
+    std::string last_prompt_;  // the prompt the recorded dish output last ended with
     std::size_t pokes_answered_ = 0;
     std::string fallback_bytes_;
 };

@@ -44,14 +44,13 @@ struct Bump {
 // floor to scan_data.txt (5371 points, rms residual 8.6 counts). Satellites the fit gave no power
 // are absent (amplitude 0 at 13 V).
 constexpr Bump fitted_13v[] = {
-    {124.12, 26.21, 27.6}, {124.26, 26.30, 49.2}, {124.41, 26.40, 52.7}, {135.69, 33.44, 88.4},
-    {140.22, 35.71, 79.8}, {145.15, 37.73, 13.3}, {146.83, 38.37, 18.0}, {150.57, 40.01, 10.5},
-    {159.26, 41.90, 3.3},  {159.32, 41.85, 14.0}, {171.56, 43.61, 83.3}, {176.95, 43.95, 73.7},
-    {177.07, 43.91, 9.1},  {188.22, 43.61, 44.8}, {188.59, 43.58, 49.2}, {201.61, 41.71, 58.7},
-    {201.85, 41.66, 45.4}, {204.63, 41.00, 18.5}, {212.71, 38.53, 18.7}, {215.27, 37.59, 10.9},
+    {124.12, 26.21, 27.6}, {124.26, 26.30, 49.2}, {124.41, 26.40, 52.7}, {135.69, 33.44, 88.4}, {140.22, 35.71, 79.8},
+    {145.15, 37.73, 13.3}, {146.83, 38.37, 18.0}, {150.57, 40.01, 10.5}, {159.26, 41.90, 3.3},  {159.32, 41.85, 14.0},
+    {171.56, 43.61, 83.3}, {176.95, 43.95, 73.7}, {177.07, 43.91, 9.1},  {188.22, 43.61, 44.8}, {188.59, 43.58, 49.2},
+    {201.61, 41.71, 58.7}, {201.85, 41.66, 45.4}, {204.63, 41.00, 18.5}, {212.71, 38.53, 18.7}, {215.27, 37.59, 10.9},
     {224.66, 30.18, 14.7}, {237.42, 25.10, 4.7},
 };
-constexpr double scan_floor = 401.0;   // the fitted floor of scan_data.txt
+constexpr double scan_floor = 401.0;  // the fitted floor of scan_data.txt
 constexpr double beam_sigma_deg = 2.9;
 constexpr double strong_13v = 30.0;
 constexpr double cross_polar_fraction = 0.2;
@@ -60,8 +59,8 @@ constexpr double other_polarisation_amplitude = 60.0;
 constexpr double sample_noise = 8.0;
 
 struct Grid {
-    std::vector<double> az, el;   // ascending axes
-    std::vector<double> value;    // az-major: value[i * el.size() + j]
+    std::vector<double> az, el;  // ascending axes
+    std::vector<double> value;   // az-major: value[i * el.size() + j]
 
     double at(std::size_t i, std::size_t j) const { return value[i * el.size() + j]; }
     bool contains(double a, double e) const {
@@ -70,7 +69,8 @@ struct Grid {
     double interpolate(double a, double e) const {
         const auto cell = [](const std::vector<double>& axis, double x) {
             const auto upper = std::upper_bound(axis.begin(), axis.end(), x);
-            const std::size_t hi = std::clamp<std::size_t>(static_cast<std::size_t>(upper - axis.begin()), 1, axis.size() - 1);
+            const std::size_t hi =
+                std::clamp<std::size_t>(static_cast<std::size_t>(upper - axis.begin()), 1, axis.size() - 1);
             const double t = (x - axis[hi - 1]) / (axis[hi] - axis[hi - 1]);
             return std::pair{hi - 1, std::clamp(t, 0.0, 1.0)};
         };
@@ -91,14 +91,17 @@ Grid parse_grid() {
     }
     Grid grid;
     for (const auto& [key, value] : points) {
-        if (grid.az.empty() || grid.az.back() != key.first) grid.az.push_back(key.first);
-        if (std::find(grid.el.begin(), grid.el.end(), key.second) == grid.el.end()) grid.el.push_back(key.second);
+        if (grid.az.empty() || grid.az.back() != key.first)
+            grid.az.push_back(key.first);
+        if (std::find(grid.el.begin(), grid.el.end(), key.second) == grid.el.end())
+            grid.el.push_back(key.second);
     }
     std::sort(grid.el.begin(), grid.el.end());
     if (grid.az.size() < 2 || grid.el.size() < 2 || points.size() != grid.az.size() * grid.el.size()) {
         throw std::runtime_error("sky model: the embedded scan is not a complete grid");
     }
-    for (const auto& entry : points) grid.value.push_back(entry.second);   // map order is az-major
+    for (const auto& entry : points)
+        grid.value.push_back(entry.second);  // map order is az-major
     return grid;
 }
 
@@ -112,16 +115,19 @@ std::vector<Satellite> parse_catalogue() {
     std::istringstream in(sky_data::catalogue);
     std::string line;
     while (std::getline(in, line)) {
-        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (!line.empty() && line.back() == '\r')
+            line.pop_back();
         const auto second = line.rfind(',');
         const auto first = second == std::string::npos ? std::string::npos : line.rfind(',', second - 1);
-        if (first == std::string::npos) continue;
+        if (first == std::string::npos)
+            continue;
         Satellite s;
         s.name = line.substr(0, first);
         s.az = std::stod(line.substr(first + 1, second - first - 1));
         s.el = std::stod(line.substr(second + 1));
         for (const Bump& b : fitted_13v) {
-            if (std::abs(b.az - s.az) < 0.005 && std::abs(b.el - s.el) < 0.005) s.amplitude_13v = b.amplitude;
+            if (std::abs(b.az - s.az) < 0.005 && std::abs(b.el - s.el) < 0.005)
+                s.amplitude_13v = b.amplitude;
         }
         out.push_back(std::move(s));
     }
@@ -149,12 +155,13 @@ const std::vector<Satellite>& SkyModel::satellites() {
     return catalogue;
 }
 
-bool SkyModel::inside_measured_grid(double az, double el) { return measured().contains(az, el); }
+bool SkyModel::inside_measured_grid(double az, double el) {
+    return measured().contains(az, el);
+}
 
 SkyModel::SkyModel(std::uint32_t seed, double floor) : floor_(floor), rng_(seed) {}
 
-double SkyModel::expected_rssi(double az, double el, LnbSupply supply) const
-{
+double SkyModel::expected_rssi(double az, double el, LnbSupply supply) const {
     az = std::fmod(std::fmod(az, 360.0) + 360.0, 360.0);
     if (supply == LnbSupply::odu_13v && measured().contains(az, el)) {
         return measured().interpolate(az, el) - scan_floor + floor_;
@@ -166,8 +173,7 @@ double SkyModel::expected_rssi(double az, double el, LnbSupply supply) const
     return value;
 }
 
-int SkyModel::read(double az, double el, LnbSupply supply)
-{
+int SkyModel::read(double az, double el, LnbSupply supply) {
     std::normal_distribution<double> noise(0.0, sample_noise);
     return static_cast<int>(std::lround(expected_rssi(az, el, supply) + noise(rng_)));
 }

@@ -15,7 +15,9 @@ namespace {
 namespace h = handlers;
 
 // The reconstructed G2 console's MOT `l` and DVB `dis` (Options::unlisted_commands).
-bool unlisted_on(const Options& options) { return options.unlisted_commands; }
+bool unlisted_on(const Options& options) {
+    return options.unlisted_commands;
+}
 
 // ---- Carryout G2, firmware 02.02.48 (§6) ---------------------------------------------------
 // Two consoles (Options::g2_console): the captured one (sim/transcripts/captured/, the
@@ -24,16 +26,23 @@ bool unlisted_on(const Options& options) { return options.unlisted_commands; }
 // MOT> descriptions are the captured listing's, verbatim; the other menus' listings were not
 // captured (their command words were), so their descriptions are INVENTED.
 
-bool captured_only(const Options& options) { return options.g2_console == G2Console::captured; }
-bool reconstructed_only(const Options& options) { return options.g2_console == G2Console::reconstructed; }
-bool reconstructed_unlisted_on(const Options& options) { return reconstructed_only(options) && unlisted_on(options); }
+bool captured_only(const Options& options) {
+    return options.g2_console == G2Console::captured;
+}
+bool reconstructed_only(const Options& options) {
+    return options.g2_console == G2Console::reconstructed;
+}
+bool reconstructed_unlisted_on(const Options& options) {
+    return reconstructed_only(options) && unlisted_on(options);
+}
 
 constexpr Command g2_mot_commands[] = {
     {"a", h::angle, nullptr, "Go to angle [[[motor] [[+|-]angle]]]"},
     {"g", h::go_to, nullptr, "Go to <az> <el>", reconstructed_only},  // not on the captured G2 (§6.3)
-    {"azscan", h::setter, nullptr, "Scan AZ from EL Min-Max Angle [az_rel_angle] [el_rel_angle] [delay]", captured_only},
-    {"azscanwxp", h::setter, nullptr, "Scan AZ from EL Min-Max with all transponders [motor] [span] [resolution] [num_xp]",
+    {"azscan", h::setter, nullptr, "Scan AZ from EL Min-Max Angle [az_rel_angle] [el_rel_angle] [delay]",
      captured_only},
+    {"azscanwxp", h::setter, nullptr,
+     "Scan AZ from EL Min-Max with all transponders [motor] [span] [resolution] [num_xp]", captured_only},
     {"e", h::silent, nullptr, "Engage motors"},
     {"ela2s", h::el_angle_to_steps, nullptr, "Elevation Law Test - Angle to Steps [angle]", captured_only},
     {"elminmaxhome", h::el_min_max_home, nullptr, "Display Min, Max & Home Elevation Angles"},
@@ -112,10 +121,8 @@ constexpr Command g2_eeprom_commands[] = {
     {"def", h::hazard_only, nullptr, "Defaults"},
 };
 constexpr Command g2_adc_commands[] = {
-    {"bdid", h::adc_board_id, nullptr, "Board ID"},
-    {"bdrevid", h::adc_board_rev, nullptr, "Board revision"},
-    {"rssi", h::adc_rssi, nullptr, "Raw RSSI"},
-    {"m", h::silent, nullptr, "Monitor RSSI", captured_only},
+    {"bdid", h::adc_board_id, nullptr, "Board ID"}, {"bdrevid", h::adc_board_rev, nullptr, "Board revision"},
+    {"rssi", h::adc_rssi, nullptr, "Raw RSSI"},     {"m", h::silent, nullptr, "Monitor RSSI", captured_only},
     {"scan", h::adc_scan, nullptr, "AZ scan"},
 };
 constexpr Command g2_a3981_commands[] = {
@@ -188,8 +195,7 @@ constexpr Command g2_root_commands[] = {
 constexpr Menu g2_root{"TRK", g2_root_commands, nullptr, true};
 
 // Homing as a boot step sequence: the captured `h *` output around the moves (§6.3), EL first.
-void append_g2_homing(std::vector<BootStep>& steps, const Engine& engine)
-{
+void append_g2_homing(std::vector<BootStep>& steps, const Engine& engine) {
     using K = BootStep::Kind;
     steps.push_back({K::line, "MotorHome:1 timeout:2000"});
     steps.push_back({K::line, "Home TwelInch El   Velocity: 4500"});
@@ -213,8 +219,7 @@ void append_g2_homing(std::vector<BootStep>& steps, const Engine& engine)
 // `Boot Complete`, an empty line and the location/tuner status lines; `TRK>` about 10 s after
 // power-on. Where the 10 s go is not captured: spent before `GPS Not Found` (a GPS search timing
 // out, INF).
-std::vector<BootStep> g2_captured_boot(const Engine& engine, bool homes)
-{
+std::vector<BootStep> g2_captured_boot(const Engine& engine, bool homes) {
     using K = BootStep::Kind;
     std::vector<BootStep> steps = {
         {K::pause, "", 0, 0.0, 0.05},
@@ -227,25 +232,41 @@ std::vector<BootStep> g2_captured_boot(const Engine& engine, bool homes)
         {K::line, "Version 02.02.48"},
         {K::line, "Copyright 2013 - Winegard Company"},
     };
-    if (homes) append_g2_homing(steps, engine);
+    if (homes)
+        append_g2_homing(steps, engine);
     steps.push_back({K::line, "Boot Complete"});
     steps.push_back({K::ready, ""});
     steps.push_back({K::line, ""});
     steps.push_back({K::pause, "", 0, 0.0, engine.options.late_boot_line_delay});
-    const char* status_lines[] = {
-        "Loc Startup: IDU NOT Present", "app_dipswitch:101", "Primary Update:  10100", "Alternate Update:  11900",
-        "Toggle Ability Update: 0", "Alternate2 Update:      0", "Sat Provider Update: 1", "DVB:  id:0000, lon:101.00E",
-        "Tuner = WIDE", "Signal offset = 80", "Signal baseline angle = 6500", "Signal Re-Peak Pct = 25",
-        "NVS Status: 0  Sleep: 420  Dipswitch: 101", "Sleep: 420  NVS: 420", "NoGpsStartUp: 721", "STATIONARY MODE",
-        "Enabled LNB ODU 18V"};
-    for (const char* line : status_lines) steps.push_back({K::line, line});
+    const char* status_lines[] = {"Loc Startup: IDU NOT Present",
+                                  "app_dipswitch:101",
+                                  "Primary Update:  10100",
+                                  "Alternate Update:  11900",
+                                  "Toggle Ability Update: 0",
+                                  "Alternate2 Update:      0",
+                                  "Sat Provider Update: 1",
+                                  "DVB:  id:0000, lon:101.00E",
+                                  "Tuner = WIDE",
+                                  "Signal offset = 80",
+                                  "Signal baseline angle = 6500",
+                                  "Signal Re-Peak Pct = 25",
+                                  "NVS Status: 0  Sleep: 420  Dipswitch: 101",
+                                  "Sleep: 420  NVS: 420",
+                                  "NoGpsStartUp: 721",
+                                  "STATIONARY MODE",
+                                  "Enabled LNB ODU 18V"};
+    for (const char* line : status_lines)
+        steps.push_back({K::line, line});
     // The rest of the ~10 s (homing moves not counted): the pauses so far, and a boot_line_gap
     // after each line that another line follows (Engine::run_boot).
     double elapsed = 0.0;
     for (std::size_t i = 0; i < steps.size(); ++i) {
-        if (steps[i].kind == K::pause) elapsed += steps[i].seconds;
-        const bool gap_follows = steps[i].kind == K::line && !steps[i].burst && i + 1 < steps.size() && steps[i + 1].kind == K::line;
-        if (gap_follows) elapsed += engine.options.boot_line_gap;
+        if (steps[i].kind == K::pause)
+            elapsed += steps[i].seconds;
+        const bool gap_follows =
+            steps[i].kind == K::line && !steps[i].burst && i + 1 < steps.size() && steps[i + 1].kind == K::line;
+        if (gap_follows)
+            elapsed += engine.options.boot_line_gap;
     }
     steps.push_back({K::pause, "", 0, 0.0, std::max(0.0, engine.options.g2_boot_seconds - elapsed)});
     steps.push_back({K::line, "GPS Not Found"});
@@ -254,8 +275,7 @@ std::vector<BootStep> g2_captured_boot(const Engine& engine, bool homes)
 
 // The reconstruction's boot: §6.2 as the predecessor summarised it (items 6-7 paraphrased in the
 // notes are left out), homing with a one-line report, `Boot Complete`, `Loc Startup: ...`.
-std::vector<BootStep> g2_reconstructed_boot(const Engine& engine, bool homes)
-{
+std::vector<BootStep> g2_reconstructed_boot(const Engine& engine, bool homes) {
     using K = BootStep::Kind;
     std::vector<BootStep> steps = {
         {K::line, "Bootloader v1.01"},
@@ -284,15 +304,15 @@ std::vector<BootStep> g2_reconstructed_boot(const Engine& engine, bool homes)
     return steps;
 }
 
-std::vector<BootStep> g2_boot(const Engine& engine)
-{
+std::vector<BootStep> g2_boot(const Engine& engine) {
     const NvsEntry* tracker_disabled = engine.nvs.find(engine.profile.nvs_disable_tracker_index);
     const bool tracker_runs = tracker_disabled != nullptr && tracker_disabled->current == 0.0;
     const bool captured = engine.options.g2_console == G2Console::captured;
     // The captured boot (tracker disabled) does not home; the predecessor said it does.
     const bool homes = engine.options.g2_boot_homes.value_or(!captured) || tracker_runs;
     std::vector<BootStep> steps = captured ? g2_captured_boot(engine, homes) : g2_reconstructed_boot(engine, homes);
-    if (!engine.options.after_boot_line.empty()) steps.push_back({BootStep::Kind::line, engine.options.after_boot_line});
+    if (!engine.options.after_boot_line.empty())
+        steps.push_back({BootStep::Kind::line, engine.options.after_boot_line});
     return steps;
 }
 
@@ -313,17 +333,15 @@ constexpr Command travler_os_commands[] = {
 };
 constexpr Command ngsearch_commands[] = {{"s", h::ngsearch_stop, nullptr, "Stop search"}};
 
-constexpr Menu travler_mot{"MOT", travler_mot_commands};       // INVENTED prompt name
-constexpr Menu travler_motor{"MOTOR", travler_mot_commands};   // INVENTED
+constexpr Menu travler_mot{"MOT", travler_mot_commands};      // INVENTED prompt name
+constexpr Menu travler_motor{"MOTOR", travler_mot_commands};  // INVENTED
 constexpr Menu travler_nvs{"NVS", travler_nvs_commands, h::nvs_next};
 constexpr Menu travler_os{"OS", travler_os_commands};
-constexpr Menu ngsearch{"NGSEARCH", ngsearch_commands};        // INVENTED, §14 HAL2.05.3
+constexpr Menu ngsearch{"NGSEARCH", ngsearch_commands};  // INVENTED, §14 HAL2.05.3
 
 constexpr Command hal000_root_commands[] = {
-    {"mot", nullptr, &travler_mot, "Motor"},
-    {"nvs", nullptr, &travler_nvs, "Non-volatile storage"},
-    {"os", nullptr, &travler_os, "OS"},
-    {"stow", h::stow, nullptr, "Stow"},
+    {"mot", nullptr, &travler_mot, "Motor"},  {"nvs", nullptr, &travler_nvs, "Non-volatile storage"},
+    {"os", nullptr, &travler_os, "OS"},       {"stow", h::stow, nullptr, "Stow"},
     {"reboot", h::reboot, nullptr, "Reboot"},
 };
 constexpr Menu hal000_root{"TRK", hal000_root_commands, nullptr, true};  // INVENTED prompt name
@@ -343,30 +361,31 @@ constexpr Menu hal205_root{"TRK", hal205_root_commands, nullptr, true};
 constexpr Command pro_idu_commands[] = {{"odu", nullptr, &hal000_root, "Connect to ODU"}};
 constexpr Menu pro_idu_root{"IDU", pro_idu_commands, nullptr, true};  // INVENTED, §14 Pro.2
 
-std::vector<BootStep> travler_boot(const Engine& engine)
-{
+std::vector<BootStep> travler_boot(const Engine& engine) {
     using K = BootStep::Kind;
     // §3.2: calibration, then the marker. What calibration moves is a switch (TravlerBootMoves);
     // the 2 s before it are INVENTED.
     std::vector<BootStep> steps = {{K::pause, "", 0, 0.0, 2.0}};
     switch (engine.options.travler_boot_moves) {
-    case TravlerBootMoves::park:
-        steps.push_back({K::move, "", axis_az, 0.0});
-        steps.push_back({K::move, "", axis_el, 45.0});
-        break;
-    case TravlerBootMoves::home_return:
-        steps.push_back({K::move, "", axis_az, 0.0});
-        steps.push_back({K::move, "", axis_az, engine.motors.axis(axis_az).position()});
-        break;
-    case TravlerBootMoves::none: break;
+        case TravlerBootMoves::park:
+            steps.push_back({K::move, "", axis_az, 0.0});
+            steps.push_back({K::move, "", axis_el, 45.0});
+            break;
+        case TravlerBootMoves::home_return:
+            steps.push_back({K::move, "", axis_az, 0.0});
+            steps.push_back({K::move, "", axis_az, engine.motors.axis(axis_az).position()});
+            break;
+        case TravlerBootMoves::none:
+            break;
     }
     if (engine.profile.variant == Variant::travler_hal000) {
         steps.push_back({K::line, "NoGPS"});
     } else if (engine.profile.variant == Variant::travler_hal205) {
-        steps.push_back({K::line, engine.options.hal205_boot_marker == BootMarker::no_gps ? "NoGPS" : "No LNB Voltage"});
+        steps.push_back(
+            {K::line, engine.options.hal205_boot_marker == BootMarker::no_gps ? "NoGPS" : "No LNB Voltage"});
     }
-    if (!engine.options.after_boot_line.empty() && (engine.profile.variant == Variant::travler_hal000 ||
-                                                     engine.profile.variant == Variant::travler_hal205)) {
+    if (!engine.options.after_boot_line.empty() &&
+        (engine.profile.variant == Variant::travler_hal000 || engine.profile.variant == Variant::travler_hal205)) {
         steps.push_back({K::line, engine.options.after_boot_line});
     }
     return steps;
@@ -389,8 +408,7 @@ constexpr Command carryout_root_commands[] = {
 };
 constexpr Menu carryout_root{"TRK", carryout_root_commands, nullptr, true};
 
-std::vector<BootStep> carryout_boot(const Engine&)
-{
+std::vector<BootStep> carryout_boot(const Engine&) {
     using K = BootStep::Kind;
     // §8.2: stall-based calibration with no console output ("blank screen", §8.1). INVENTED moves.
     return {
@@ -415,70 +433,207 @@ constexpr AxisParams carryout_az{10.0, 20.0, 0.0, 360.0, 0};
 constexpr AxisParams carryout_el{10.0, 20.0, 20.0, 90.0, 0};
 
 const VariantProfile profiles[] = {
-    {Variant::travler_hal000, "hal000", 57600, &hal000_root, PositionFormat::travler, false, false, false, false,
-     false, false, SearchStop::os_kill, false, travler_az, travler_el, travler_skew, 15.0, 90.0, no_stall, 0.0, 0.0,
-     0.0, 127, -1, -1, 0, travler_nvs_table, travler_boot, true},
-    {Variant::travler_hal205, "hal205", 57600, &hal205_root, PositionFormat::travler, false, false, false, false,
-     false, false, SearchStop::ngsearch_stop, false, travler_az, travler_el, travler_skew, 15.0, 90.0, no_stall, 0.0,
-     0.0, 0.0, 127, -1, -1, 0, travler_nvs_table, travler_boot, true},
-    {Variant::travler_pro, "pro", 57600, &pro_idu_root, PositionFormat::travler, false, false, false, false, false,
-     false, SearchStop::os_kill, false, travler_az, travler_el, travler_skew, 12.0, 90.0, 75.0, 0.0, 0.0, 0.0, 127,
-     -1, -1, 10, travler_pro_nvs_table, travler_boot, true},
-    {Variant::carryout2003, "carryout2003", 57600, &carryout_root, PositionFormat::none, false, false, false, true,
-     false, false, SearchStop::runs_out, false, carryout_az, carryout_el, unused_axis, 22.0, 73.0, no_stall, 22.0,
-     0.0, 0.0, -1, 102, -1, 0, carryout2003_nvs_table, carryout_boot, false},
-    {Variant::carryout_g2, "g2", 115200, &g2_root, PositionFormat::g2, true, true, true, false, true, true,
-     SearchStop::nvs_disable_tracker, true, g2_az, g2_el, unused_axis, 18.0, 65.0, no_stall, 18.0, 0.0, 65.0, 101,
-     102, 20, 0, g2_nvs_table, g2_boot, true},
+    {Variant::travler_hal000,
+     "hal000",
+     57600,
+     &hal000_root,
+     PositionFormat::travler,
+     false,
+     false,
+     false,
+     false,
+     false,
+     false,
+     SearchStop::os_kill,
+     false,
+     travler_az,
+     travler_el,
+     travler_skew,
+     15.0,
+     90.0,
+     no_stall,
+     0.0,
+     0.0,
+     0.0,
+     127,
+     -1,
+     -1,
+     0,
+     travler_nvs_table,
+     travler_boot,
+     true},
+    {Variant::travler_hal205,
+     "hal205",
+     57600,
+     &hal205_root,
+     PositionFormat::travler,
+     false,
+     false,
+     false,
+     false,
+     false,
+     false,
+     SearchStop::ngsearch_stop,
+     false,
+     travler_az,
+     travler_el,
+     travler_skew,
+     15.0,
+     90.0,
+     no_stall,
+     0.0,
+     0.0,
+     0.0,
+     127,
+     -1,
+     -1,
+     0,
+     travler_nvs_table,
+     travler_boot,
+     true},
+    {Variant::travler_pro,
+     "pro",
+     57600,
+     &pro_idu_root,
+     PositionFormat::travler,
+     false,
+     false,
+     false,
+     false,
+     false,
+     false,
+     SearchStop::os_kill,
+     false,
+     travler_az,
+     travler_el,
+     travler_skew,
+     12.0,
+     90.0,
+     75.0,
+     0.0,
+     0.0,
+     0.0,
+     127,
+     -1,
+     -1,
+     10,
+     travler_pro_nvs_table,
+     travler_boot,
+     true},
+    {Variant::carryout2003,
+     "carryout2003",
+     57600,
+     &carryout_root,
+     PositionFormat::none,
+     false,
+     false,
+     false,
+     true,
+     false,
+     false,
+     SearchStop::runs_out,
+     false,
+     carryout_az,
+     carryout_el,
+     unused_axis,
+     22.0,
+     73.0,
+     no_stall,
+     22.0,
+     0.0,
+     0.0,
+     -1,
+     102,
+     -1,
+     0,
+     carryout2003_nvs_table,
+     carryout_boot,
+     false},
+    {Variant::carryout_g2,
+     "g2",
+     115200,
+     &g2_root,
+     PositionFormat::g2,
+     true,
+     true,
+     true,
+     false,
+     true,
+     true,
+     SearchStop::nvs_disable_tracker,
+     true,
+     g2_az,
+     g2_el,
+     unused_axis,
+     18.0,
+     65.0,
+     no_stall,
+     18.0,
+     0.0,
+     65.0,
+     101,
+     102,
+     20,
+     0,
+     g2_nvs_table,
+     g2_boot,
+     true},
 };
 
 }  // namespace
 
-const VariantProfile& profile_for(Variant variant)
-{
+const VariantProfile& profile_for(Variant variant) {
     for (const VariantProfile& profile : profiles)
-        if (profile.variant == variant) return profile;
+        if (profile.variant == variant)
+            return profile;
     return profiles[4];
 }
 
-std::optional<Variant> parse_variant(std::string_view name)
-{
+std::optional<Variant> parse_variant(std::string_view name) {
     for (const VariantProfile& profile : profiles)
-        if (name == profile.name) return profile.variant;
+        if (name == profile.name)
+            return profile.variant;
     return std::nullopt;
 }
 
-const char* variant_name(Variant variant) { return profile_for(variant).name; }
+const char* variant_name(Variant variant) {
+    return profile_for(variant).name;
+}
 
-std::optional<G2Console> parse_g2_console(std::string_view name)
-{
-    if (name == "captured") return G2Console::captured;
-    if (name == "reconstructed") return G2Console::reconstructed;
+std::optional<G2Console> parse_g2_console(std::string_view name) {
+    if (name == "captured")
+        return G2Console::captured;
+    if (name == "reconstructed")
+        return G2Console::reconstructed;
     return std::nullopt;
 }
 
-std::optional<TravlerBootMoves> parse_travler_boot_moves(std::string_view name)
-{
+std::optional<TravlerBootMoves> parse_travler_boot_moves(std::string_view name) {
     for (TravlerBootMoves moves : {TravlerBootMoves::park, TravlerBootMoves::home_return, TravlerBootMoves::none})
-        if (name == travler_boot_moves_name(moves)) return moves;
+        if (name == travler_boot_moves_name(moves))
+            return moves;
     return std::nullopt;
 }
 
-const char* travler_boot_moves_name(TravlerBootMoves moves)
-{
+const char* travler_boot_moves_name(TravlerBootMoves moves) {
     switch (moves) {
-    case TravlerBootMoves::park: return "park";
-    case TravlerBootMoves::home_return: return "home-return";
-    case TravlerBootMoves::none: return "none";
+        case TravlerBootMoves::park:
+            return "park";
+        case TravlerBootMoves::home_return:
+            return "home-return";
+        case TravlerBootMoves::none:
+            return "none";
     }
     return "park";
 }
 
-std::optional<AzMapping> parse_az_mapping(std::string_view name)
-{
-    if (name == "nearest") return AzMapping::nearest;
-    if (name == "literal") return AzMapping::literal;
-    if (name == "wrap_manager") return AzMapping::wrap_manager;
+std::optional<AzMapping> parse_az_mapping(std::string_view name) {
+    if (name == "nearest")
+        return AzMapping::nearest;
+    if (name == "literal")
+        return AzMapping::literal;
+    if (name == "wrap_manager")
+        return AzMapping::wrap_manager;
     return std::nullopt;
 }
 

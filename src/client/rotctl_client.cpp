@@ -27,12 +27,13 @@ milliseconds Backoff::next() {
     return now;
 }
 
-Client::Client(std::string host, int port, Options options)
-    : host_(std::move(host)), port_(port), options_(options) {
+Client::Client(std::string host, int port, Options options) : host_(std::move(host)), port_(port), options_(options) {
     address_ = (host_.find(':') != std::string::npos ? "[" + host_ + "]" : host_) + ":" + std::to_string(port_);
 }
 
-Client::~Client() { disconnect(); }
+Client::~Client() {
+    disconnect();
+}
 
 bool Client::connect(std::string* why) {
     std::string ignored;
@@ -253,9 +254,15 @@ int Client::set_position(double az, double el) {
     return ask(command).code;
 }
 
-int Client::stop() { return ask("S").code; }
-int Client::park() { return ask("K").code; }
-int Client::reset(int what) { return ask("R " + std::to_string(what)).code; }
+int Client::stop() {
+    return ask("S").code;
+}
+int Client::park() {
+    return ask("K").code;
+}
+int Client::reset(int what) {
+    return ask("R " + std::to_string(what)).code;
+}
 
 int Client::ask_text(const std::string& command, std::string& text) {
     const Reply r = ask(command, Shape::values(1));
@@ -266,8 +273,12 @@ int Client::ask_text(const std::string& command, std::string& text) {
     return r.code;
 }
 
-int Client::get_status(std::string& flags) { return ask_text("s", flags); }
-int Client::get_info(std::string& info) { return ask_text("_", info); }
+int Client::get_status(std::string& flags) {
+    return ask_text("s", flags);
+}
+int Client::get_info(std::string& info) {
+    return ask_text("_", info);
+}
 
 int Client::get_limits(Limits& limits) {
     const Reply r = ask_plain("\\dump_state", Shape::until_done());
@@ -319,4 +330,4 @@ int Client::set_level(const std::string& name, double value) {
     return ask("V " + name + " " + number).code;
 }
 
-} // namespace birdcage::rotctl
+}  // namespace birdcage::rotctl

@@ -30,7 +30,7 @@ namespace level {
 inline constexpr const char* rssi = "RSSI";
 inline constexpr const char* rssi_samples = "RSSI_SAMPLES";
 inline constexpr const char* lnb = "LNB";
-} // namespace level
+}  // namespace level
 
 struct Options {
     Protocol protocol = Protocol::extended;
@@ -90,34 +90,34 @@ public:
     std::string read_lines(int lines, std::chrono::milliseconds timeout);
 
     // The commands, each returning 0 or -RIG_E*.
-    int get_position(double& az, double& el);                   // p
-    int set_position(double az, double el);                      // P (%.2f, as Gpredict sends)
-    int stop();                                                  // S
-    int park();                                                  // K
-    int reset(int what = 1);                                     // R (1: all axes)
-    int get_status(std::string& flags);                          // s: the flags' names, empty when idle
-    int get_info(std::string& info);                             // _
-    int get_limits(Limits& limits);                              // \dump_state
-    int get_caps(Caps& caps);                                    // \dump_caps
-    int ext_levels(std::vector<std::string>& names);             // v ?
-    int get_level(const std::string& name, double& value);      // v NAME
-    int set_level(const std::string& name, double value);       // V NAME value
+    int get_position(double& az, double& el);               // p
+    int set_position(double az, double el);                 // P (%.2f, as Gpredict sends)
+    int stop();                                             // S
+    int park();                                             // K
+    int reset(int what = 1);                                // R (1: all axes)
+    int get_status(std::string& flags);                     // s: the flags' names, empty when idle
+    int get_info(std::string& info);                        // _
+    int get_limits(Limits& limits);                         // \dump_state
+    int get_caps(Caps& caps);                               // \dump_caps
+    int ext_levels(std::vector<std::string>& names);        // v ?
+    int get_level(const std::string& name, double& value);  // v NAME
+    int set_level(const std::string& name, double value);   // V NAME value
 
 private:
     bool open_socket(std::string* why);
     bool fill(std::chrono::steady_clock::time_point deadline);
     Reply exchange(const std::string& line, Protocol protocol, Shape shape);
     Reply lost();
-    int ask_text(const std::string& command, std::string& text);   // one line's value
+    int ask_text(const std::string& command, std::string& text);  // one line's value
 
     std::string host_;
     int port_;
     std::string address_;
     Options options_;
     int fd_ = -1;
-    std::atomic<int> open_fd_{-1};   // for interrupt()
+    std::atomic<int> open_fd_{-1};  // for interrupt()
     std::string pending_;
     bool probing_ = false;
 };
 
-} // namespace birdcage::rotctl
+}  // namespace birdcage::rotctl

@@ -55,7 +55,9 @@ std::string trim(std::string_view s) {
     return std::string(s.substr(first, last - first + 1));
 }
 
-bool starts_with(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
+bool starts_with(std::string_view s, std::string_view prefix) {
+    return s.substr(0, prefix.size()) == prefix;
+}
 
 std::optional<int> rprt(std::string_view line) {
     if (!starts_with(line, "RPRT ")) {
@@ -73,7 +75,7 @@ bool caps_flag(const std::string& line, std::string_view key, bool& flag) {
     return true;
 }
 
-} // namespace
+}  // namespace
 
 std::string error_name(int code) {
     if (const Known* k = known(code)) {
@@ -94,8 +96,8 @@ std::vector<std::string> Reply::values() const {
     for (const std::string& line : lines) {
         // "Key: value", or "Key:" alone when the value is empty ("Status flags:" of an idle rotator).
         const auto colon = line.find(':');
-        const bool keyed = colon != std::string::npos && (colon + 1 == line.size() || line[colon + 1] == ' ' ||
-                                                          line[colon + 1] == '\t');
+        const bool keyed = colon != std::string::npos &&
+                           (colon + 1 == line.size() || line[colon + 1] == ' ' || line[colon + 1] == '\t');
         out.push_back(keyed ? trim(std::string_view(line).substr(colon + 1)) : line);
     }
     return out;
@@ -103,9 +105,12 @@ std::vector<std::string> Reply::values() const {
 
 std::string request(std::string_view command, Protocol protocol) {
     switch (protocol) {
-    case Protocol::plain: return std::string(command) + "\n";
-    case Protocol::extended: return "+" + std::string(command) + "\n";
-    case Protocol::extended_semicolon: return ";" + std::string(command) + "\n";
+        case Protocol::plain:
+            return std::string(command) + "\n";
+        case Protocol::extended:
+            return "+" + std::string(command) + "\n";
+        case Protocol::extended_semicolon:
+            return ";" + std::string(command) + "\n";
     }
     return {};
 }
@@ -224,12 +229,18 @@ Caps parse_dump_caps(const std::vector<std::string>& lines) {
             c.levels.push_back({got, "", ""});
             continue;
         }
-        if (in_levels && !c.levels.empty() && starts_with(got, "Label:")) c.levels.back().label = trim(got.substr(6));
-        if (in_levels && !c.levels.empty() && starts_with(got, "Range:")) c.levels.back().range = trim(got.substr(6));
-        if (in_levels && starts_with(got, "Get parameters:")) in_levels = false;
-        if (starts_with(got, "Mfg name:")) mfg = trim(got.substr(9));
-        if (starts_with(got, "Model name:")) model = trim(got.substr(11));
-        if (starts_with(got, "Backend version:")) c.backend = trim(got.substr(16));
+        if (in_levels && !c.levels.empty() && starts_with(got, "Label:"))
+            c.levels.back().label = trim(got.substr(6));
+        if (in_levels && !c.levels.empty() && starts_with(got, "Range:"))
+            c.levels.back().range = trim(got.substr(6));
+        if (in_levels && starts_with(got, "Get parameters:"))
+            in_levels = false;
+        if (starts_with(got, "Mfg name:"))
+            mfg = trim(got.substr(9));
+        if (starts_with(got, "Model name:"))
+            model = trim(got.substr(11));
+        if (starts_with(got, "Backend version:"))
+            c.backend = trim(got.substr(16));
         caps_flag(got, "Can Park:", c.can_park) || caps_flag(got, "Can Reset:", c.can_reset) ||
             caps_flag(got, "Can get Status:", c.can_status);
         take(got, "Min Azimuth:", range.min_az);
@@ -291,4 +302,4 @@ std::vector<std::string> words(const std::vector<std::string>& lines) {
     return out;
 }
 
-} // namespace birdcage::rotctl
+}  // namespace birdcage::rotctl

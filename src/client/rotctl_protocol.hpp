@@ -16,12 +16,32 @@ namespace birdcage::rotctl {
 
 // Hamlib's error codes as rotctld reports them ("RPRT -6"); values are fixed by Hamlib's ABI.
 enum class Errc : int {
-    ok = 0, inval = 1, conf = 2, nomem = 3, nimpl = 4, timeout = 5, io = 6, internal = 7, proto = 8,
-    rjcted = 9, trunc = 10, navail = 11, ntarget = 12, buserror = 13, busbusy = 14, arg = 15, vfo = 16,
-    dom = 17, deprecated = 18, security = 19, power = 20,
+    ok = 0,
+    inval = 1,
+    conf = 2,
+    nomem = 3,
+    nimpl = 4,
+    timeout = 5,
+    io = 6,
+    internal = 7,
+    proto = 8,
+    rjcted = 9,
+    trunc = 10,
+    navail = 11,
+    ntarget = 12,
+    buserror = 13,
+    busbusy = 14,
+    arg = 15,
+    vfo = 16,
+    dom = 17,
+    deprecated = 18,
+    security = 19,
+    power = 20,
 };
 // -RIG_E* as the protocol carries it.
-constexpr int code(Errc e) { return -static_cast<int>(e); }
+constexpr int code(Errc e) {
+    return -static_cast<int>(e);
+}
 // "RIG_EIO" for -6; "RIG_E?(-42)" for a code Hamlib does not define.
 std::string error_name(int code);
 // "IO error" for -6: a line a user can read.
@@ -42,8 +62,8 @@ struct Shape {
 };
 
 struct Reply {
-    int code = 0;                      // 0 or -RIG_E*
-    std::vector<std::string> lines;    // the value lines as they came, without header and RPRT
+    int code = 0;                    // 0 or -RIG_E*
+    std::vector<std::string> lines;  // the value lines as they came, without header and RPRT
     bool ok() const { return code == 0; }
     // The value lines with their "Key: " removed (the extended protocol's keys).
     std::vector<std::string> values() const;
@@ -64,16 +84,16 @@ std::optional<Limits> parse_dump_state(const std::vector<std::string>& lines);
 
 // What `\dump_caps` says about the rotator behind rotctld.
 struct Caps {
-    std::string model;          // "Winegard Carryout G2"
-    std::string backend;        // "Winegard birdcage 0.1.0"
+    std::string model;    // "Winegard Carryout G2"
+    std::string backend;  // "Winegard birdcage 0.1.0"
     bool can_park = false;
-    bool can_reset = false;     // `R`: the Winegard backend homes the axes
+    bool can_reset = false;  // `R`: the Winegard backend homes the axes
     bool can_status = false;
     struct Level {
-        std::string name, label, range;   // "LNB", "LNB supply (V)", "13..18/5"
+        std::string name, label, range;  // "LNB", "LNB supply (V)", "13..18/5"
     };
-    std::vector<Level> levels;            // the backend's extension levels
-    std::optional<Limits> limits;         // "Min Azimuth:" .. "Max Elevation:"
+    std::vector<Level> levels;     // the backend's extension levels
+    std::optional<Limits> limits;  // "Min Azimuth:" .. "Max Elevation:"
 };
 Caps parse_dump_caps(const std::vector<std::string>& lines);
 
@@ -86,4 +106,4 @@ std::optional<double> parse_number(std::string_view text);
 // The words of `v ?`'s answer.
 std::vector<std::string> words(const std::vector<std::string>& lines);
 
-} // namespace birdcage::rotctl
+}  // namespace birdcage::rotctl

@@ -46,136 +46,70 @@
 #define WINEGARD_MAX_EL 90.0
 
 /* The fields every model shares; the serial rate, the conf defaults and the reset differ. */
-#define WINEGARD_COMMON_CAPS                                    \
-    .mfg_name =         "Winegard",                             \
-    .version =          WINEGARD_VERSION,                       \
-    .copyright =        "LGPL",                                 \
-    .status =           RIG_STATUS_ALPHA,                       \
-    .rot_type =         ROT_TYPE_AZEL,                          \
-    .port_type =        RIG_PORT_SERIAL,                        \
-    .serial_rate_min =  9600,                                   \
-    .serial_data_bits = 8,                                      \
-    .serial_stop_bits = 1,                                      \
-    .serial_parity =    RIG_PARITY_NONE,                        \
-    .serial_handshake = RIG_HANDSHAKE_NONE,                     \
-    .write_delay =      0,                                      \
-    .post_write_delay = 0,                                      \
-    .timeout =          1000,                                   \
-    .retry =            0,                                      \
-    .has_status =       ROT_STATUS_MOVING | ROT_STATUS_BUSY,    \
-    .min_az =           WINEGARD_MIN_AZ,                        \
-    .max_az =           WINEGARD_MAX_AZ,                        \
-    .min_el =           WINEGARD_MIN_EL,                        \
-    .max_el =           WINEGARD_MAX_EL,                        \
-    .extlevels =        winegard_ext_levels,                    \
-    .rot_init =         winegard_rot_init,                      \
-    .rot_cleanup =      winegard_rot_cleanup,                   \
-    .rot_open =         winegard_rot_open,                      \
-    .rot_close =        winegard_rot_close,                     \
-    .set_conf =         winegard_set_conf,                      \
-    .get_conf =         winegard_get_conf,                      \
-    .get_conf2 =        winegard_get_conf2,                     \
-    .set_position =     winegard_set_position,                  \
-    .get_position =     winegard_get_position,                  \
-    .stop =             winegard_stop,                          \
-    .park =             winegard_park,                          \
-    .get_info =         winegard_get_info,                      \
-    .get_status =       winegard_get_status,                    \
-    .set_ext_level =    winegard_set_ext_level,                 \
-    .get_ext_level =    winegard_get_ext_level
+#define WINEGARD_COMMON_CAPS                                                                                           \
+    .mfg_name = "Winegard", .version = WINEGARD_VERSION, .copyright = "LGPL", .status = RIG_STATUS_ALPHA,              \
+    .rot_type = ROT_TYPE_AZEL, .port_type = RIG_PORT_SERIAL, .serial_rate_min = 9600, .serial_data_bits = 8,           \
+    .serial_stop_bits = 1, .serial_parity = RIG_PARITY_NONE, .serial_handshake = RIG_HANDSHAKE_NONE, .write_delay = 0, \
+    .post_write_delay = 0, .timeout = 1000, .retry = 0, .has_status = ROT_STATUS_MOVING | ROT_STATUS_BUSY,             \
+    .min_az = WINEGARD_MIN_AZ, .max_az = WINEGARD_MAX_AZ, .min_el = WINEGARD_MIN_EL, .max_el = WINEGARD_MAX_EL,        \
+    .extlevels = winegard_ext_levels, .rot_init = winegard_rot_init, .rot_cleanup = winegard_rot_cleanup,              \
+    .rot_open = winegard_rot_open, .rot_close = winegard_rot_close, .set_conf = winegard_set_conf,                     \
+    .get_conf = winegard_get_conf, .get_conf2 = winegard_get_conf2, .set_position = winegard_set_position,             \
+    .get_position = winegard_get_position, .stop = winegard_stop, .park = winegard_park,                               \
+    .get_info = winegard_get_info, .get_status = winegard_get_status, .set_ext_level = winegard_set_ext_level,         \
+    .get_ext_level = winegard_get_ext_level
 
 /* Identifies the variant at open (57600 baud unless -s says otherwise; a G2 needs 115200). It
  * keeps the reset: which variant it is, and whether it can home, is known only at open. */
-static const struct rot_caps winegard_auto_caps =
-{
-    ROT_MODEL(ROT_MODEL_WINEGARD_AUTO),
-    .model_name =       "Auto-detect",
-    .serial_rate_max =  57600,
-    .cfgparams =        winegard_auto_cfg_params,
-    .reset =            winegard_reset,
-    WINEGARD_COMMON_CAPS
-};
+static const struct rot_caps winegard_auto_caps = {
+    ROT_MODEL(ROT_MODEL_WINEGARD_AUTO),    .model_name = "Auto-detect", .serial_rate_max = 57600,
+    .cfgparams = winegard_auto_cfg_params, .reset = winegard_reset,     WINEGARD_COMMON_CAPS};
 
 /* Trav'ler, HAL 0.0.00 (e.g. LG-2112): RS-485 on the IDU's RJ-25 "Factory Only" port. */
-static const struct rot_caps winegard_hal000_caps =
-{
-    ROT_MODEL(ROT_MODEL_WINEGARD_HAL000),
-    .model_name =       "Trav'ler HAL 0.0.00",
-    .serial_rate_max =  57600,
-    .cfgparams =        winegard_hal000_cfg_params,
-    WINEGARD_COMMON_CAPS
-};
+static const struct rot_caps winegard_hal000_caps = {ROT_MODEL(ROT_MODEL_WINEGARD_HAL000),
+                                                     .model_name = "Trav'ler HAL 0.0.00", .serial_rate_max = 57600,
+                                                     .cfgparams = winegard_hal000_cfg_params, WINEGARD_COMMON_CAPS};
 
 /* Trav'ler, HAL 2.05.003. */
-static const struct rot_caps winegard_hal205_caps =
-{
-    ROT_MODEL(ROT_MODEL_WINEGARD_HAL205),
-    .model_name =       "Trav'ler HAL 2.05",
-    .serial_rate_max =  57600,
-    .cfgparams =        winegard_hal205_cfg_params,
-    WINEGARD_COMMON_CAPS
-};
+static const struct rot_caps winegard_hal205_caps = {ROT_MODEL(ROT_MODEL_WINEGARD_HAL205),
+                                                     .model_name = "Trav'ler HAL 2.05", .serial_rate_max = 57600,
+                                                     .cfgparams = winegard_hal205_cfg_params, WINEGARD_COMMON_CAPS};
 
 /* Trav'ler Pro (e.g. SK2DISH): USB CDC-ACM on the IDU's rear port; the rate is irrelevant. */
-static const struct rot_caps winegard_pro_caps =
-{
-    ROT_MODEL(ROT_MODEL_WINEGARD_PRO),
-    .model_name =       "Trav'ler Pro",
-    .serial_rate_max =  57600,
-    .cfgparams =        winegard_pro_cfg_params,
-    WINEGARD_COMMON_CAPS
-};
+static const struct rot_caps winegard_pro_caps = {ROT_MODEL(ROT_MODEL_WINEGARD_PRO), .model_name = "Trav'ler Pro",
+                                                  .serial_rate_max = 57600, .cfgparams = winegard_pro_cfg_params,
+                                                  WINEGARD_COMMON_CAPS};
 
 /* Carryout (2003), HAL 1.00.065: reports its position only while it moves. */
-static const struct rot_caps winegard_carryout2003_caps =
-{
-    ROT_MODEL(ROT_MODEL_WINEGARD_CARRYOUT2003),
-    .model_name =       "Carryout HAL 1.00.065",
-    .serial_rate_max =  57600,
-    .cfgparams =        winegard_carryout2003_cfg_params,
-    WINEGARD_COMMON_CAPS
-};
+static const struct rot_caps winegard_carryout2003_caps = {
+    ROT_MODEL(ROT_MODEL_WINEGARD_CARRYOUT2003), .model_name = "Carryout HAL 1.00.065", .serial_rate_max = 57600,
+    .cfgparams = winegard_carryout2003_cfg_params, WINEGARD_COMMON_CAPS};
 
 /* Carryout G2 (firmware 02.02.48), G2+ and the other 115200-baud Carryouts: RS-422. The only
  * variant that homes (`R 1`). */
-static const struct rot_caps winegard_g2_caps =
-{
-    ROT_MODEL(ROT_MODEL_WINEGARD_G2),
-    .model_name =       "Carryout G2",
-    .serial_rate_max =  115200,
-    .cfgparams =        winegard_g2_cfg_params,
-    .reset =            winegard_reset,
-    WINEGARD_COMMON_CAPS
+static const struct rot_caps winegard_g2_caps = {ROT_MODEL(ROT_MODEL_WINEGARD_G2), .model_name = "Carryout G2",
+                                                 .serial_rate_max = 115200,        .cfgparams = winegard_g2_cfg_params,
+                                                 .reset = winegard_reset,          WINEGARD_COMMON_CAPS};
+
+static const struct rot_caps* const winegard_caps_list[] = {
+    &winegard_auto_caps, &winegard_hal000_caps,       &winegard_hal205_caps,
+    &winegard_pro_caps,  &winegard_carryout2003_caps, &winegard_g2_caps,
 };
 
-static const struct rot_caps *const winegard_caps_list[] =
-{
-    &winegard_auto_caps,
-    &winegard_hal000_caps,
-    &winegard_hal205_caps,
-    &winegard_pro_caps,
-    &winegard_carryout2003_caps,
-    &winegard_g2_caps,
-};
-
-DECLARE_INITROT_BACKEND(winegard)
-{
+DECLARE_INITROT_BACKEND(winegard) {
     int first_error = RIG_OK;
     size_t i;
 
     rot_debug(RIG_DEBUG_VERBOSE, "%s called\n", __func__);
 
-    if (winegard_init_tables() != RIG_OK)
-    {
+    if (winegard_init_tables() != RIG_OK) {
         return -RIG_EINTERNAL;
     }
 
-    for (i = 0; i < sizeof(winegard_caps_list) / sizeof(winegard_caps_list[0]); i++)
-    {
+    for (i = 0; i < sizeof(winegard_caps_list) / sizeof(winegard_caps_list[0]); i++) {
         int retval = rot_register(winegard_caps_list[i]);
 
-        if (retval != RIG_OK && first_error == RIG_OK)
-        {
+        if (retval != RIG_OK && first_error == RIG_OK) {
             first_error = retval;
         }
     }

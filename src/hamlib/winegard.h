@@ -13,24 +13,24 @@
 extern "C" {
 #endif
 
-int winegard_rot_init(ROT *rot);
-int winegard_rot_cleanup(ROT *rot);
-int winegard_rot_open(ROT *rot);
-int winegard_rot_close(ROT *rot);
+int winegard_rot_init(ROT* rot);
+int winegard_rot_cleanup(ROT* rot);
+int winegard_rot_open(ROT* rot);
+int winegard_rot_close(ROT* rot);
 
-int winegard_set_position(ROT *rot, azimuth_t az, elevation_t el);
-int winegard_get_position(ROT *rot, azimuth_t *az, elevation_t *el);
-int winegard_stop(ROT *rot);
-int winegard_park(ROT *rot);
-int winegard_reset(ROT *rot, rot_reset_t reset);
-int winegard_get_status(ROT *rot, rot_status_t *status);
-const char *winegard_get_info(ROT *rot);
+int winegard_set_position(ROT* rot, azimuth_t az, elevation_t el);
+int winegard_get_position(ROT* rot, azimuth_t* az, elevation_t* el);
+int winegard_stop(ROT* rot);
+int winegard_park(ROT* rot);
+int winegard_reset(ROT* rot, rot_reset_t reset);
+int winegard_get_status(ROT* rot, rot_status_t* status);
+const char* winegard_get_info(ROT* rot);
 
-int winegard_set_conf(ROT *rot, hamlib_token_t token, const char *val);
-int winegard_get_conf(ROT *rot, hamlib_token_t token, char *val);
-int winegard_get_conf2(ROT *rot, hamlib_token_t token, char *val, int val_len);
-int winegard_set_ext_level(ROT *rot, hamlib_token_t token, value_t val);
-int winegard_get_ext_level(ROT *rot, hamlib_token_t token, value_t *val);
+int winegard_set_conf(ROT* rot, hamlib_token_t token, const char* val);
+int winegard_get_conf(ROT* rot, hamlib_token_t token, char* val);
+int winegard_get_conf2(ROT* rot, hamlib_token_t token, char* val, int val_len);
+int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t val);
+int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* val);
 
 /* Conf parameters per model: the same keys, with the model's own defaults (its elevation limits,
  * its pointing mode), as `rotctl -L` lists them. Filled by winegard_init_tables() from the core's

@@ -24,8 +24,8 @@
 
 namespace {
 
-using birdcage::hamlib::WinegardPriv;
 using birdcage::hamlib::priv_of;
+using birdcage::hamlib::WinegardPriv;
 
 bool parse_bool(const char* text, bool* out) {
     if (std::strcmp(text, "1") == 0 || std::strcmp(text, "on") == 0 || std::strcmp(text, "true") == 0) {
@@ -70,9 +70,13 @@ std::string format_number(double value) {
     return buf;
 }
 
-std::string format_seconds(std::chrono::milliseconds duration) { return std::to_string(duration.count() / 1000); }
+std::string format_seconds(std::chrono::milliseconds duration) {
+    return std::to_string(duration.count() / 1000);
+}
 
-std::string format_flag(bool on) { return on ? "1" : "0"; }
+std::string format_flag(bool on) {
+    return on ? "1" : "0";
+}
 
 using birdcage::ControllerOptions;
 using birdcage::PointingOptions;
@@ -83,18 +87,23 @@ struct ConfParam {
     const char* label;
     const char* tooltip;
     enum rig_conf_e type;
-    birdcage::OptionRange range;                                        // numeric only
-    std::string (*dflt)(const birdcage::FirmwareProfile&);              // shown by rotctl -L
-    bool (*parse)(const char* text, WinegardPriv& priv);               // false: -RIG_EINVAL
+    birdcage::OptionRange range;                            // numeric only
+    std::string (*dflt)(const birdcage::FirmwareProfile&);  // shown by rotctl -L
+    bool (*parse)(const char* text, WinegardPriv& priv);    // false: -RIG_EINVAL
     std::string (*format)(const WinegardPriv& priv);
 };
 
-const birdcage::FirmwareProfile& variant_profile(const WinegardPriv& priv) { return birdcage::profile(priv.options.variant); }
+const birdcage::FirmwareProfile& variant_profile(const WinegardPriv& priv) {
+    return birdcage::profile(priv.options.variant);
+}
 
 const ConfParam kConfParams[] = {
-    {1, "variant", "Firmware variant",
+    {1,
+     "variant",
+     "Firmware variant",
      "auto (identify at open), hal000, hal205, pro, carryout2003 or g2; overrides the model's variant",
-     RIG_CONF_STRING, {},
+     RIG_CONF_STRING,
+     {},
      [](const birdcage::FirmwareProfile& p) { return std::string(p.short_name); },
      [](const char* text, WinegardPriv& priv) {
          if (std::strcmp(text, "auto") == 0) {
@@ -112,10 +121,15 @@ const ConfParam kConfParams[] = {
      [](const WinegardPriv& priv) {
          return priv.options.detect ? std::string("auto") : std::string(variant_profile(priv).short_name);
      }},
-    {2, "leapfrog", "Leapfrog",
+    {2,
+     "leapfrog",
+     "Leapfrog",
      "Same as pointing=leapfrog (1) or pointing=none (0); kept for older configurations",
-     RIG_CONF_CHECKBUTTON, {},
-     [](const birdcage::FirmwareProfile&) { return format_flag(PointingOptions{}.mode == birdcage::PointingMode::leapfrog); },
+     RIG_CONF_CHECKBUTTON,
+     {},
+     [](const birdcage::FirmwareProfile&) {
+         return format_flag(PointingOptions{}.mode == birdcage::PointingMode::leapfrog);
+     },
      [](const char* text, WinegardPriv& priv) {
          bool on = false;
          if (!parse_bool(text, &on)) {
@@ -127,8 +141,8 @@ const ConfParam kConfParams[] = {
      [](const WinegardPriv& priv) {
          return std::string(priv.pointing.mode == birdcage::PointingMode::leapfrog ? "1" : "0");
      }},
-    {3, "boot_timeout", "Boot timeout", "Seconds to wait at open for a booting dish to finish homing",
-     RIG_CONF_NUMERIC, ControllerOptions::boot_timeout_range_s,
+    {3, "boot_timeout", "Boot timeout", "Seconds to wait at open for a booting dish to finish homing", RIG_CONF_NUMERIC,
+     ControllerOptions::boot_timeout_range_s,
      [](const birdcage::FirmwareProfile&) { return format_seconds(ControllerOptions{}.boot_timeout); },
      [](const char* text, WinegardPriv& priv) {
          double number = 0;
@@ -139,34 +153,60 @@ const ConfParam kConfParams[] = {
          return true;
      },
      [](const WinegardPriv& priv) { return format_seconds(priv.options.boot_timeout); }},
-    {4, "skip_init", "Skip init", "Assume the dish is booted, its TV search stopped and the motor menu open",
-     RIG_CONF_CHECKBUTTON, {}, [](const birdcage::FirmwareProfile&) { return format_flag(ControllerOptions{}.skip_init); },
+    {4,
+     "skip_init",
+     "Skip init",
+     "Assume the dish is booted, its TV search stopped and the motor menu open",
+     RIG_CONF_CHECKBUTTON,
+     {},
+     [](const birdcage::FirmwareProfile&) { return format_flag(ControllerOptions{}.skip_init); },
      [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.options.skip_init); },
      [](const WinegardPriv& priv) { return format_flag(priv.options.skip_init); }},
     {5, "el_min", "Min elevation", "Lowest elevation the backend will command (never below the variant's limit)",
-     RIG_CONF_NUMERIC, ControllerOptions::el_range, [](const birdcage::FirmwareProfile& p) { return format_number(p.el_min); },
-     [](const char* text, WinegardPriv& priv) { return parse_optional_in(text, ControllerOptions::el_range, priv.options.el_min); },
-     [](const WinegardPriv& priv) { return format_number(priv.options.el_min.value_or(variant_profile(priv).el_min)); }},
+     RIG_CONF_NUMERIC, ControllerOptions::el_range,
+     [](const birdcage::FirmwareProfile& p) { return format_number(p.el_min); },
+     [](const char* text, WinegardPriv& priv) {
+         return parse_optional_in(text, ControllerOptions::el_range, priv.options.el_min);
+     },
+     [](const WinegardPriv& priv) {
+         return format_number(priv.options.el_min.value_or(variant_profile(priv).el_min));
+     }},
     {6, "el_max", "Max elevation", "Highest elevation the backend will command (never above the variant's limit)",
-     RIG_CONF_NUMERIC, ControllerOptions::el_range, [](const birdcage::FirmwareProfile& p) { return format_number(p.el_max); },
-     [](const char* text, WinegardPriv& priv) { return parse_optional_in(text, ControllerOptions::el_range, priv.options.el_max); },
-     [](const WinegardPriv& priv) { return format_number(priv.options.el_max.value_or(variant_profile(priv).el_max)); }},
+     RIG_CONF_NUMERIC, ControllerOptions::el_range,
+     [](const birdcage::FirmwareProfile& p) { return format_number(p.el_max); },
+     [](const char* text, WinegardPriv& priv) {
+         return parse_optional_in(text, ControllerOptions::el_range, priv.options.el_max);
+     },
+     [](const WinegardPriv& priv) {
+         return format_number(priv.options.el_max.value_or(variant_profile(priv).el_max));
+     }},
     {7, "az_min", "Min azimuth",
      "Wrap range: azimuth targets (0..360) below this are clamped to it (with az_max; default: whole circle)",
      RIG_CONF_NUMERIC, ControllerOptions::az_range,
      [](const birdcage::FirmwareProfile&) { return format_number(ControllerOptions::az_range.min); },
-     [](const char* text, WinegardPriv& priv) { return parse_optional_in(text, ControllerOptions::az_range, priv.options.az_min); },
-     [](const WinegardPriv& priv) { return format_number(priv.options.az_min.value_or(ControllerOptions::az_range.min)); }},
+     [](const char* text, WinegardPriv& priv) {
+         return parse_optional_in(text, ControllerOptions::az_range, priv.options.az_min);
+     },
+     [](const WinegardPriv& priv) {
+         return format_number(priv.options.az_min.value_or(ControllerOptions::az_range.min));
+     }},
     {8, "az_max", "Max azimuth", "Wrap range: azimuth targets (0..360) above this are clamped to it (with az_min)",
      RIG_CONF_NUMERIC, ControllerOptions::az_range,
      [](const birdcage::FirmwareProfile&) { return format_number(ControllerOptions::az_range.max); },
-     [](const char* text, WinegardPriv& priv) { return parse_optional_in(text, ControllerOptions::az_range, priv.options.az_max); },
-     [](const WinegardPriv& priv) { return format_number(priv.options.az_max.value_or(ControllerOptions::az_range.max)); }},
-    {9, "pointing", "Pointing mode",
+     [](const char* text, WinegardPriv& priv) {
+         return parse_optional_in(text, ControllerOptions::az_range, priv.options.az_max);
+     },
+     [](const WinegardPriv& priv) {
+         return format_number(priv.options.az_max.value_or(ControllerOptions::az_range.max));
+     }},
+    {9,
+     "pointing",
+     "Pointing mode",
      "predictive (aim where the satellite will be, inferred from the targets), leapfrog (upstream "
      "overshoot of a lagging axis) or none (each target as sent); unset: predictive or none by how fast this "
      "dish's small steps turn out to be (first guess: predictive on the G2, none on the others)",
-     RIG_CONF_STRING, {},
+     RIG_CONF_STRING,
+     {},
      [](const birdcage::FirmwareProfile& p) { return std::string(p.predictive_by_default ? "predictive" : "none"); },
      [](const char* text, WinegardPriv& priv) {
          const auto mode = birdcage::pointing_mode_from_name(text);
@@ -178,11 +218,10 @@ const ConfParam kConfParams[] = {
      },
      [](const WinegardPriv& priv) {
          const bool predictive = variant_profile(priv).predictive_by_default;
-         return std::string(birdcage::pointing_mode_name(
-             priv.pointing.mode.value_or(predictive ? birdcage::PointingMode::predictive : birdcage::PointingMode::none)));
+         return std::string(birdcage::pointing_mode_name(priv.pointing.mode.value_or(
+             predictive ? birdcage::PointingMode::predictive : birdcage::PointingMode::none)));
      }},
-    {10, "deadband", "Deadband",
-     "Predictive mode: largest on-sky error (degrees) per axis before the dish moves again",
+    {10, "deadband", "Deadband", "Predictive mode: largest on-sky error (degrees) per axis before the dish moves again",
      RIG_CONF_NUMERIC, PointingOptions::deadband_range_deg,
      [](const birdcage::FirmwareProfile&) { return format_number(PointingOptions{}.deadband_deg); },
      [](const char* text, WinegardPriv& priv) {
@@ -193,13 +232,19 @@ const ConfParam kConfParams[] = {
      "Emulator runs only: the dish's clock runs this many times faster than real time (birdcage-sim --time-scale)",
      RIG_CONF_NUMERIC, birdcage::DishClock::scale_range,
      [](const birdcage::FirmwareProfile&) { return format_number(birdcage::DishClock{}.scale()); },
-     [](const char* text, WinegardPriv& priv) { return parse_in(text, birdcage::DishClock::scale_range, &priv.time_scale); },
+     [](const char* text, WinegardPriv& priv) {
+         return parse_in(text, birdcage::DishClock::scale_range, &priv.time_scale);
+     },
      [](const WinegardPriv& priv) { return format_number(priv.time_scale); }},
-    {12, "az_mapping", "Azimuth mapping",
+    {12,
+     "az_mapping",
+     "Azimuth mapping",
      "How the firmware maps an azimuth command onto its travel: auto (learn it from where the dish goes), "
      "nearest (the branch nearest the dish), literal (the number is the mechanical angle) or wrap_manager "
      "(never through a wrap point, e.g. north: the long way round instead)",
-     RIG_CONF_STRING, {}, [](const birdcage::FirmwareProfile&) { return std::string("auto"); },
+     RIG_CONF_STRING,
+     {},
+     [](const birdcage::FirmwareProfile&) { return std::string("auto"); },
      [](const char* text, WinegardPriv& priv) {
          if (std::strcmp(text, "auto") == 0) {
              priv.options.az_mapping.reset();
@@ -216,10 +261,13 @@ const ConfParam kConfParams[] = {
          return priv.options.az_mapping ? std::string(birdcage::azmap::mapping_name(*priv.options.az_mapping))
                                         : std::string("auto");
      }},
-    {13, "pass_model", "Pass model",
+    {13,
+     "pass_model",
+     "Pass model",
      "Predictive mode: follow the satellite's orbit fitted to the client's targets, to the end of the pass (1), "
      "or only the local estimate from the last targets (0)",
-     RIG_CONF_CHECKBUTTON, {},
+     RIG_CONF_CHECKBUTTON,
+     {},
      [](const birdcage::FirmwareProfile&) { return format_flag(PointingOptions{}.predictor.use_pass_model); },
      [](const char* text, WinegardPriv& priv) { return parse_bool(text, &priv.pointing.predictor.use_pass_model); },
      [](const WinegardPriv& priv) { return format_flag(priv.pointing.predictor.use_pass_model); }},
@@ -345,13 +393,13 @@ extern "C" int winegard_init_tables(void) {
             ext_level(tok_rssi, "RSSI", "Signal strength",
                       "Tuner signal strength (ADC counts), the average of RSSI_SAMPLES reads at 20 ms; read only", 0.0f,
                       65535.0f, 1.0f);
-        winegard_ext_levels[1] = ext_level(tok_rssi_samples, "RSSI_SAMPLES", "RSSI samples",
-                                           "Reads averaged per RSSI reading", 1.0f,
-                                           static_cast<float>(birdcage::rssi_max_samples), 1.0f);
+        winegard_ext_levels[1] =
+            ext_level(tok_rssi_samples, "RSSI_SAMPLES", "RSSI samples", "Reads averaged per RSSI reading", 1.0f,
+                      static_cast<float>(birdcage::rssi_max_samples), 1.0f);
         winegard_ext_levels[2] =
             ext_level(tok_lnb_volts, "LNB", "LNB supply (V)",
-                      "LNB supply: 13 V (lnbdc odu, vertical) or 18 V (lnbdc stb, horizontal, the boot default)",
-                      13.0f, 18.0f, 5.0f);
+                      "LNB supply: 13 V (lnbdc odu, vertical) or 18 V (lnbdc stb, horizontal, the boot default)", 13.0f,
+                      18.0f, 5.0f);
         winegard_ext_levels[3] = confparams{};  // RIG_CONF_END
         return RIG_OK;
     }();
@@ -391,5 +439,5 @@ extern "C" int winegard_get_conf2(ROT* rot, hamlib_token_t token, char* val, int
 }
 
 extern "C" int winegard_get_conf(ROT* rot, hamlib_token_t token, char* val) {
-    return winegard_get_conf2(rot, token, val, 128); // Hamlib's own buffer size for get_conf
+    return winegard_get_conf2(rot, token, val, 128);  // Hamlib's own buffer size for get_conf
 }

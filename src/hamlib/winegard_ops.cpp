@@ -24,34 +24,51 @@ namespace {
 
 int to_hamlib_error(const Status& status) {
     switch (status.code) {
-    case Errc::ok: return RIG_OK;
-    case Errc::timeout: return -RIG_ETIMEOUT;
-    case Errc::protocol: return -RIG_EPROTO;
-    // Hamlib 4.7+ rotctld drops the client on -RIG_EIO: reserved for a port that is gone.
-    case Errc::io: return -RIG_EIO;
-    // The service reopens a hung-up port by path: recoverable, so the client must stay connected.
-    case Errc::disconnected: return -RIG_ETIMEOUT;
-    case Errc::invalid_argument: return -RIG_EINVAL;
-    case Errc::unsupported: return -RIG_ENAVAIL;
-    case Errc::hazard: return -RIG_ERJCTED;
-    case Errc::not_homed: return -RIG_ERJCTED;
-    case Errc::busy: return -RIG_ERJCTED;
-    case Errc::not_initialised: return -RIG_ENAVAIL;
+        case Errc::ok:
+            return RIG_OK;
+        case Errc::timeout:
+            return -RIG_ETIMEOUT;
+        case Errc::protocol:
+            return -RIG_EPROTO;
+        // Hamlib 4.7+ rotctld drops the client on -RIG_EIO: reserved for a port that is gone.
+        case Errc::io:
+            return -RIG_EIO;
+        // The service reopens a hung-up port by path: recoverable, so the client must stay connected.
+        case Errc::disconnected:
+            return -RIG_ETIMEOUT;
+        case Errc::invalid_argument:
+            return -RIG_EINVAL;
+        case Errc::unsupported:
+            return -RIG_ENAVAIL;
+        case Errc::hazard:
+            return -RIG_ERJCTED;
+        case Errc::not_homed:
+            return -RIG_ERJCTED;
+        case Errc::busy:
+            return -RIG_ERJCTED;
+        case Errc::not_initialised:
+            return -RIG_ENAVAIL;
     }
     return -RIG_EINTERNAL;
 }
 
 rig_debug_level_e to_hamlib_level(LogLevel level) {
     switch (level) {
-    case LogLevel::error: return RIG_DEBUG_ERR;
-    case LogLevel::warning: return RIG_DEBUG_WARN;
-    case LogLevel::verbose: return RIG_DEBUG_VERBOSE;
-    case LogLevel::trace: return RIG_DEBUG_TRACE;
+        case LogLevel::error:
+            return RIG_DEBUG_ERR;
+        case LogLevel::warning:
+            return RIG_DEBUG_WARN;
+        case LogLevel::verbose:
+            return RIG_DEBUG_VERBOSE;
+        case LogLevel::trace:
+            return RIG_DEBUG_TRACE;
     }
     return RIG_DEBUG_TRACE;
 }
 
-bool is_auto(const FirmwareProfile* p) { return p == &probe_profile(); }
+bool is_auto(const FirmwareProfile* p) {
+    return p == &probe_profile();
+}
 
 // The caps are C, written out per model; the facts they share with the core's variant table must
 // agree with it, or the model would open as one dish and be listed as another.
@@ -77,7 +94,9 @@ bool caps_match_profile(const struct rot_caps& caps, const FirmwareProfile& p) {
     return ok;
 }
 
-RotatorService* open_service(ROT* rot) { return priv_of(rot)->service.get(); }
+RotatorService* open_service(ROT* rot) {
+    return priv_of(rot)->service.get();
+}
 
 }  // namespace
 
@@ -181,8 +200,7 @@ extern "C" int winegard_rot_open(ROT* rot) {
         // real (the pty is real).
         options.clock = DishClock::scaled(priv->time_scale);
     }
-    priv->service =
-        std::make_unique<RotatorService>(std::move(transport), options, ServiceTiming{}, std::move(reopen));
+    priv->service = std::make_unique<RotatorService>(std::move(transport), options, ServiceTiming{}, std::move(reopen));
     priv->service->set_pointing(priv->pointing);
     if (Status st = priv->service->start(); !st) {
         priv->service.reset();
@@ -244,8 +262,9 @@ extern "C" int winegard_park(ROT* rot) {
 // number names nothing Hamlib knows, so it is refused rather than taken as a request to home.
 extern "C" int winegard_reset(ROT* rot, rot_reset_t reset) {
     if (reset != ROT_RESET_ALL) {
-        rot_debug(RIG_DEBUG_ERR, "winegard: reset type %d is not supported; only ROT_RESET_ALL (%d, rotctl R %d) homes\n",
-                  reset, ROT_RESET_ALL, ROT_RESET_ALL);
+        rot_debug(RIG_DEBUG_ERR,
+                  "winegard: reset type %d is not supported; only ROT_RESET_ALL (%d, rotctl R %d) homes\n", reset,
+                  ROT_RESET_ALL, ROT_RESET_ALL);
         return -RIG_EINVAL;
     }
     RotatorService* service = open_service(rot);
@@ -278,9 +297,8 @@ extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
 
 extern "C" const char* winegard_get_info(ROT* rot) {
     WinegardPriv* priv = priv_of(rot);
-    priv->info = priv->service
-                     ? "Winegard " + priv->service->describe()
-                     : "Winegard " + std::string(profile(priv->options.variant).display_name) + " (not open)";
+    priv->info = priv->service ? "Winegard " + priv->service->describe()
+                               : "Winegard " + std::string(profile(priv->options.variant).display_name) + " (not open)";
     return priv->info.c_str();
 }
 
@@ -291,26 +309,27 @@ extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t va
         return -RIG_EIO;
     }
     switch (token) {
-    case tok_rssi_samples: {
-        const double samples = static_cast<double>(val.f);
-        if (!std::isfinite(samples) || samples < 1.0 || samples > rssi_max_samples) {
-            return report(__func__, {Errc::invalid_argument, "RSSI_SAMPLES is 1.." + std::to_string(rssi_max_samples)});
+        case tok_rssi_samples: {
+            const double samples = static_cast<double>(val.f);
+            if (!std::isfinite(samples) || samples < 1.0 || samples > rssi_max_samples) {
+                return report(__func__,
+                              {Errc::invalid_argument, "RSSI_SAMPLES is 1.." + std::to_string(rssi_max_samples)});
+            }
+            priv->rssi_samples = static_cast<int>(std::lround(samples));
+            return RIG_OK;
         }
-        priv->rssi_samples = static_cast<int>(std::lround(samples));
-        return RIG_OK;
-    }
-    case tok_lnb_volts: {
-        const auto supply = lnb_supply_from_volts(static_cast<double>(val.f));
-        if (!supply) {
-            return report(__func__, supply.status);
+        case tok_lnb_volts: {
+            const auto supply = lnb_supply_from_volts(static_cast<double>(val.f));
+            if (!supply) {
+                return report(__func__, supply.status);
+            }
+            rot_debug(RIG_DEBUG_VERBOSE, "winegard: LNB supply %d V\n", lnb_volts(supply.value));
+            return report(__func__, service->set_lnb_supply(supply.value));
         }
-        rot_debug(RIG_DEBUG_VERBOSE, "winegard: LNB supply %d V\n", lnb_volts(supply.value));
-        return report(__func__, service->set_lnb_supply(supply.value));
-    }
-    case tok_rssi:
-        return report(__func__, {Errc::invalid_argument, "RSSI is read only"});
-    default:
-        return -RIG_EINVAL;
+        case tok_rssi:
+            return report(__func__, {Errc::invalid_argument, "RSSI is read only"});
+        default:
+            return -RIG_EINVAL;
     }
 }
 
@@ -321,29 +340,31 @@ extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* v
         return -RIG_EIO;
     }
     switch (token) {
-    case tok_rssi: {
-        const auto reading = service->read_signal(priv->rssi_samples);
-        if (!reading) {
-            return report(__func__, reading.status);
-        }
-        val->f = static_cast<float>(reading.value.average);
-        return RIG_OK;
-    }
-    case tok_rssi_samples:
-        val->f = static_cast<float>(priv->rssi_samples);
-        return RIG_OK;
-    case tok_lnb_volts:
-        if (service->profile().receiver_menu.empty()) {
-            return report(__func__, {Errc::unsupported, std::string(service->profile().display_name) + " has no satellite tuner"});
-        }
-        if (const auto supply = service->lnb_supply()) {
-            val->f = static_cast<float>(lnb_volts(*supply));
+        case tok_rssi: {
+            const auto reading = service->read_signal(priv->rssi_samples);
+            if (!reading) {
+                return report(__func__, reading.status);
+            }
+            val->f = static_cast<float>(reading.value.average);
             return RIG_OK;
         }
-        // Never a made-up 18: after rotctld restarts the dish may still be at 13 V.
-        return report(__func__, {Errc::not_initialised, "the LNB supply is unknown: the dish's DVB dis did not say it "
-                                                         "and it has not been set since open (V LNB 13|18 sets it)"});
-    default:
-        return -RIG_EINVAL;
+        case tok_rssi_samples:
+            val->f = static_cast<float>(priv->rssi_samples);
+            return RIG_OK;
+        case tok_lnb_volts:
+            if (service->profile().receiver_menu.empty()) {
+                return report(__func__, {Errc::unsupported,
+                                         std::string(service->profile().display_name) + " has no satellite tuner"});
+            }
+            if (const auto supply = service->lnb_supply()) {
+                val->f = static_cast<float>(lnb_volts(*supply));
+                return RIG_OK;
+            }
+            // Never a made-up 18: after rotctld restarts the dish may still be at 13 V.
+            return report(__func__, {Errc::not_initialised,
+                                     "the LNB supply is unknown: the dish's DVB dis did not say it "
+                                     "and it has not been set since open (V LNB 13|18 sets it)"});
+        default:
+            return -RIG_EINVAL;
     }
 }

@@ -23,9 +23,9 @@ namespace birdcage::hamlib {
 
 struct WinegardPriv {
     ControllerOptions options;
-    PointingOptions pointing;   // mode unset: the variant's default
-    double time_scale = 1.0;    // emulator runs only: the backend's clock runs this many times faster
-    int rssi_samples = rssi_default_samples;   // ext level RSSI_SAMPLES
+    PointingOptions pointing;                 // mode unset: the variant's default
+    double time_scale = 1.0;                  // emulator runs only: the backend's clock runs this many times faster
+    int rssi_samples = rssi_default_samples;  // ext level RSSI_SAMPLES
     std::unique_ptr<RotatorService> service;
     std::string info;
 };
@@ -36,7 +36,9 @@ inline constexpr std::array registered_variants = {
     VariantId::carryout2003,   VariantId::carryout_g2,
 };
 
-inline WinegardPriv* priv_of(ROT* rot) { return static_cast<WinegardPriv*>(WG_ROTSTATE(rot)->priv); }
+inline WinegardPriv* priv_of(ROT* rot) {
+    return static_cast<WinegardPriv*>(WG_ROTSTATE(rot)->priv);
+}
 
 // The extension levels' tokens (winegard_ext_levels).
 enum ExtLevelToken : int { tok_rssi = 101, tok_rssi_samples = 102, tok_lnb_volts = 103 };

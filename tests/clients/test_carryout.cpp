@@ -5,9 +5,9 @@
 // against the 2003 Carryout over the real pty.
 #include <catch2/catch.hpp>
 
+#include "../sim/pty_client.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "client_port.hpp"
-#include "../sim/pty_client.hpp"
 
 using namespace birdcage::clients;
 using birdcage::sim::Emulator;
@@ -19,8 +19,7 @@ namespace {
 
 constexpr double time_scale = 20.0;
 
-Options carryout()
-{
+Options carryout() {
     Options options;
     options.variant = Variant::carryout2003;
     options.time_scale = time_scale;
@@ -32,14 +31,12 @@ Options carryout()
 // that is never reset (§12.3): each search starts past the `el` of the previous success.
 class CarryoutRotor {
 public:
-    explicit CarryoutRotor(ClientPort& port) : port_(port)
-    {
+    explicit CarryoutRotor(ClientPort& port) : port_(port) {
         port_.write("q\r");
         port_.write("\r");
     }
 
-    std::string P(double az, double el)
-    {
+    std::string P(double az, double el) {
         port_.write("target\r");
         port_.write("g " + py_float(az) + " " + py_float(el) + "\r");
         chunk_ = port_.read(100, 1.0);
@@ -48,7 +45,8 @@ public:
         tokens.erase(tokens.begin());
         parsed_ = false;
         for (; index_ < tokens.size(); ++index_) {
-            if (tokens[index_] != "el") continue;
+            if (tokens[index_] != "el")
+                continue;
             // tokens[k-3] and tokens[k+2][:4]; Python would wrap a negative index and raise on
             // one past the end - either is a client failure here.
             REQUIRE(index_ >= 3);
@@ -82,8 +80,7 @@ private:
 }  // namespace
 
 TEST_CASE("carryout_rotor.py: g live output parsed within 100 bytes / 1 s, the trailing q does not stop the dish",
-          "[clients][carryout2003]")
-{
+          "[clients][carryout2003]") {
     Emulator dish(carryout());
     ClientPort port(dish.device_path(), time_scale);
     CarryoutRotor rotor(port);
@@ -110,8 +107,8 @@ TEST_CASE("carryout_rotor.py: g live output parsed within 100 bytes / 1 s, the t
     CHECK(dish.hazards_received() == 0);
 }
 
-TEST_CASE("carryout_rotor.py: a trailing q that aborts g leaves the dish short (g-aborts switch)", "[clients][carryout2003]")
-{
+TEST_CASE("carryout_rotor.py: a trailing q that aborts g leaves the dish short (g-aborts switch)",
+          "[clients][carryout2003]") {
     Options options = carryout();
     options.g_aborts_on_input = true;
     Emulator dish(options);
@@ -122,12 +119,13 @@ TEST_CASE("carryout_rotor.py: a trailing q that aborts g leaves the dish short (
     CHECK(dish.true_position().az < 290.0);
 }
 
-TEST_CASE("carryout_scan.py: q CR target g, then per point target g q with no reads or pauses", "[clients][carryout2003]")
-{
+TEST_CASE("carryout_scan.py: q CR target g, then per point target g q with no reads or pauses",
+          "[clients][carryout2003]") {
     Emulator dish(carryout());
     ClientPort port(dish.device_path(), time_scale);
     // §8.7 move to start, then 5 s.
-    for (const char* command : {"q\r", "\r", "target\r", "g 190 30\r"}) port.write(command);
+    for (const char* command : {"q\r", "\r", "target\r", "g 190 30\r"})
+        port.write(command);
     port.client_sleep(5.0);
     REQUIRE(wait_for([&] { return dish.received_commands().size() >= 4 && !dish.moving(); }, std::chrono::seconds(30)));
     CHECK(dish.true_position().az == Approx(190.0));
@@ -139,7 +137,8 @@ TEST_CASE("carryout_scan.py: q CR target g, then per point target g q with no re
         port.write("g " + std::to_string(az) + " 30\r");
         port.write("q\r");
     }
-    REQUIRE(wait_for([&] { return dish.received_commands().size() >= 4 + 12 && !dish.moving(); }, std::chrono::seconds(30)));
+    REQUIRE(wait_for([&] { return dish.received_commands().size() >= 4 + 12 && !dish.moving(); },
+                     std::chrono::seconds(30)));
     CHECK(dish.true_position().az == Approx(194.0));
     CHECK(dish.shell_alive());
 }

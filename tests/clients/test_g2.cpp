@@ -12,9 +12,9 @@
 #include <cmath>
 #include <regex>
 
+#include "../sim/pty_client.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "client_port.hpp"
-#include "../sim/pty_client.hpp"
 
 using namespace birdcage::clients;
 using birdcage::sim::Emulator;
@@ -26,8 +26,7 @@ namespace {
 
 constexpr double time_scale = 20.0;
 
-Options g2(bool root_q_harmless)
-{
+Options g2(bool root_q_harmless) {
     Options options;
     options.variant = Variant::carryout_g2;
     options.time_scale = time_scale;
@@ -41,41 +40,43 @@ class DavidsonLink {
 public:
     explicit DavidsonLink(ClientPort& port) : port_(port) {}
 
-    std::optional<std::string> command(const std::string& text)
-    {
+    std::optional<std::string> command(const std::string& text) {
         port_.write(text + "\r");
         auto reply = port_.read_through('>', 15.0);
-        if (reply) REQUIRE(strict_ascii(*reply));
-        if (reply) replies_.push_back({text, *reply});
+        if (reply)
+            REQUIRE(strict_ascii(*reply));
+        if (reply)
+            replies_.push_back({text, *reply});
         return reply;
     }
 
     // rotator.py's position parse: every digits.digits run, exactly two (AZ, EL).
-    std::optional<std::pair<double, double>> position()
-    {
+    std::optional<std::pair<double, double>> position() {
         const auto reply = command("a");
-        if (!reply) return std::nullopt;
+        if (!reply)
+            return std::nullopt;
         static const std::regex decimal("[0-9]+\\.[0-9]+");
         const auto numbers = regex_all(*reply, decimal);
-        if (numbers.size() != 2) return std::nullopt;
+        if (numbers.size() != 2)
+            return std::nullopt;
         return std::pair{std::stod(numbers[0]), std::stod(numbers[1])};
     }
 
     // skyscan.py's RSSI parse: every digit run, exactly six; reads, average, current last.
-    std::optional<std::array<long, 3>> rssi()
-    {
+    std::optional<std::array<long, 3>> rssi() {
         const auto reply = command("rssi 10");
-        if (!reply) return std::nullopt;
+        if (!reply)
+            return std::nullopt;
         static const std::regex digits("[0-9]+");
         const auto runs = regex_all(*reply, digits);
-        if (runs.size() != 6) return std::nullopt;
+        if (runs.size() != 6)
+            return std::nullopt;
         return std::array<long, 3>{std::stol(runs[3]), std::stol(runs[4]), std::stol(runs[5])};
     }
 
     // Appendix C: each reply is the echo of its own command (nothing left over from the one
     // before) and ends with exactly one `>`, the prompt.
-    void check_replies() const
-    {
+    void check_replies() const {
         for (const auto& [sent, reply] : replies_) {
             CAPTURE(sent, reply);
             CHECK(reply.starts_with(sent + "\r\n"));
@@ -91,8 +92,7 @@ private:
 }  // namespace
 
 TEST_CASE("Davidson home.py [root q harmless]: q mot h 0 h 1 a 0 180 q, every reply ends in its prompt",
-          "[clients][g2]")
-{
+          "[clients][g2]") {
     Options options = g2(true);
     options.g2_homed = false;  // NVS 20 TRUE: the axes are uncalibrated until homed (§6.2)
     Emulator dish(options);
@@ -113,8 +113,8 @@ TEST_CASE("Davidson home.py [root q harmless]: q mot h 0 h 1 a 0 180 q, every re
     CHECK(dish.shell_alive());
 }
 
-TEST_CASE("Davidson home.py fails against the default root-q reading (kill): no prompt for 15 s", "[clients][g2][hazard]")
-{
+TEST_CASE("Davidson home.py fails against the default root-q reading (kill): no prompt for 15 s",
+          "[clients][g2][hazard]") {
     Emulator dish(g2(false));
     ClientPort port(dish.device_path(), time_scale);
     DavidsonLink link(port);
@@ -122,8 +122,7 @@ TEST_CASE("Davidson home.py fails against the default root-q reading (kill): no 
     CHECK_FALSE(dish.shell_alive());
 }
 
-TEST_CASE("Davidson rotator.py [root q harmless]: p is exactly two decimals, P is a 0 / a 1", "[clients][g2]")
-{
+TEST_CASE("Davidson rotator.py [root q harmless]: p is exactly two decimals, P is a 0 / a 1", "[clients][g2]") {
     Emulator dish(g2(true));
     ClientPort port(dish.device_path(), time_scale);
     DavidsonLink link(port);
@@ -132,11 +131,13 @@ TEST_CASE("Davidson rotator.py [root q harmless]: p is exactly two decimals, P i
     // rotctld p / P as rotator.py answers them.
     const auto p = [&]() -> std::string {
         const auto position = link.position();
-        if (!position) return "RPRT 1\n";
+        if (!position)
+            return "RPRT 1\n";
         return py_float(std::fmod(position->first - 0.0, 360.0)) + "\n" + py_float(position->second) + "\n";
     };
     const auto P = [&](double az, double el) -> std::string {
-        const bool ok = link.command("a 0 " + py_float(std::fmod(az + 0.0, 360.0))) && link.command("a 1 " + py_float(el));
+        const bool ok =
+            link.command("a 0 " + py_float(std::fmod(az + 0.0, 360.0))) && link.command("a 1 " + py_float(el));
         return ok ? "RPRT 0\n" : "RPRT 1\n";
     };
     CHECK(p() == "180.0\n45.0\n");
@@ -150,12 +151,13 @@ TEST_CASE("Davidson rotator.py [root q harmless]: p is exactly two decimals, P i
     link.check_replies();
 }
 
-TEST_CASE("Davidson skyscan.py [root q harmless]: setup, then per point a 1, 0.2 s, q dvb rssi 10 q mot", "[clients][g2]")
-{
+TEST_CASE("Davidson skyscan.py [root q harmless]: setup, then per point a 1, 0.2 s, q dvb rssi 10 q mot",
+          "[clients][g2]") {
     Emulator dish(g2(true));
     ClientPort port(dish.device_path(), time_scale);
     DavidsonLink link(port);
-    for (const char* command : {"q", "dvb", "lnbdc odu", "q", "mot", "a 0 110", "a 1 18"}) REQUIRE(link.command(command));
+    for (const char* command : {"q", "dvb", "lnbdc odu", "q", "mot", "a 0 110", "a 1 18"})
+        REQUIRE(link.command(command));
     port.client_sleep(4.0);
     // A 3 x 3 corner of skyscan.sh's grid (AZ 110.., EL 18.., step 1.0), loops as written.
     int points = 0;
@@ -187,8 +189,8 @@ TEST_CASE("Davidson skyscan.py [root q harmless]: setup, then per point a 1, 0.2
     CHECK(dish.hazards_received() == 1);
 }
 
-TEST_CASE("Davidson skyscan.py's six-integer RSSI parse needs the echo (echo switch off: parse fails)", "[clients][g2]")
-{
+TEST_CASE("Davidson skyscan.py's six-integer RSSI parse needs the echo (echo switch off: parse fails)",
+          "[clients][g2]") {
     Options options = g2(true);
     options.echo = false;
     Emulator dish(options);
@@ -199,8 +201,7 @@ TEST_CASE("Davidson skyscan.py's six-integer RSSI parse needs the echo (echo swi
 }
 
 TEST_CASE("mjlangan G2+ rotor [root q harmless, G2+ home report]: h * until `AZ - Angle: 1 Wrap: 0`, then Angle acks",
-          "[clients][g2]")
-{
+          "[clients][g2]") {
     Options options = g2(true);
     options.g2_homed = false;
     options.home_report = birdcage::sim::HomeReport::g2plus_status;
@@ -213,7 +214,8 @@ TEST_CASE("mjlangan G2+ rotor [root q harmless, G2+ home report]: h * until `AZ 
         while (Clock::now() < give_up) {
             const std::string line = port.readline(1.0);
             std::smatch match;
-            if (std::regex_search(line, match, pattern) && accept(match)) return true;
+            if (std::regex_search(line, match, pattern) && accept(match))
+                return true;
         }
         return false;
     };
@@ -229,7 +231,8 @@ TEST_CASE("mjlangan G2+ rotor [root q harmless, G2+ home report]: h * until `AZ 
         port.write("mot\r");
         for (const auto& [axis, target] : {std::pair{0, az}, {1, el}}) {
             port.write("a " + std::to_string(axis) + " " + py_float(target) + "\r");
-            REQUIRE(wait_line(ack, 20.0, [target](const std::smatch& m) { return std::abs(std::stod(m[1].str()) - target) < 0.01; }));
+            REQUIRE(wait_line(
+                ack, 20.0, [target](const std::smatch& m) { return std::abs(std::stod(m[1].str()) - target) < 0.01; }));
         }
         port.write("q\r");
         return std::string("RPRT 0\n ");
@@ -242,36 +245,38 @@ TEST_CASE("mjlangan G2+ rotor [root q harmless, G2+ home report]: h * until `AZ 
 }
 
 TEST_CASE("mjlangan G2+ rotor waits in vain for its homing line on the 02.02.48 report (home-report default)",
-          "[clients][g2]")
-{
+          "[clients][g2]") {
     Options options = g2(true);
     options.g2_homed = false;
     Emulator dish(options);
     ClientPort port(dish.device_path(), time_scale);
-    for (const char* command : {"q\r", "\r", "mot\r", "h *\r"}) port.write(command);
+    for (const char* command : {"q\r", "\r", "mot\r", "h *\r"})
+        port.write(command);
     static const std::regex homed("AZ\\s*-\\s*Angle:\\s*1\\s*Wrap:\\s*0");
     std::string seen;
     const auto give_up = Clock::now() + std::chrono::seconds(10);
-    while (seen.find("wrap_max") == std::string::npos && Clock::now() < give_up) seen += port.readline(1.0);
+    while (seen.find("wrap_max") == std::string::npos && Clock::now() < give_up)
+        seen += port.readline(1.0);
     seen += port.readline(1.0);  // and whatever follows within a second
     CHECK(seen.find("home:0  wrap_pos:0  wrap_min:-42333  wrap_max:2333") != std::string::npos);
     CHECK_FALSE(std::regex_search(seen, homed));
 }
 
 TEST_CASE("Fox rotor [root q harmless]: h * until a 100-byte chunk ends in MOT>, then `= d.dd` within 100 bytes",
-          "[clients][g2]")
-{
+          "[clients][g2]") {
     Options options = g2(true);
     options.g2_homed = false;  // tracker disabled, so no power-on limit finding (§7.2)
     Emulator dish(options);
     ClientPort port(dish.device_path(), time_scale);
-    for (const char* command : {"q\r", "\r", "mot\r", "h *\r"}) port.write(command);
+    for (const char* command : {"q\r", "\r", "mot\r", "h *\r"})
+        port.write(command);
     const auto give_up = Clock::now() + std::chrono::seconds(20);
     for (;;) {
         REQUIRE(Clock::now() < give_up);
         const std::string chunk = port.read(100, 1.0);
         REQUIRE(strict_ascii(chunk));
-        if (py_strip(chunk).ends_with("MOT>")) break;
+        if (py_strip(chunk).ends_with("MOT>"))
+            break;
     }
     port.write("q\r");
     static const std::regex value("= (\\d+\\.\\d+)");
@@ -280,7 +285,8 @@ TEST_CASE("Fox rotor [root q harmless]: h * until a 100-byte chunk ends in MOT>,
         port.reset_input_buffer();
         port.write("mot\r");
         for (const auto& [axis, target] : {std::pair{0, az}, {1, el}}) {
-            if (axis == 1) port.reset_input_buffer();
+            if (axis == 1)
+                port.reset_input_buffer();
             port.write("a " + std::to_string(axis) + " " + py_float(target) + "\r");
             const std::string chunk = port.read(100, 1.0);
             REQUIRE(strict_ascii(chunk));
@@ -302,8 +308,8 @@ TEST_CASE("Fox rotor [root q harmless]: h * until a 100-byte chunk ends in MOT>,
     CHECK(dish.true_position().el == Approx(60.25).margin(0.015));
 }
 
-TEST_CASE("G2 boot: a client's CR right after Boot Complete gets the late lines, then the prompts", "[clients][g2][boot]")
-{
+TEST_CASE("G2 boot: a client's CR right after Boot Complete gets the late lines, then the prompts",
+          "[clients][g2][boot]") {
     Options options = g2(false);
     options.already_booted = false;
     options.late_boot_line_delay = 2.0;  // simulated: 0.1 s real

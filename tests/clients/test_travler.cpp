@@ -9,9 +9,9 @@
 #include <memory>
 #include <regex>
 
+#include "../sim/pty_client.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "client_port.hpp"
-#include "../sim/pty_client.hpp"
 
 using namespace birdcage::clients;
 using birdcage::sim::Emulator;
@@ -23,8 +23,7 @@ namespace {
 
 constexpr double time_scale = 20.0;
 
-Options options_for(Variant variant)
-{
+Options options_for(Variant variant) {
     Options options;
     options.variant = variant;
     options.time_scale = time_scale;
@@ -32,8 +31,7 @@ Options options_for(Variant variant)
 }
 
 // What the client's float(text) then str() makes of a two-decimal reply field.
-std::string as_reported(double value)
-{
+std::string as_reported(double value) {
     char text[32];
     std::snprintf(text, sizeof text, "%.2f", value);
     return py_float(std::stod(text));
@@ -41,23 +39,23 @@ std::string as_reported(double value)
 
 // travler_init.py v1.0 (§3.6): readline until a line contains `NoGPS`, then six writes with no
 // pause and no read. Returns the stripped lines it printed.
-std::vector<std::string> travler_init(ClientPort& port, double give_up_after_seconds = 60.0)
-{
+std::vector<std::string> travler_init(ClientPort& port, double give_up_after_seconds = 60.0) {
     std::vector<std::string> lines;
     const auto give_up = Clock::now() + std::chrono::duration_cast<Clock::duration>(Seconds(give_up_after_seconds));
     for (;;) {
         REQUIRE(Clock::now() < give_up);  // the client itself would wait forever (§12.2)
         const std::string line = py_strip(port.readline(1.0));
         lines.push_back(line);
-        if (line.find("NoGPS") != std::string::npos) break;
+        if (line.find("NoGPS") != std::string::npos)
+            break;
     }
-    for (const char* command : {"q\r", "\r", "os\r", "kill Search\r", "q\r", "\r"}) port.write(command);
+    for (const char* command : {"q\r", "\r", "os\r", "kill Search\r", "q\r", "\r"})
+        port.write(command);
     return lines;
 }
 
 // travler_rotor.py's start-up: three writes, no reads.
-void travler_rotor_start(ClientPort& port, const std::string& motor_menu)
-{
+void travler_rotor_start(ClientPort& port, const std::string& motor_menu) {
     port.write("q\r");
     port.write("\r");
     port.write(motor_menu + "\r");
@@ -71,8 +69,7 @@ public:
 
     // rotctld `p`: `a`, then read(200) with the 1 s timeout; first AZ/EL match wins; the cache
     // survives a failed parse ("AZ or EL not found.").
-    std::string p()
-    {
+    std::string p() {
         port_.write("a\r");
         const std::string chunk = port_.read(200, 1.0);
         static const std::regex az_field("AZ =\\s+(\\d+\\.\\d+)");
@@ -90,13 +87,16 @@ public:
     // rotctld `P az el`: the leap-frog nudge from the cached position, elevation block
     // included with its bug (it moves the azimuth target, §12.1), then two writes, no reads,
     // axis order alternating per move.
-    std::string P(double target_az, double target_el)
-    {
+    std::string P(double target_az, double target_el) {
         const auto nudge = [](double delta) {
-            if (delta > 2.0) return 1.0;
-            if (delta > 1.0) return 0.5;
-            if (delta < -2.0) return -1.0;
-            if (delta < -1.0) return -0.5;
+            if (delta > 2.0)
+                return 1.0;
+            if (delta > 1.0)
+                return 0.5;
+            if (delta < -2.0)
+                return -1.0;
+            if (delta < -1.0)
+                return -0.5;
             return 0.0;
         };
         target_az += nudge(target_az - az_);
@@ -124,8 +124,7 @@ private:
 };
 
 // A pass of rotctld commands: every p after the dish has stopped reports what the rotor sent.
-void track(Emulator& dish, TravlerRotor& rotor)
-{
+void track(Emulator& dish, TravlerRotor& rotor) {
     REQUIRE(wait_for([&] { return !dish.moving(); }, std::chrono::seconds(30)));
     const std::string first = rotor.p();
     REQUIRE(rotor.parsed());
@@ -145,8 +144,7 @@ void track(Emulator& dish, TravlerRotor& rotor)
 
 }  // namespace
 
-TEST_CASE("travler_init.py started during boot, then travler_rotor.py v2.0 (HAL 0.0.00)", "[clients][hal000][boot]")
-{
+TEST_CASE("travler_init.py started during boot, then travler_rotor.py v2.0 (HAL 0.0.00)", "[clients][hal000][boot]") {
     Options options = options_for(Variant::travler_hal000);
     options.already_booted = false;
     Emulator dish(options);
@@ -165,8 +163,7 @@ TEST_CASE("travler_init.py started during boot, then travler_rotor.py v2.0 (HAL 
 }
 
 TEST_CASE("travler_init.py loses its commands against a deaf window after NoGPS (boot-input-drop switch)",
-          "[clients][hal000][boot]")
-{
+          "[clients][hal000][boot]") {
     Options options = options_for(Variant::travler_hal000);
     options.already_booted = false;
     options.boot_input_drop = 20.0;  // simulated seconds: a second of real time at this scale
@@ -178,8 +175,7 @@ TEST_CASE("travler_init.py loses its commands against a deaf window after NoGPS 
     CHECK(dish.search_running());
 }
 
-TEST_CASE("travler_rotor.py (HAL 2.05 copy, `motor` menu) tracks a dish that is up", "[clients][hal205]")
-{
+TEST_CASE("travler_rotor.py (HAL 2.05 copy, `motor` menu) tracks a dish that is up", "[clients][hal205]") {
     Emulator dish(options_for(Variant::travler_hal205));
     ClientPort port(dish.device_path(), time_scale);
     travler_rotor_start(port, "motor");
@@ -187,8 +183,8 @@ TEST_CASE("travler_rotor.py (HAL 2.05 copy, `motor` menu) tracks a dish that is 
     track(dish, rotor);
 }
 
-TEST_CASE("travler_rotor.py against an `a` reply with one field per line (position-layout switch)", "[clients][hal000]")
-{
+TEST_CASE("travler_rotor.py against an `a` reply with one field per line (position-layout switch)",
+          "[clients][hal000]") {
     Options options = options_for(Variant::travler_hal000);
     options.travler_position_layout = birdcage::sim::TravlerPositionLayout::line_per_axis;
     Emulator dish(options);
@@ -198,8 +194,8 @@ TEST_CASE("travler_rotor.py against an `a` reply with one field per line (positi
     track(dish, rotor);  // its regexes do not care about the line breaks
 }
 
-TEST_CASE("travler_rotor.py finds no position in an integer-only reply (position-decimals=0 switch)", "[clients][hal000]")
-{
+TEST_CASE("travler_rotor.py finds no position in an integer-only reply (position-decimals=0 switch)",
+          "[clients][hal000]") {
     Options options = options_for(Variant::travler_hal000);
     options.position_decimals = 0;
     Emulator dish(options);
@@ -210,8 +206,7 @@ TEST_CASE("travler_rotor.py finds no position in an integer-only reply (position
     CHECK_FALSE(rotor.parsed());
 }
 
-TEST_CASE("travler_pro_rotor.py v2.0: paced start-up through the IDU's odu tunnel, then p/P", "[clients][pro]")
-{
+TEST_CASE("travler_pro_rotor.py v2.0: paced start-up through the IDU's odu tunnel, then p/P", "[clients][pro]") {
     Emulator dish(options_for(Variant::travler_pro));
     ClientPort port(dish.device_path(), time_scale);
     // §5.6: q, 1 s, CR, 1 s, odu, 1 s, then CR q CR mot with no pauses; the rotor part is
@@ -222,29 +217,30 @@ TEST_CASE("travler_pro_rotor.py v2.0: paced start-up through the IDU's odu tunne
     port.client_sleep(1.0);
     port.write("odu\r");
     port.client_sleep(1.0);
-    for (const char* command : {"\r", "q\r", "\r", "mot\r"}) port.write(command);
+    for (const char* command : {"\r", "q\r", "\r", "mot\r"})
+        port.write(command);
     TravlerRotor rotor(port);
     track(dish, rotor);
     CHECK(dish.hazards_received() == 0);
 }
 
-TEST_CASE("travler_pro_rotor.py first version (odu q CR mot, no pauses) reaches MOT>", "[clients][pro]")
-{
+TEST_CASE("travler_pro_rotor.py first version (odu q CR mot, no pauses) reaches MOT>", "[clients][pro]") {
     Emulator dish(options_for(Variant::travler_pro));
     ClientPort port(dish.device_path(), time_scale);
-    for (const char* command : {"odu\r", "q\r", "\r", "mot\r"}) port.write(command);
+    for (const char* command : {"odu\r", "q\r", "\r", "mot\r"})
+        port.write(command);
     TravlerRotor rotor(port);
     track(dish, rotor);
 }
 
 TEST_CASE("travler_pro_rotor.py fails if `q` at the ODU root returns to the IDU (pro-q-returns-to-idu switch)",
-          "[clients][pro]")
-{
+          "[clients][pro]") {
     Options options = options_for(Variant::travler_pro);
     options.pro_q_at_odu_root_returns_to_idu = true;
     Emulator dish(options);
     ClientPort port(dish.device_path(), time_scale);
-    for (const char* command : {"odu\r", "q\r", "\r", "mot\r"}) port.write(command);
+    for (const char* command : {"odu\r", "q\r", "\r", "mot\r"})
+        port.write(command);
     TravlerRotor rotor(port);
     // `q` closed the tunnel: `mot` and `a` land on the IDU console, which knows neither.
     CHECK(rotor.p() == "0.0\n0.0\n");

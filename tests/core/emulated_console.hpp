@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "base/clock.hpp"
-#include "console/transport.hpp"
 #include "birdcage_sim/console.hpp"
+#include "console/transport.hpp"
 
 namespace birdcage::test {
 

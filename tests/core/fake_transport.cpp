@@ -101,10 +101,13 @@ std::vector<std::string> FakeG2::respond(const std::string& command) {
         menu = "DVB";
     } else if (menu == "DVB" && words[0] == "dis") {
         // The rows of the real console's listing around the LNB's (firmware 02.02.48).
-        out += "Num  Parameter            Current                  Default\r\n"
-               "4    Blind Scan Mode      ___trb_dvb_dss_____      ___trb_dvb_dss_____\r\n"
-               "5    LNB Polarity         " + *lnb_polarity + "                  ---\r\n"
-               "6    LNB Tone (ODU)       off                      off\r\n";
+        out +=
+            "Num  Parameter            Current                  Default\r\n"
+            "4    Blind Scan Mode      ___trb_dvb_dss_____      ___trb_dvb_dss_____\r\n"
+            "5    LNB Polarity         " +
+            *lnb_polarity +
+            "                  ---\r\n"
+            "6    LNB Tone (ODU)       off                      off\r\n";
     } else if (menu == "DVB" && words[0] == "lnbdc" && words.size() == 2) {
         lnb_polarity = words[1] == "odu" ? "ODU:13V" : "ODU:18V";
     } else if (menu == "MOT" && words[0] == "a" && words.size() == 1) {

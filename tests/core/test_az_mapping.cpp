@@ -19,9 +19,9 @@ const azmap::Travel g2{{-423.33, 23.33}, true};
 
 TEST_CASE("az mapping: the number sent for a mechanical azimuth") {
     CHECK(azmap::command_value(403.004, travler) == 403.0);
-    CHECK(azmap::command_value(359.997, travler) == 360.0);   // an angle of the travel
-    CHECK(azmap::command_value(-60.0, g2) == 300.0);          // no negative absolute numbers
-    CHECK(azmap::command_value(-0.003, g2) == 0.0);           // never 360.00
+    CHECK(azmap::command_value(359.997, travler) == 360.0);  // an angle of the travel
+    CHECK(azmap::command_value(-60.0, g2) == 300.0);         // no negative absolute numbers
+    CHECK(azmap::command_value(-0.003, g2) == 0.0);          // never 360.00
     CHECK(azmap::command_value(-370.0, g2) == 350.0);
 }
 
@@ -34,7 +34,7 @@ TEST_CASE("az mapping: predictions of the three readings") {
     CHECK(azmap::predict(Mapping::nearest, 403, 100, travler) == Approx(403));
     CHECK(azmap::predict(Mapping::literal, 403, 100, travler) == Approx(403));
     CHECK(azmap::predict(Mapping::wrap_manager, 403, 100, travler, 0) == Approx(43));
-    CHECK(azmap::predict(Mapping::literal, 500, 100, travler) == Approx(455));   // clamped
+    CHECK(azmap::predict(Mapping::literal, 500, 100, travler) == Approx(455));  // clamped
     // G2 at -60: 340 is -20 (nearest and literal) or -20 (sector -360..0).
     CHECK(azmap::predict(Mapping::nearest, 340, -60, g2) == Approx(-20));
     CHECK(azmap::predict(Mapping::nearest, 340, -300, g2) == Approx(-380));
@@ -113,7 +113,7 @@ TEST_CASE("az mapping learner: a stated reading is kept, contradictions are coun
 
 TEST_CASE("az mapping learner: a move no reading explains starts over") {
     azmap::Learner learner(travler);
-    REQUIRE(learner.observe({360.5, 359.5, 200.0, 359.5, std::nullopt}));   // wrap manager, point at north
+    REQUIRE(learner.observe({360.5, 359.5, 200.0, 359.5, std::nullopt}));  // wrap manager, point at north
     // 100 from 100 ended at 250: nothing sends the axis there.
     const auto message = learner.observe({100, 100, 100, 250, 250});
     REQUIRE(message);

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "dish/controller.hpp"
-#include "tracking/position_model.hpp"
 #include "fake_transport.hpp"
+#include "tracking/position_model.hpp"
 
 using namespace birdcage;
 using namespace birdcage::test;
@@ -108,9 +108,10 @@ TEST_CASE("controller G2: waits for the boot to complete") {
     FakeG2 dish;
     bool booted = false;
     FakeTransport wire([&](const std::string& c) { return booted ? dish.respond(c) : Commands{}; });
-    wire.push_delayed("Bootloader v1.01\r\nMotor init: System=12Inch\r\nAntenna Facing Front\r\nBoot Complete\r\n"
-                      "Loc Startup: IDU NOT Present\r\nTRK>",
-                      4);
+    wire.push_delayed(
+        "Bootloader v1.01\r\nMotor init: System=12Inch\r\nAntenna Facing Front\r\nBoot Complete\r\n"
+        "Loc Startup: IDU NOT Present\r\nTRK>",
+        4);
     FakeClock clock;
     auto options = options_for(VariantId::carryout_g2, clock);
     std::vector<std::string> log;
@@ -123,7 +124,8 @@ TEST_CASE("controller G2: waits for the boot to complete") {
     Controller controller(wire, options);
     REQUIRE(controller.initialize());
     CHECK(wire.commands() == Commands{"", "", "", "mot", "a"});
-    CHECK(std::any_of(log.begin(), log.end(), [](const std::string& m) { return m.find("waiting for the dish") != std::string::npos; }));
+    CHECK(std::any_of(log.begin(), log.end(),
+                      [](const std::string& m) { return m.find("waiting for the dish") != std::string::npos; }));
 }
 
 TEST_CASE("controller: boot wait is bounded by boot_timeout") {
@@ -340,7 +342,7 @@ TEST_CASE("controller HAL 2.05: initialise stops the search the ngsearch way and
 
 TEST_CASE("controller HAL 2.05: waits for NoGPS / No LNB Voltage when the console is silent") {
     FakeTravler dish;
-    bool booted = false;   // a calibrating dish ignores its input
+    bool booted = false;  // a calibrating dish ignores its input
     FakeTransport wire([&](const std::string& c) { return booted ? dish.respond(c) : Commands{}; });
     const int arrives_after = GENERATE(1, 3, 6);
     wire.push_delayed("Calibrating...\r\nNo LNB Voltage\r\n", arrives_after);
@@ -442,15 +444,18 @@ TEST_CASE("controller HAL 2.05: a motor that starts seconds after each command i
             }
             const MovingAxes moving = controller.moving_axes();
             REQUIRE(!moving.empty());
-            const AzEl modelled = modelled_position(controller.profile(), *controller.last_position(), moving, clock.now);
+            const AzEl modelled =
+                modelled_position(controller.profile(), *controller.last_position(), moving, clock.now);
             CHECK(modelled.az == Approx(target.az - 10.0).margin(0.05));
             CHECK(modelled.el == Approx(target.el - 2.0).margin(0.05));
         }
         run_until_idle(controller, clock);
         const Commands sent = since(wire, mark);
         INFO("step " << step << ": " << Catch::Detail::stringify(sent));
-        CHECK(std::count_if(sent.begin(), sent.end(), [](const std::string& c) { return c.rfind("a 0 ", 0) == 0; }) == 1);
-        CHECK(std::count_if(sent.begin(), sent.end(), [](const std::string& c) { return c.rfind("a 1 ", 0) == 0; }) == 1);
+        CHECK(std::count_if(sent.begin(), sent.end(), [](const std::string& c) { return c.rfind("a 0 ", 0) == 0; }) ==
+              1);
+        CHECK(std::count_if(sent.begin(), sent.end(), [](const std::string& c) { return c.rfind("a 1 ", 0) == 0; }) ==
+              1);
         CHECK(controller.last_position()->az == Approx(target.az).margin(0.2));
         CHECK(controller.last_position()->el == Approx(target.el).margin(0.2));
     }
@@ -508,7 +513,7 @@ TEST_CASE("controller Carryout 2003: without live output the commanded position 
 // evidence is what its live output does (docs/firmware.md 8.1-8.4).
 struct TerseCarryout {
     bool in_target = false;
-    bool rebooted = false;            // at its root again; `g` is an unknown command, answered silently
+    bool rebooted = false;  // at its root again; `g` is an unknown command, answered silently
     std::vector<std::string> moves;
     std::vector<std::string> respond(const std::string& c) {
         if (c == "target") {
@@ -518,7 +523,7 @@ struct TerseCarryout {
         } else if (c.rfind("g ", 0) == 0) {
             moves.push_back(c);
             if (in_target && !rebooted) {
-                return {"\n", "az = 17000   el = 4000\n"};   // the move runs; more lines follow
+                return {"\n", "az = 17000   el = 4000\n"};  // the move runs; more lines follow
             }
         } else if (c == "?") {
             return {"\n", in_target ? "G\n" : "TARGET\n", "> "};
@@ -553,7 +558,7 @@ TEST_CASE("controller Carryout 2003: live output that stops short with no prompt
     CHECK(status.code == Errc::not_initialised);
     CHECK(rig.controller.needs_reinit());
     REQUIRE(rig.controller.last_position());
-    CHECK(rig.controller.last_position()->az == Approx(170));   // the last live sample, not the target
+    CHECK(rig.controller.last_position()->az == Approx(170));  // the last live sample, not the target
     CHECK(rig.controller.describe().find("last commanded") == std::string::npos);
 
     REQUIRE(rig.controller.reinitialize(1000ms));
@@ -562,11 +567,11 @@ TEST_CASE("controller Carryout 2003: live output that stops short with no prompt
 
 TEST_CASE("controller Carryout 2003: a g answered by a bare prompt without live output was not run") {
     TerseCarryoutMoving rig;
-    rig.wire.push_input("az = 18000   el = 4500\n> ");   // this console prints live positions during g
+    rig.wire.push_input("az = 18000   el = 4500\n> ");  // this console prints live positions during g
     run_until_idle(rig.controller, rig.clock);
     CHECK_FALSE(rig.controller.needs_reinit());
 
-    rig.dish.rebooted = true;   // back at its root after a silent reboot: `g` is answered by `> ` alone
+    rig.dish.rebooted = true;  // back at its root after a silent reboot: `g` is answered by `> ` alone
     REQUIRE(rig.controller.set_target({100, 30}));
     Status status = Status::ok();
     for (int calls = 0; calls < 100 && status && !rig.controller.idle(); ++calls) {
@@ -576,7 +581,7 @@ TEST_CASE("controller Carryout 2003: a g answered by a bare prompt without live 
     CHECK(rig.dish.moves.back() == "g 100.00 30.00");
     CHECK(status.code == Errc::not_initialised);
     CHECK(rig.controller.needs_reinit());
-    CHECK(rig.controller.last_position()->az == Approx(180));   // not the target it never went to
+    CHECK(rig.controller.last_position()->az == Approx(180));  // not the target it never went to
 }
 
 TEST_CASE("controller Carryout 2003: a g whose prompt comes before its live output is followed") {
@@ -688,24 +693,24 @@ TEST_CASE("controller G2: after a recovery the axis farther off on the sky moves
     Controller controller(wire, options_for(VariantId::carryout_g2, clock));
     REQUIRE(controller.initialize());
     REQUIRE(controller.set_target({190, 50}));
-    run_until_idle(controller, clock);   // azimuth went first: elevation's turn next
+    run_until_idle(controller, clock);  // azimuth went first: elevation's turn next
     wire.push_input("Bootloader v1.01\r\nBoot Complete\r\nTRK>");
     dish.menu = "TRK";
-    dish.az = dish.target_az = 0.0;      // where the boot left it
+    dish.az = dish.target_az = 0.0;  // where the boot left it
     dish.el = dish.target_el = 45.0;
     for (int i = 0; i < 5 && !controller.needs_reinit(); ++i) {
         clock.now += 100ms;
-        (void)controller.query_position();   // an idle poll reads the boot output
+        (void)controller.query_position();  // an idle poll reads the boot output
     }
     REQUIRE(controller.needs_reinit());
     REQUIRE(controller.reinitialize(1000ms));
     std::size_t mark = wire.commands().size();
-    REQUIRE(controller.set_target({20, 43}));   // 14 deg off on the sky in azimuth, 2 in elevation
+    REQUIRE(controller.set_target({20, 43}));  // 14 deg off on the sky in azimuth, 2 in elevation
     run_until_idle(controller, clock);
     CHECK(since(wire, mark) == Commands{"a 0 20.00", "a", "a 1 43.00", "a"});
     // Alternation resumes from there.
     mark = wire.commands().size();
-    REQUIRE(controller.set_target({15, 48}));   // inside the G2's travel, which ends at AZ 23.33
+    REQUIRE(controller.set_target({15, 48}));  // inside the G2's travel, which ends at AZ 23.33
     run_until_idle(controller, clock);
     CHECK(since(wire, mark) == Commands{"a 1 48.00", "a", "a 0 15.00", "a"});
 }
@@ -735,7 +740,10 @@ TEST_CASE("controller G2: a position that jumps at rest and does not repeat is r
     wire.set_responder([&](const std::string& c) {
         auto out = dish.respond(c);
         if (c == "a") {
-            out.front() = "a\r\nAngle[0] = 1\x8f\xff" "23.45\r\nAngle[1] = 4\x01" "5.00\r\n";
+            out.front() =
+                "a\r\nAngle[0] = 1\x8f\xff"
+                "23.45\r\nAngle[1] = 4\x01"
+                "5.00\r\n";
         }
         return out;
     });
@@ -751,7 +759,7 @@ struct HomingG2 {
     FakeTransport wire{[this](const std::string& c) {
         if (c.rfind("h ", 0) == 0) {
             homes.push_back(c);
-            return Commands{c + "\r\n"};   // no prompt until the axis is homed
+            return Commands{c + "\r\n"};  // no prompt until the axis is homed
         }
         return dish.respond(c);
     }};
@@ -766,13 +774,13 @@ TEST_CASE_METHOD(HomingG2, "controller G2: homing runs without blocking, one sli
     REQUIRE(controller.start_home());
     CHECK(controller.homing());
     CHECK_FALSE(controller.idle());
-    CHECK(controller.leg_in_flight());   // the shell is held: no submenu visits meanwhile
+    CHECK(controller.leg_in_flight());  // the shell is held: no submenu visits meanwhile
 
     clock.now += 100ms;
     REQUIRE(controller.service());
     CHECK(homes == Commands{"h 1"});
     const std::size_t after_h1 = wire.commands().size();
-    for (int call = 0; call < 5; ++call) {   // the axis is still homing: nothing else is sent
+    for (int call = 0; call < 5; ++call) {  // the axis is still homing: nothing else is sent
         clock.now += 1s;
         REQUIRE(controller.service());
         CHECK(controller.homing());
@@ -781,7 +789,7 @@ TEST_CASE_METHOD(HomingG2, "controller G2: homing runs without blocking, one sli
     CHECK(controller.query_position().status.code == Errc::busy);
     CHECK(wire.commands().size() == after_h1);
 
-    wire.push_input("MOT>");   // elevation homed
+    wire.push_input("MOT>");  // elevation homed
     REQUIRE(controller.service());
     CHECK(homes == Commands{"h 1", "h 0"});
     CHECK(controller.homing());
@@ -789,7 +797,7 @@ TEST_CASE_METHOD(HomingG2, "controller G2: homing runs without blocking, one sli
     dish.homed = true;
     dish.az = dish.target_az = 0.0;
     dish.el = dish.target_el = 65.0;
-    wire.push_input("MOT>");   // azimuth homed
+    wire.push_input("MOT>");  // azimuth homed
     REQUIRE(controller.service());
     CHECK_FALSE(controller.homing());
     CHECK(controller.idle());
@@ -810,7 +818,7 @@ TEST_CASE_METHOD(HomingG2, "controller G2: a home whose prompt never returns giv
     }
     CHECK(status.code == Errc::timeout);
     CHECK_FALSE(controller.homing());
-    CHECK(calls > 10);   // 180 s of dish time, not the first silent slice
+    CHECK(calls > 10);  // 180 s of dish time, not the first silent slice
 }
 
 TEST_CASE_METHOD(G2Bench, "controller G2: home() is the blocking form, a variant without homing refuses") {

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "dish/controller.hpp"
-#include "tracking/wrap.hpp"
 #include "fake_transport.hpp"
+#include "tracking/wrap.hpp"
 
 using namespace birdcage;
 using namespace birdcage::test;
@@ -47,9 +47,9 @@ struct WrapDish {
     double mech = 0, el = 45, target_mech = 0, target_el = 45;
     double step = 30.0;
     std::string menu = "TRK";
-    std::vector<double> resolved;     // the mechanical target of every azimuth command
-    std::vector<double> sent;         // the value of every azimuth command as sent
-    std::vector<double> trajectory;   // the mechanical azimuth at every query
+    std::vector<double> resolved;    // the mechanical target of every azimuth command
+    std::vector<double> sent;        // the value of every azimuth command as sent
+    std::vector<double> trajectory;  // the mechanical azimuth at every query
 
     // sim resolve_target(): 0..360 goes to the branch nearest the axis' target; a value outside
     // 0..360 but inside the window is taken literally.
@@ -152,7 +152,8 @@ struct Bench {
     }
 
     bool logged(const std::string& text) const {
-        return std::any_of(log.begin(), log.end(), [&](const std::string& m) { return m.find(text) != std::string::npos; });
+        return std::any_of(log.begin(), log.end(),
+                           [&](const std::string& m) { return m.find(text) != std::string::npos; });
     }
 };
 
@@ -198,12 +199,12 @@ double largest_move(const WrapDish& dish, std::size_t from) {
 TEST_CASE("controller wrap: a clockwise pass across north on the G2 is followed without an unwind") {
     const bool mechanical = GENERATE(false, true);
     INFO((mechanical ? "mechanical" : "displayed") << " azimuth report");
-    Bench bench(VariantId::carryout_g2, -60.0, 18.0, mechanical);   // 300 = -60 after homing
+    Bench bench(VariantId::carryout_g2, -60.0, 18.0, mechanical);  // 300 = -60 after homing
     REQUIRE(bench.controller->initialize());
     REQUIRE(bench.controller->mechanical_azimuth());
     CHECK(*bench.controller->mechanical_azimuth() == Approx(-60));
 
-    const auto points = pass(300, 120, 18, 60, 30);   // 300 -> 60 clockwise
+    const auto points = pass(300, 120, 18, 60, 30);  // 300 -> 60 clockwise
     // Pass start: -60 has 81 deg left before +21.33; the controller moves to -420 by waypoints.
     CHECK(bench.go(points[0].az, points[0].el, 0.5) == Approx(-420).margin(0.01));
     CHECK(bench.logged("a pass is starting"));
@@ -216,7 +217,7 @@ TEST_CASE("controller wrap: a clockwise pass across north on the G2 is followed 
         CHECK(bench.controller->last_position()->az == Approx(normalize_azimuth(mech)).margin(0.01));
     }
     CHECK(bench.dish.mech == Approx(-300).margin(0.01));
-    CHECK(largest_move(bench.dish, started) <= 4.0 + 0.01);   // one target step, never an unwind
+    CHECK(largest_move(bench.dish, started) <= 4.0 + 0.01);  // one target step, never an unwind
     check_commands_safe(bench.dish);
     CHECK(bench.controller->describe_wrap().find("mechanical az -300.00") != std::string::npos);
 }
@@ -226,9 +227,9 @@ TEST_CASE("controller wrap: an anticlockwise pass across north on the Trav'ler s
     INFO((mechanical ? "mechanical" : "displayed") << " azimuth report");
     Bench bench(VariantId::travler_hal205, 60.0, 15.0, mechanical);
     REQUIRE(bench.controller->initialize());
-    CHECK(*bench.controller->mechanical_azimuth() == Approx(60));   // the reading itself
+    CHECK(*bench.controller->mechanical_azimuth() == Approx(60));  // the reading itself
 
-    const auto points = pass(60, -120, 15, 70, 30);   // 60 -> 300 anticlockwise
+    const auto points = pass(60, -120, 15, 70, 30);  // 60 -> 300 anticlockwise
     CHECK(bench.go(points[0].az, points[0].el, -0.5) == Approx(420).margin(0.01));
     CHECK(bench.dish.resolved == std::vector<double>{180, 300, 420});
     const std::size_t started = bench.dish.trajectory.size();
@@ -249,7 +250,7 @@ TEST_CASE("controller wrap: without a rate hint, continuity alone carries a Trav
     }
     CHECK(bench.dish.mech == Approx(420).margin(0.01));
     CHECK(largest_move(bench.dish, 0) <= 4.0 + 0.01);
-    CHECK(bench.dish.resolved.size() == 30);   // one azimuth leg per later target, no waypoints
+    CHECK(bench.dish.resolved.size() == 30);  // one azimuth leg per later target, no waypoints
     check_commands_safe(bench.dish);
 }
 
@@ -279,9 +280,9 @@ TEST_CASE("controller wrap: a pass no branch holds unwinds just past its culmina
     for (const PassPoint& p : pass(40, -140, 18, 50, 35)) {
         lowest = std::min(lowest, bench.go(p.az, p.el, -0.5));
     }
-    CHECK(lowest >= -421.33 - 0.01);   // never beyond the margin, never at the stop
-    CHECK(lowest >= -400.0 - 0.01);    // turned back well before it
-    CHECK(bench.dish.mech == Approx(-100).margin(0.01));   // 260 after one unwind
+    CHECK(lowest >= -421.33 - 0.01);                      // never beyond the margin, never at the stop
+    CHECK(lowest >= -400.0 - 0.01);                       // turned back well before it
+    CHECK(bench.dish.mech == Approx(-100).margin(0.01));  // 260 after one unwind
     CHECK(bench.logged("past its culmination"));
     CHECK_FALSE(bench.logged("continuing would pass the wrap limit"));
     check_commands_safe(bench.dish);
@@ -325,7 +326,7 @@ TEST_CASE("controller wrap: a repeated identical target is a no-op, whatever the
     const std::size_t mark = bench.wire.commands().size();
     REQUIRE(bench.controller->set_target({310, 30}, 0.5));
     CHECK(bench.controller->idle());
-    REQUIRE(bench.controller->set_target({-50, 30}, -0.2));   // the same target in -180..180
+    REQUIRE(bench.controller->set_target({-50, 30}, -0.2));  // the same target in -180..180
     CHECK(bench.controller->idle());
     bench.controller->service();
     CHECK(bench.wire.commands().size() == mark);
@@ -355,7 +356,7 @@ TEST_CASE("controller wrap: an azimuth that prints as 360.00 is sent as 0.00 whe
     bench.go(359.997, 30, 0.0);
     REQUIRE(bench.dish.sent.size() == 1);
     CHECK(bench.dish.sent.front() == 0.0);
-    CHECK(bench.dish.mech == Approx(0.0));   // the branch continuous with -10
+    CHECK(bench.dish.mech == Approx(0.0));  // the branch continuous with -10
     CHECK(bench.controller->idle());
 }
 
@@ -365,7 +366,7 @@ TEST_CASE("controller wrap: on the Trav'ler the mechanical angle itself is sent,
     bench.go(359.997, 30, 0.0);
     REQUIRE(bench.dish.sent.size() == 1);
     CHECK(bench.dish.sent.front() == 360.0);
-    CHECK(bench.dish.mech == Approx(360.0));   // the branch continuous with 350
+    CHECK(bench.dish.mech == Approx(360.0));  // the branch continuous with 350
     bench.go(43.0, 30, 0.0);
     CHECK(bench.dish.sent.back() == 403.0);
     CHECK(bench.dish.mech == Approx(403.0));

@@ -27,11 +27,11 @@ using Commands = std::vector<std::string>;
 // root's `q` is counted (on a G2 it would kill the shell).
 struct MenuConsole {
     std::string root = "TRK";
-    std::map<std::string, std::string> listing;   // menu -> `?` reply text
+    std::map<std::string, std::string> listing;  // menu -> `?` reply text
     std::string menu = "TRK";
     std::string eol = "\r\n";
     bool echo = true;
-    bool bare_prompts = false;   // every menu prints `>` (Trav'ler, docs/firmware.md 3.1 "likely")
+    bool bare_prompts = false;  // every menu prints `>` (Trav'ler, docs/firmware.md 3.1 "likely")
     int q_at_root = 0;
     int help_requests = 0;
 
@@ -73,14 +73,14 @@ const std::string g2_root_enter =
 
 TEST_CASE("detect: help listings in any layout give the same commands") {
     const std::vector<std::vector<std::string>> layouts = {
-        {"mot", "os", "nvs"},                                             // one per line
-        {"mot os nvs"},                                                   // all on one line
-        {"mot, os, nvs"},                                                 // other separator
-        {"mot - Motor menu", "os - OS menu", "nvs - Non-volatile storage"},   // descriptions
-        {"MOT  Motor menu", "OS   OS menu", "NVS  Storage"},              // columns, upper case
-        {"Enter <mot> - Motor menu", "Enter <os> - OS", "Enter <nvs> - NVS"},   // the G2's layout
-        {"mot: motor menu; os: os menu; nvs: storage"},                   // described, one line
-        {"Enter <mot> - Motor menu Enter <os> - OS Enter <nvs> - NVS"},   // G2 layout on one line
+        {"mot", "os", "nvs"},                                                  // one per line
+        {"mot os nvs"},                                                        // all on one line
+        {"mot, os, nvs"},                                                      // other separator
+        {"mot - Motor menu", "os - OS menu", "nvs - Non-volatile storage"},    // descriptions
+        {"MOT  Motor menu", "OS   OS menu", "NVS  Storage"},                   // columns, upper case
+        {"Enter <mot> - Motor menu", "Enter <os> - OS", "Enter <nvs> - NVS"},  // the G2's layout
+        {"mot: motor menu; os: os menu; nvs: storage"},                        // described, one line
+        {"Enter <mot> - Motor menu Enter <os> - OS Enter <nvs> - NVS"},        // G2 layout on one line
     };
     for (const auto& lines : layouts) {
         INFO(lines.front());
@@ -135,7 +135,7 @@ TEST_CASE("detect: boot and version lines alone identify the firmware") {
     REQUIRE(hal205_winner);
     CHECK(hal205_winner->variant == VariantId::travler_hal205);
 
-    ConsoleEvidence nogps;   // printed by both Trav'ler HALs: not enough
+    ConsoleEvidence nogps;  // printed by both Trav'ler HALs: not enough
     nogps.lines = {"NoGPS"};
     CHECK_FALSE(clear_winner(rank_evidence(nogps)));
 }
@@ -155,9 +155,10 @@ TEST_CASE("detect: a G2 at TRK> with the Enter <cmd> listing, without any q") {
     CHECK(found.value.variant == VariantId::carryout_g2);
     CHECK(found.value.evidence.find("? lists a3981") != std::string::npos);
     CHECK(g2.q_at_root == 0);
-    CHECK(g2.help_requests == 1);   // `?` once at the root, not five times
+    CHECK(g2.help_requests == 1);  // `?` once at the root, not five times
     // At verbose level: what won and why.
-    CHECK(std::any_of(log.begin(), log.end(), [](const std::string& m) { return m.find("scores: g2 ") != std::string::npos; }));
+    CHECK(std::any_of(log.begin(), log.end(),
+                      [](const std::string& m) { return m.find("scores: g2 ") != std::string::npos; }));
 }
 
 TEST_CASE("detect: a G2 left in MOT> is left with q after MOT> was confirmed, then identified") {
@@ -263,9 +264,9 @@ TEST_CASE("detect: a booting G2 is identified from its boot lines and prompt") {
     FakeTransport wire([&](const std::string& c) { return booted ? g2.respond(c) : Commands{}; });
     wire.push_delayed("Bootloader v1.01\r\nAnt ID - 12-IN G2\r\nBoot Complete\r\n", 3);
     wire.push_delayed("Loc Startup: IDU NOT Present\r\nTRK>", 2);
-    const auto found = detect_variant(wire, [&](LogLevel, const std::string& m) {
-        booted = booted || m.find("Loc Startup") != std::string::npos;
-    }, 120s);
+    const auto found = detect_variant(
+        wire, [&](LogLevel, const std::string& m) { booted = booted || m.find("Loc Startup") != std::string::npos; },
+        120s);
     INFO(found.status.message);
     REQUIRE(found);
     CHECK(found.value.variant == VariantId::carryout_g2);
@@ -332,9 +333,9 @@ namespace {
 struct DialectConsole {
     struct Menu {
         std::string prompt;
-        std::vector<std::pair<std::string, std::string>> commands;   // word, description
-        std::map<std::string, std::string> submenus;                  // command -> menu
-        std::string position;                                         // `a` answers this, if any
+        std::vector<std::pair<std::string, std::string>> commands;  // word, description
+        std::map<std::string, std::string> submenus;                // command -> menu
+        std::string position;                                       // `a` answers this, if any
     };
     std::map<std::string, Menu> menus;
     std::string root = "root";
@@ -353,14 +354,14 @@ struct DialectConsole {
     std::uint32_t pick(std::uint32_t n) { return static_cast<std::uint32_t>(rng() % n); }
 
     std::string listing(const Menu& m) {
-        std::mt19937 style(seed);   // every menu of one console in the same style
+        std::mt19937 style(seed);  // every menu of one console in the same style
         auto draw = [&](std::uint32_t n) { return static_cast<std::uint32_t>(style() % n); };
         const bool upper = draw(3) == 0;
         const bool described = draw(3) != 0;
         const bool upper_descriptions = upper && draw(2) == 0;
-        const std::uint32_t layout = draw(5);    // per line, labelled line, columns, Enter <cmd>, one described line
-        const std::uint32_t numbering = draw(4); // none, 1. , 1) , [1]
-        const std::uint32_t bracket = draw(4);   // none, <>, [], ()
+        const std::uint32_t layout = draw(5);     // per line, labelled line, columns, Enter <cmd>, one described line
+        const std::uint32_t numbering = draw(4);  // none, 1. , 1) , [1]
+        const std::uint32_t bracket = draw(4);    // none, <>, [], ()
         const std::vector<std::string> separators = {" - ", ": ", " = ", "\t", "     ", " -- "};
         const std::string desc_sep = separators[draw(static_cast<std::uint32_t>(separators.size()))];
         const std::vector<std::string> titles = {"", "Main Menu", "== HELP ==", "Available commands:", "Commands"};
@@ -374,28 +375,38 @@ struct DialectConsole {
 
         auto word_of = [&](std::string w) {
             if (upper) {
-                for (char& c : w) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+                for (char& c : w)
+                    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
             }
             switch (bracket) {
-            case 1: return "<" + w + ">";
-            case 2: return "[" + w + "]";
-            case 3: return "(" + w + ")";
-            default: return w;
+                case 1:
+                    return "<" + w + ">";
+                case 2:
+                    return "[" + w + "]";
+                case 3:
+                    return "(" + w + ")";
+                default:
+                    return w;
             }
         };
         auto text_of = [&](std::string d) {
             if (upper_descriptions) {
-                for (char& c : d) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+                for (char& c : d)
+                    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
             }
             return d;
         };
         auto number = [&](std::size_t i) {
             const std::string n = std::to_string(i + 1);
             switch (numbering) {
-            case 1: return n + ". ";
-            case 2: return n + ") ";
-            case 3: return "[" + n + "] ";
-            default: return std::string();
+                case 1:
+                    return n + ". ";
+                case 2:
+                    return n + ") ";
+                case 3:
+                    return "[" + n + "] ";
+                default:
+                    return std::string();
             }
         };
         std::vector<std::string> lines;
@@ -406,66 +417,69 @@ struct DialectConsole {
         entries.push_back({"q", "Quit this menu"});
         entries.push_back({"?", "This help"});
         switch (layout) {
-        case 0:   // one per line, maybe wrapped descriptions
-        case 3:
-            for (std::size_t i = 0; i < entries.size(); ++i) {
-                std::string head = layout == 3 ? "Enter <" + word_of(entries[i].first) + ">" : number(i) + word_of(entries[i].first);
-                if (!described) {
-                    lines.push_back(head);
-                    continue;
-                }
-                std::string text = text_of(entries[i].second);
-                if (wrap && text.size() > 12) {
-                    const auto cut = text.find(' ', 10);
-                    if (cut != std::string::npos) {
-                        lines.push_back(head + (layout == 3 ? " - " : desc_sep) + text.substr(0, cut));
-                        lines.push_back("        " + text.substr(cut + 1));
+            case 0:  // one per line, maybe wrapped descriptions
+            case 3:
+                for (std::size_t i = 0; i < entries.size(); ++i) {
+                    std::string head = layout == 3 ? "Enter <" + word_of(entries[i].first) + ">"
+                                                   : number(i) + word_of(entries[i].first);
+                    if (!described) {
+                        lines.push_back(head);
                         continue;
                     }
+                    std::string text = text_of(entries[i].second);
+                    if (wrap && text.size() > 12) {
+                        const auto cut = text.find(' ', 10);
+                        if (cut != std::string::npos) {
+                            lines.push_back(head + (layout == 3 ? " - " : desc_sep) + text.substr(0, cut));
+                            lines.push_back("        " + text.substr(cut + 1));
+                            continue;
+                        }
+                    }
+                    lines.push_back(head + (layout == 3 ? " - " : desc_sep) + text);
                 }
-                lines.push_back(head + (layout == 3 ? " - " : desc_sep) + text);
-            }
-            break;
-        case 1: {   // a label, then the command words, maybe wrapped
-            std::string line = label;
-            for (std::size_t i = 0; i < entries.size(); ++i) {
-                const std::string piece = word_of(entries[i].first);
-                if (wrap && line.size() > 24) {
-                    lines.push_back(line);
-                    line = std::string(label.size(), ' ');
-                } else if (i > 0) {
-                    line += join;
+                break;
+            case 1: {  // a label, then the command words, maybe wrapped
+                std::string line = label;
+                for (std::size_t i = 0; i < entries.size(); ++i) {
+                    const std::string piece = word_of(entries[i].first);
+                    if (wrap && line.size() > 24) {
+                        lines.push_back(line);
+                        line = std::string(label.size(), ' ');
+                    } else if (i > 0) {
+                        line += join;
+                    }
+                    line += piece;
                 }
-                line += piece;
+                lines.push_back(line);
+                break;
             }
-            lines.push_back(line);
-            break;
-        }
-        case 2: {   // columns
-            std::string line;
-            for (std::size_t i = 0; i < entries.size(); ++i) {
-                std::string cell = word_of(entries[i].first);
-                if (described) {
-                    cell += " " + text_of(entries[i].second);
+            case 2: {  // columns
+                std::string line;
+                for (std::size_t i = 0; i < entries.size(); ++i) {
+                    std::string cell = word_of(entries[i].first);
+                    if (described) {
+                        cell += " " + text_of(entries[i].second);
+                    }
+                    cell.resize(std::max<std::size_t>(cell.size() + 2, 28), ' ');
+                    line += cell;
+                    if ((i + 1) % columns == 0 || i + 1 == entries.size()) {
+                        while (!line.empty() && line.back() == ' ')
+                            line.pop_back();
+                        lines.push_back(line);
+                        line.clear();
+                    }
                 }
-                cell.resize(std::max<std::size_t>(cell.size() + 2, 28), ' ');
-                line += cell;
-                if ((i + 1) % columns == 0 || i + 1 == entries.size()) {
-                    while (!line.empty() && line.back() == ' ') line.pop_back();
-                    lines.push_back(line);
-                    line.clear();
+                break;
+            }
+            default: {  // all on one line, each with its description
+                std::string line;
+                for (std::size_t i = 0; i < entries.size(); ++i) {
+                    line += (i > 0 ? "; " : "") + word_of(entries[i].first) +
+                            (described ? ": " + text_of(entries[i].second) : "");
                 }
+                lines.push_back(line);
+                break;
             }
-            break;
-        }
-        default: {   // all on one line, each with its description
-            std::string line;
-            for (std::size_t i = 0; i < entries.size(); ++i) {
-                line += (i > 0 ? "; " : "") + word_of(entries[i].first) + (described ? ": " + text_of(entries[i].second) : "");
-            }
-            lines.push_back(line);
-            break;
-        }
         }
         listing_style_note = lines.empty() ? "" : lines.front() + (lines.size() > 1 ? " / " + lines[1] : "");
         std::string out;
@@ -495,7 +509,7 @@ struct DialectConsole {
                     return {out + "Terminating shell" + eol};
                 }
             } else {
-                menu = menu == "odu_root" ? "odu_root" : root;   // the Pro's ODU root stays (sim default)
+                menu = menu == "odu_root" ? "odu_root" : root;  // the Pro's ODU root stays (sim default)
             }
         } else if (command == "stow" || command == "reboot") {
             ++hazards;
@@ -523,35 +537,69 @@ DialectConsole dialect_console(VariantId variant, std::uint32_t seed) {
     c.bare_prompts = variant != VariantId::carryout_g2 && c.pick(2) == 0;
     c.unknown_reply = c.pick(2) == 0 ? std::string() : std::string("Unknown command");
     // Descriptions as the emulator and the G2's help word them, some naming other variants' words.
-    const DialectConsole::Menu travler_motor{"MOT", {{"a", "Angle: show, or move motor to a target"}, {"g", "Go to az el sk"}}, {}, travler_position};
+    const DialectConsole::Menu travler_motor{
+        "MOT", {{"a", "Angle: show, or move motor to a target"}, {"g", "Go to az el sk"}}, {}, travler_position};
     switch (variant) {
-    case VariantId::travler_hal000:
-        c.menus["root"] = {"TRK", {{"mot", "Motor menu"}, {"nvs", "Non-volatile storage"}, {"os", "OS"}, {"stow", "Stow the dish"}, {"reboot", "Reboot"}}, {{"mot", "mot"}}, ""};
-        c.menus["mot"] = travler_motor;
-        break;
-    case VariantId::travler_hal205:
-        c.menus["root"] = {"TRK", {{"motor", "Motor"}, {"ngsearch", "Search"}, {"nvs", "Non-volatile storage"}, {"os", "OS"}, {"stow", "Stow"}, {"reboot", "Reboot"}}, {{"motor", "motor"}}, ""};
-        c.menus["motor"] = travler_motor;
-        c.menus["motor"].prompt = "MOTOR";
-        break;
-    case VariantId::travler_pro:
-        c.menus["root"] = {"IDU", {{"odu", "Connect to ODU"}}, {{"odu", "odu_root"}}, ""};
-        c.menus["odu_root"] = {"TRK", {{"mot", "Motor"}, {"nvs", "NVS"}, {"os", "OS"}}, {{"mot", "mot"}}, ""};
-        c.menus["mot"] = travler_motor;
-        break;
-    case VariantId::carryout2003:
-        c.menus["root"] = {"TRK", {{"target", "Send dish to AZ/EL"}, {"motor", "Motor"}, {"dvb", "DVB"}, {"os", "OS"}, {"nvs", "NVS"}}, {{"target", "target"}, {"motor", "motor"}}, ""};
-        c.menus["target"] = {"TARGET", {{"g", "Go to az el"}}, {}, ""};
-        c.menus["motor"] = {"MOTOR", {}, {}, ""};
-        break;
-    case VariantId::carryout_g2:
-        c.menus["root"] = {"TRK", {{"a3981", "A3981 stepper drivers"}, {"adc", "ADC"}, {"dipswitch", "DIP switches"}, {"dvb", "DVB tuner"},
-                                   {"eeprom", "EEPROM"}, {"gpio", "GPIO"}, {"latlon", "Lat/Lon"}, {"mot", "Motors"}, {"nvs", "Non-volatile storage"},
-                                   {"os", "OS"}, {"peak", "Peaking"}, {"step", "Raw stepper"}, {"reboot", "Reboot"}, {"stow", "Stow"}},
-                           {{"mot", "mot"}}, ""};
-        c.menus["mot"] = {"MOT", {{"a", "Angle"}, {"g", "Go"}, {"h", "Home"}}, {}, "Angle[0] = 100.00\r\nAngle[1] = 30.00\r\n"};
-        c.q_at_root_kills = true;
-        break;
+        case VariantId::travler_hal000:
+            c.menus["root"] = {"TRK",
+                               {{"mot", "Motor menu"},
+                                {"nvs", "Non-volatile storage"},
+                                {"os", "OS"},
+                                {"stow", "Stow the dish"},
+                                {"reboot", "Reboot"}},
+                               {{"mot", "mot"}},
+                               ""};
+            c.menus["mot"] = travler_motor;
+            break;
+        case VariantId::travler_hal205:
+            c.menus["root"] = {"TRK",
+                               {{"motor", "Motor"},
+                                {"ngsearch", "Search"},
+                                {"nvs", "Non-volatile storage"},
+                                {"os", "OS"},
+                                {"stow", "Stow"},
+                                {"reboot", "Reboot"}},
+                               {{"motor", "motor"}},
+                               ""};
+            c.menus["motor"] = travler_motor;
+            c.menus["motor"].prompt = "MOTOR";
+            break;
+        case VariantId::travler_pro:
+            c.menus["root"] = {"IDU", {{"odu", "Connect to ODU"}}, {{"odu", "odu_root"}}, ""};
+            c.menus["odu_root"] = {"TRK", {{"mot", "Motor"}, {"nvs", "NVS"}, {"os", "OS"}}, {{"mot", "mot"}}, ""};
+            c.menus["mot"] = travler_motor;
+            break;
+        case VariantId::carryout2003:
+            c.menus["root"] = {
+                "TRK",
+                {{"target", "Send dish to AZ/EL"}, {"motor", "Motor"}, {"dvb", "DVB"}, {"os", "OS"}, {"nvs", "NVS"}},
+                {{"target", "target"}, {"motor", "motor"}},
+                ""};
+            c.menus["target"] = {"TARGET", {{"g", "Go to az el"}}, {}, ""};
+            c.menus["motor"] = {"MOTOR", {}, {}, ""};
+            break;
+        case VariantId::carryout_g2:
+            c.menus["root"] = {"TRK",
+                               {{"a3981", "A3981 stepper drivers"},
+                                {"adc", "ADC"},
+                                {"dipswitch", "DIP switches"},
+                                {"dvb", "DVB tuner"},
+                                {"eeprom", "EEPROM"},
+                                {"gpio", "GPIO"},
+                                {"latlon", "Lat/Lon"},
+                                {"mot", "Motors"},
+                                {"nvs", "Non-volatile storage"},
+                                {"os", "OS"},
+                                {"peak", "Peaking"},
+                                {"step", "Raw stepper"},
+                                {"reboot", "Reboot"},
+                                {"stow", "Stow"}},
+                               {{"mot", "mot"}},
+                               ""};
+            c.menus["mot"] = {
+                "MOT", {{"a", "Angle"}, {"g", "Go"}, {"h", "Home"}}, {}, "Angle[0] = 100.00\r\nAngle[1] = 30.00\r\n"};
+            c.q_at_root_kills = true;
+            break;
     }
     return c;
 }
@@ -561,7 +609,8 @@ DialectConsole dialect_console(VariantId variant, std::uint32_t seed) {
 TEST_CASE("detect: a HAL 0.0.00 whose ? is one line, a label then the command words") {
     // The reported console: `>` prompts and `Commands: ...` on one line. Before: "not sure which
     // firmware this is (prompt ">", ? lists commands; scores: no evidence for any variant)".
-    const std::string label = GENERATE(std::string("Commands: "), std::string("Available commands - "), std::string("HELP: "));
+    const std::string label =
+        GENERATE(std::string("Commands: "), std::string("Available commands - "), std::string("HELP: "));
     MenuConsole dish;
     dish.root = "";
     dish.menu = "";
@@ -603,41 +652,45 @@ TEST_CASE("detect: where the evidence ties, probes decide, log each answer and n
         wire.push_input("NoGPS\r\n");
     }
     std::vector<std::string> log;
-    const auto found = detect_variant(wire, [&](LogLevel, const std::string& m) { log.push_back(m); }, 60s);
+    const auto found = detect_variant(
+        wire, [&](LogLevel, const std::string& m) { log.push_back(m); }, 60s);
     INFO(found.status.message);
     REQUIRE(found);
     CHECK(found.value.variant == c.variant);
     CHECK(found.value.evidence.find("by probing") != std::string::npos);
     CHECK(dish.hazards == 0);
-    CHECK(std::count_if(log.begin(), log.end(), [](const std::string& m) { return m.find("auto-detect probe: \"") == 0; }) >= 1);
+    CHECK(std::count_if(log.begin(), log.end(),
+                        [](const std::string& m) { return m.find("auto-detect probe: \"") == 0; }) >= 1);
     // At the G2 root shape `q` goes only to the motor menu a probe entered (at a Trav'ler `>` root
     // the submenu rule may send its harmless `q` first).
     const Commands& sent = wire.commands();
     for (std::size_t i = 0; i < sent.size() && c.q_kills; ++i) {
         if (sent[i] == "q") {
             REQUIRE(i >= 1);
-            CHECK(std::find(sent.begin(), sent.begin() + static_cast<std::ptrdiff_t>(i), std::string(c.motor_menu)) != sent.begin() + static_cast<std::ptrdiff_t>(i));
+            CHECK(std::find(sent.begin(), sent.begin() + static_cast<std::ptrdiff_t>(i), std::string(c.motor_menu)) !=
+                  sent.begin() + static_cast<std::ptrdiff_t>(i));
         }
     }
 }
 
 TEST_CASE("detect: generated listing layouts, every variant, identified without a hazard") {
     // A seeded generator rather than a hand-made list: the layouts nobody thought of are the point.
-    const std::vector<VariantId> variants = {VariantId::travler_hal000, VariantId::travler_hal205, VariantId::travler_pro,
-                                             VariantId::carryout2003, VariantId::carryout_g2};
+    const std::vector<VariantId> variants = {VariantId::travler_hal000, VariantId::travler_hal205,
+                                             VariantId::travler_pro, VariantId::carryout2003, VariantId::carryout_g2};
     int probed = 0;
     for (VariantId variant : variants) {
         for (std::uint32_t seed = 1; seed <= 40; ++seed) {
             DialectConsole dish = dialect_console(variant, seed + 1000u * static_cast<std::uint32_t>(variant));
-            const bool booting_trace = variant != VariantId::carryout_g2 && variant != VariantId::carryout2003 && seed % 3 == 0;
+            const bool booting_trace =
+                variant != VariantId::carryout_g2 && variant != VariantId::carryout2003 && seed % 3 == 0;
             FakeTransport wire([&](const std::string& command) { return dish.respond(command); });
             if (booting_trace) {
-                wire.push_input("NoGPS" + dish.eol);   // the tie of both Trav'ler HALs
+                wire.push_input("NoGPS" + dish.eol);  // the tie of both Trav'ler HALs
             }
             const auto found = detect_variant(wire, {}, 60s);
             (void)dish.listing(dish.menus.at(dish.root));
-            INFO(profile(variant).short_name << " seed " << seed << ": " << dish.listing_style_note << " -> " << found.status.message
-                                              << found.value.evidence);
+            INFO(profile(variant).short_name << " seed " << seed << ": " << dish.listing_style_note << " -> "
+                                             << found.status.message << found.value.evidence);
             CHECK(found);
             CHECK((found && found.value.variant == variant));
             CHECK(dish.hazards == 0);

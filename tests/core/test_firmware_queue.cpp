@@ -74,9 +74,8 @@ struct Rig {
 
     std::size_t azimuth_commands() const {
         const auto& commands = dish.console().commands();
-        return static_cast<std::size_t>(std::count_if(commands.begin(), commands.end(), [](const std::string& c) {
-            return c.rfind("a 0 ", 0) == 0;
-        }));
+        return static_cast<std::size_t>(std::count_if(commands.begin(), commands.end(),
+                                                      [](const std::string& c) { return c.rfind("a 0 ", 0) == 0; }));
     }
 };
 
@@ -102,7 +101,7 @@ TEST_CASE("firmware queue: an azimuth leg queued behind an elevation leg that en
     if (wait_for_rest) {
         rig.until_still();
     } else {
-        rig.until_idle();   // arrived within the tolerance: the motor is still braking
+        rig.until_idle();  // arrived within the tolerance: the motor is still braking
     }
     REQUIRE(rig.count(" ms after its command") == 1);
     const std::size_t before = rig.azimuth_commands();
@@ -112,7 +111,7 @@ TEST_CASE("firmware queue: an azimuth leg queued behind an elevation leg that en
     rig.until_still();
 
     CHECK(rig.count("short of") == 0);
-    CHECK(rig.azimuth_commands() == before + 1);   // sent once, never re-sent
+    CHECK(rig.azimuth_commands() == before + 1);  // sent once, never re-sent
     CHECK(rig.dish.console().position().az == Approx(start_az + 20.0).margin(0.05));
     CHECK(rig.dish.console().position().el == Approx(start_el - 0.15).margin(0.05));
     // Nothing after the first leg taught a start-up delay: the queued leg's start is not its own.

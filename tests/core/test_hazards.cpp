@@ -20,14 +20,16 @@ namespace {
 constexpr std::optional<VariantId> g2 = VariantId::carryout_g2;
 constexpr std::optional<VariantId> unknown_variant = std::nullopt;
 
-bool refused(std::optional<VariantId> variant, std::string_view menu, std::string_view command, HazardRequests requests) {
+bool refused(std::optional<VariantId> variant, std::string_view menu, std::string_view command,
+             HazardRequests requests) {
     return judge_command(variant, menu, command, requests).hazard();
 }
 
 }  // namespace
 
 TEST_CASE("hazard rule: the backend's move, home and search requests pass, nothing else of their words") {
-    for (const char* command : {"a 0 180.00", "a 1 45.5", "a 0 -12.25", "a 0 +5", "g 180.00 45.00", "h 0", "h 1", "h *"}) {
+    for (const char* command :
+         {"a 0 180.00", "a 1 45.5", "a 0 -12.25", "a 0 +5", "g 180.00 45.00", "h 0", "h 1", "h *"}) {
         INFO(command);
         CHECK_FALSE(refused(g2, "mot", command, backend_requests));
         CHECK_FALSE(refused(unknown_variant, "", command, backend_requests));
@@ -144,6 +146,6 @@ TEST_CASE("menus: the probe's prompt word follows the framer's prompt rule") {
             CHECK(*word + ">" == prompt_text(text));
         }
     }
-    CHECK_FALSE(prompt_word("mot>"));      // an echo or a listing word, not a prompt
-    CHECK_FALSE(prompt_word("MOT>#$%"));   // at most two marks after '>'
+    CHECK_FALSE(prompt_word("mot>"));     // an echo or a listing word, not a prompt
+    CHECK_FALSE(prompt_word("MOT>#$%"));  // at most two marks after '>'
 }

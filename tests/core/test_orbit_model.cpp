@@ -10,29 +10,31 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
-#include <iterator>
 #include <vector>
 
 #include "base/azel.hpp"
+#include "error_stats.hpp"
 #include "tracking/orbit_model.hpp"
 #include "tracking/pointing.hpp"
-#include "error_stats.hpp"
 
 using namespace birdcage;
 
 namespace {
 
-double two_decimals(double x) { return std::round(x * 100.0) / 100.0; }
+double two_decimals(double x) {
+    return std::round(x * 100.0) / 100.0;
+}
 
 double sky_angle(AzEl a, AzEl b) {
     const double d = M_PI / 180.0;
-    const double c = std::sin(a.el * d) * std::sin(b.el * d) +
-                     std::cos(a.el * d) * std::cos(b.el * d) * std::cos((a.az - b.az) * d);
+    const double c =
+        std::sin(a.el * d) * std::sin(b.el * d) + std::cos(a.el * d) * std::cos(b.el * d) * std::cos((a.az - b.az) * d);
     return std::acos(std::clamp(c, -1.0, 1.0)) / d;
 }
 
@@ -83,7 +85,7 @@ using Errors = birdcage::test::ErrorStats;
 
 const char* const pass_names[] = {"iss-20", "iss-45", "iss-60", "iss-70", "iss-85",
                                   "sso-20", "sso-45", "sso-70", "sso-85"};
-constexpr double site_latitude = 45.0;   // bench/generate_passes.py
+constexpr double site_latitude = 45.0;  // bench/generate_passes.py
 
 // Errors of the model's prediction against the pass from `from` to the end (satellite above the
 // horizon), every second.
@@ -154,8 +156,13 @@ public:
     // look_ahead false: a simpler client (bench --client current) that sends the satellite's
     // direction as it is whenever it is more than `threshold` from its own last target.
     GpredictLikeClient(const TruePass& pass, double threshold, double min_el, double max_el, bool look_ahead = true)
-        : pass_(pass), threshold_(threshold), min_el_(min_el), max_el_(max_el),
-          aos_az_(pass.at(pass.rise()).az), end_(pass.t.back() - 1.0), look_ahead_(look_ahead) {}
+        : pass_(pass),
+          threshold_(threshold),
+          min_el_(min_el),
+          max_el_(max_el),
+          aos_az_(pass.at(pass.rise()).az),
+          end_(pass.t.back() - 1.0),
+          look_ahead_(look_ahead) {}
 
     double aos_az() const { return aos_az_; }
     double end() const { return end_; }
@@ -200,15 +207,15 @@ private:
 
 struct ClientRun {
     int targets = 0;
-    Errors now_error;        // the model's satellite now against the truth, while trusted
-    double trusted_from_el = 90.0;   // the satellite's elevation when the model was first trusted
-    int seconds_untrusted = 0;       // above the floor
+    Errors now_error;               // the model's satellite now against the truth, while trusted
+    double trusted_from_el = 90.0;  // the satellite's elevation when the model was first trusted
+    int seconds_untrusted = 0;      // above the floor
 };
 
 // The Gpredict-like client with its limits against a dish that goes to each target clamped to
 // [floor, cap] at once; the orbit alone, as the target stream shapes it.
-ClientRun run_client(const TruePass& pass, double threshold, double client_min_el, double client_max_el,
-                     double floor, double cap, std::optional<double> lead_known) {
+ClientRun run_client(const TruePass& pass, double threshold, double client_min_el, double client_max_el, double floor,
+                     double cap, std::optional<double> lead_known) {
     OrbitModelSettings settings;
     settings.latitude_deg = site_latitude;
     settings.el_floor = floor;
@@ -240,7 +247,7 @@ ClientRun run_client(const TruePass& pass, double threshold, double client_min_e
 }  // namespace
 
 TEST_CASE("orbit model: the rest of a pass above the dish's floor, for its cable-wrap branch") {
-    constexpr double floor_el = 18.0;   // the G2's
+    constexpr double floor_el = 18.0;  // the G2's
     for (const char* name : pass_names) {
         const TruePass pass = TruePass::load(name);
         OrbitModelSettings settings;
@@ -272,11 +279,11 @@ TEST_CASE("orbit model: the rest of a pass above the dish's floor, for its cable
             previous = here;
         }
         const auto span = model.pass_above(from, floor_el, 1800.0);
-        std::printf("%-7s pass above %.0f: sweep %.1f (truth %.1f), from %.0f s to %.0f s (truth %.0f to %.0f)\n",
-                    name, floor_el, span ? span->sweep_deg : 0.0, true_sweep, span ? span->start_t - from : -1.0,
+        std::printf("%-7s pass above %.0f: sweep %.1f (truth %.1f), from %.0f s to %.0f s (truth %.0f to %.0f)\n", name,
+                    floor_el, span ? span->sweep_deg : 0.0, true_sweep, span ? span->start_t - from : -1.0,
                     span ? span->end_t - from : -1.0, true_start - from, true_end - from);
         if (true_start < 0.0) {
-            continue;   // a pass that stays below the floor needs no room
+            continue;  // a pass that stays below the floor needs no room
         }
         REQUIRE(span);
         INFO(name << ": " << model.describe());
@@ -300,14 +307,17 @@ TEST_CASE("orbit model: a Gpredict-like client's look-ahead targets give the sat
         // the orbit: four passes (a low and a zenith pass of each orbit) keep the sanitizer build's
         // run of this test within a couple of minutes.
         const bool wide = s.client_min_el < 18.0;
-        const std::vector<const char*> names = wide ? std::vector<const char*>{"iss-20", "iss-85", "sso-20", "sso-85"}
-                                                    : std::vector<const char*>(std::begin(pass_names), std::end(pass_names));
+        const std::vector<const char*> names =
+            wide ? std::vector<const char*>{"iss-20", "iss-85", "sso-20", "sso-85"}
+                 : std::vector<const char*>(std::begin(pass_names), std::end(pass_names));
         for (const char* name : names) {
             const TruePass pass = TruePass::load(name);
             const ClientRun run = run_client(pass, s.threshold, s.client_min_el, s.client_max_el, 18.0, 65.0, s.lead);
-            std::printf("thr %.1f limits %2.0f-%2.0f lead %-4s %-7s targets %3d untrusted %3d s, trusted from el %4.1f, RMS %.3f max %.3f\n",
-                        s.threshold, s.client_min_el, s.client_max_el, s.lead ? "yes" : "no", name, run.targets,
-                        run.seconds_untrusted, run.trusted_from_el, run.now_error.rms(), run.now_error.max);
+            std::printf(
+                "thr %.1f limits %2.0f-%2.0f lead %-4s %-7s targets %3d untrusted %3d s, trusted from el %4.1f, RMS "
+                "%.3f max %.3f\n",
+                s.threshold, s.client_min_el, s.client_max_el, s.lead ? "yes" : "no", name, run.targets,
+                run.seconds_untrusted, run.trusted_from_el, run.now_error.rms(), run.now_error.max);
             INFO("threshold " << s.threshold << " client limits " << s.client_min_el << "-" << s.client_max_el
                               << (s.lead ? " lead known " : " lead unknown ") << name);
             if (!s.lead) {
@@ -386,12 +396,12 @@ Clock::time_point at(double seconds) {
 // each target): the satellite now and `ahead` seconds later, as the predictor gives it.
 struct PredictorRun {
     Errors now_error, ahead_error;
-    Errors on_orbit_error;   // the satellite now, while the orbit is in use
+    Errors on_orbit_error;  // the satellite now, while the orbit is in use
     int seconds_on_orbit = 0, seconds_measured = 0;
 };
 
-PredictorRun run_predictor(const TruePass& pass, double threshold, bool use_orbit, double ahead,
-                           bool look_ahead = true, std::optional<double>* lead = nullptr) {
+PredictorRun run_predictor(const TruePass& pass, double threshold, bool use_orbit, double ahead, bool look_ahead = true,
+                           std::optional<double>* lead = nullptr) {
     PredictorSettings settings;
     settings.use_pass_model = use_orbit;
     settings.orbit.latitude_deg = site_latitude;
@@ -441,18 +451,19 @@ TEST_CASE("orbit model: the predictor follows the orbit and beats its local esti
             const TruePass pass = TruePass::load(name);
             const PredictorRun orbit = run_predictor(pass, threshold, true, 30.0);
             const PredictorRun local = run_predictor(pass, threshold, false, 30.0);
-            std::printf("predictor thr %.1f %-7s on the orbit %3.0f%% | orbit now %.2f/%.2f 30 s %.2f/%.2f | local now "
-                        "%.2f/%.2f 30 s %.2f/%.2f\n",
-                        threshold, name, 100.0 * orbit.seconds_on_orbit / std::max(1, orbit.seconds_measured),
-                        orbit.now_error.rms(), orbit.now_error.max, orbit.ahead_error.rms(), orbit.ahead_error.max,
-                        local.now_error.rms(), local.now_error.max, local.ahead_error.rms(), local.ahead_error.max);
+            std::printf(
+                "predictor thr %.1f %-7s on the orbit %3.0f%% | orbit now %.2f/%.2f 30 s %.2f/%.2f | local now "
+                "%.2f/%.2f 30 s %.2f/%.2f\n",
+                threshold, name, 100.0 * orbit.seconds_on_orbit / std::max(1, orbit.seconds_measured),
+                orbit.now_error.rms(), orbit.now_error.max, orbit.ahead_error.rms(), orbit.ahead_error.max,
+                local.now_error.rms(), local.now_error.max, local.ahead_error.rms(), local.ahead_error.max);
             orbit_now += orbit.now_error.rms();
             local_now += local.now_error.rms();
             orbit_ahead += orbit.ahead_error.rms();
             local_ahead += local.ahead_error.rms();
         }
-        INFO("threshold " << threshold << ": mean RMS now " << orbit_now / 9 << " vs " << local_now / 9 << ", 30 s ahead "
-                          << orbit_ahead / 9 << " vs " << local_ahead / 9);
+        INFO("threshold " << threshold << ": mean RMS now " << orbit_now / 9 << " vs " << local_now / 9
+                          << ", 30 s ahead " << orbit_ahead / 9 << " vs " << local_ahead / 9);
         CHECK(orbit_now < 0.8 * local_now);
         CHECK(orbit_ahead < (threshold > 1.0 ? 0.8 : 0.3) * local_ahead);
     }
@@ -474,11 +485,13 @@ TEST_CASE("orbit model: a client without look-ahead is followed as sent, its lea
             std::optional<double> lead;
             const PredictorRun orbit = run_predictor(pass, threshold, true, 30.0, false, &lead);
             const PredictorRun local = run_predictor(pass, threshold, false, 30.0, false);
-            std::printf("no look-ahead thr %.1f %-7s lead %.2f on the orbit %3.0f%% (there %.2f/%.2f) | orbit now %.2f/%.2f | "
-                        "local now %.2f/%.2f\n",
-                        threshold, name, lead.value_or(-1.0), 100.0 * orbit.seconds_on_orbit / std::max(1, orbit.seconds_measured),
-                        orbit.on_orbit_error.rms(), orbit.on_orbit_error.max, orbit.now_error.rms(), orbit.now_error.max,
-                        local.now_error.rms(), local.now_error.max);
+            std::printf(
+                "no look-ahead thr %.1f %-7s lead %.2f on the orbit %3.0f%% (there %.2f/%.2f) | orbit now %.2f/%.2f | "
+                "local now %.2f/%.2f\n",
+                threshold, name, lead.value_or(-1.0),
+                100.0 * orbit.seconds_on_orbit / std::max(1, orbit.seconds_measured), orbit.on_orbit_error.rms(),
+                orbit.on_orbit_error.max, orbit.now_error.rms(), orbit.now_error.max, local.now_error.rms(),
+                local.now_error.max);
             orbit_now += orbit.now_error.rms();
             local_now += local.now_error.rms();
             lead_sum += lead.value_or(threshold);

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "base/azel.hpp"
-#include "tracking/pointing.hpp"
 #include "error_stats.hpp"
+#include "tracking/pointing.hpp"
 
 using namespace birdcage;
 
@@ -48,12 +48,18 @@ PredictorSettings extrapolating_at_once() {
 }
 
 // Targets go over the wire as "P %.2f %.2f".
-double two_decimals(double x) { return std::round(x * 100.0) / 100.0; }
+double two_decimals(double x) {
+    return std::round(x * 100.0) / 100.0;
+}
 
-double az_error(double a, double b) { return std::fabs(azimuth_difference(a, b)); }
+double az_error(double a, double b) {
+    return std::fabs(azimuth_difference(a, b));
+}
 
 // Per-axis error (Gpredict's threshold box is per axis).
-double box_error(AzEl a, AzEl b) { return std::max(az_error(a.az, b.az), std::fabs(a.el - b.el)); }
+double box_error(AzEl a, AzEl b) {
+    return std::max(az_error(a.az, b.az), std::fabs(a.el - b.el));
+}
 
 struct Linear {
     double az0, el0, az_rate, el_rate;
@@ -199,9 +205,9 @@ TEST_CASE("pointing: Gpredict-like lead targets: the lead is learned and the pre
             }
         }
         INFO("targets sent: " << client.sent_at.size() << "; learned threshold "
-                              << predictor.lead_threshold_deg().value_or(-1.0) << "; predicted RMS "
-                              << predicted.rms() << " max " << predicted.max << "; last-target RMS " << naive.rms()
-                              << " max " << naive.max);
+                              << predictor.lead_threshold_deg().value_or(-1.0) << "; predicted RMS " << predicted.rms()
+                              << " max " << predicted.max << "; last-target RMS " << naive.rms() << " max "
+                              << naive.max);
         // The client really is a threshold client: the naive error sweeps up to the threshold.
         REQUIRE(client.sent_at.size() >= 8);
         REQUIRE(naive.max > 0.9 * c.threshold);
@@ -212,8 +218,7 @@ TEST_CASE("pointing: Gpredict-like lead targets: the lead is learned and the pre
         CHECK(predicted.max < c.max_fraction * c.threshold);
         const Prediction p = must_predict(predictor, end_s);
         const double dominant = std::max(std::fabs(c.sat.az_rate), std::fabs(c.sat.el_rate));
-        CHECK(std::max(std::fabs(p.az_rate - c.sat.az_rate), std::fabs(p.el_rate - c.sat.el_rate)) <
-              0.05 * dominant);
+        CHECK(std::max(std::fabs(p.az_rate - c.sat.az_rate), std::fabs(p.el_rate - c.sat.el_rate)) < 0.05 * dominant);
     }
 }
 
@@ -600,7 +605,7 @@ TEST_CASE("pointing: two manual pointings a few seconds apart are not a satellit
         CHECK(p->position.el == Approx(25.0).margin(1e-9));
     }
     // A small manual nudge is not caught by the gate, but is too fast for a satellite.
-    predictor.observe(t0 + std::chrono::seconds(4), {236.0, 25.0}, AzEl{230.0, 25.0});   // 5.4 deg in 1.5 s
+    predictor.observe(t0 + std::chrono::seconds(4), {236.0, 25.0}, AzEl{230.0, 25.0});  // 5.4 deg in 1.5 s
     const auto nudged = predictor.predict(t0 + std::chrono::seconds(10));
     CHECK_FALSE(nudged->moving);
     CHECK(nudged->position.az == Approx(236.0).margin(1e-9));

@@ -23,11 +23,13 @@ LegMotion leg_from(Axis axis, double start, double to, Clock::time_point sent_at
     leg.start = start;
     leg.to = to;
     leg.sent_at = sent_at;
-    leg.latest = AxisReading{start, sent_at - 1ms};   // read just before it was sent
+    leg.latest = AxisReading{start, sent_at - 1ms};  // read just before it was sent
     return leg;
 }
 
-MovingAxes azimuth_only(const LegMotion& leg) { return MovingAxes{leg, std::nullopt}; }
+MovingAxes azimuth_only(const LegMotion& leg) {
+    return MovingAxes{leg, std::nullopt};
+}
 
 }  // namespace
 
@@ -41,10 +43,10 @@ TEST_CASE("position model: no leg in flight, the reading, a leg, from its start 
     REQUIRE(move > 0ms);
     CHECK(modelled_position(g2, last, azimuth_only(leg), t0).az == Approx(100));
     const AzEl half = modelled_position(g2, last, azimuth_only(leg), t0 + move / 2);
-    CHECK(half.az == Approx(120).margin(0.1));   // symmetric profile: halfway at half time
-    CHECK(half.el == Approx(30));                 // the other axis does not move
+    CHECK(half.az == Approx(120).margin(0.1));  // symmetric profile: halfway at half time
+    CHECK(half.el == Approx(30));               // the other axis does not move
     const AzEl quarter = modelled_position(g2, last, azimuth_only(leg), t0 + move / 4);
-    CHECK(quarter.az < 110.0);                    // still accelerating: less than a quarter of the way
+    CHECK(quarter.az < 110.0);  // still accelerating: less than a quarter of the way
     CHECK(modelled_position(g2, last, azimuth_only(leg), t0 + move * 3).az == Approx(140));
 }
 
@@ -63,7 +65,7 @@ TEST_CASE("position model: an azimuth leg across north takes the short way and w
     const auto leg = leg_from(Axis::azimuth, 350.0, 10.0, t0);
     const auto move = estimated_move_time(g2, Axis::azimuth, 20.0);
     const double halfway = modelled_position(g2, AzEl{350, 30}, azimuth_only(leg), t0 + move / 2).az;
-    CHECK(std::fabs(azimuth_difference(0.0, halfway)) < 0.1);   // at north, whichever side of 0/360
+    CHECK(std::fabs(azimuth_difference(0.0, halfway)) < 0.1);  // at north, whichever side of 0/360
     CHECK(modelled_position(g2, AzEl{350, 30}, azimuth_only(leg), t0 + move).az == Approx(10));
 }
 
@@ -98,7 +100,7 @@ TEST_CASE("position model: two readings of one leg time the axis against the mod
     LegMotion slow = model;
     slow.first_moving = AxisReading{model_at(move * 3 / 10), t0 + move * 45 / 100};
     slow.latest = AxisReading{model_at(move * 4 / 10), t0 + move * 60 / 100};
-    const auto step = move / 10;   // a further 0.15 of real time is 0.1 of model time
+    const auto step = move / 10;  // a further 0.15 of real time is 0.1 of model time
     CHECK(modelled_axis(hal, slow, t0 + move * 60 / 100 + step * 3 / 2) == Approx(model_at(move / 2)).margin(0.02));
 
     SECTION("the last two readings, where far enough apart, give the pace where the axis is now") {
@@ -108,9 +110,9 @@ TEST_CASE("position model: two readings of one leg time the axis against the mod
         CHECK(modelled_axis(hal, slow, t0 + move * 60 / 100 + step * 3 / 2) == Approx(model_at(move / 2)).margin(0.02));
     }
     SECTION("an implausible pace is bounded") {
-        slow.first_moving->at = t0 + move * 59 / 100;   // a tenth of the model's time for its distance
+        slow.first_moving->at = t0 + move * 59 / 100;  // a tenth of the model's time for its distance
         const double bounded = modelled_axis(hal, slow, t0 + move * 60 / 100 + step);
-        CHECK(bounded == Approx(model_at(move * 8 / 10)).margin(0.02));   // four times the model's pace at most
+        CHECK(bounded == Approx(model_at(move * 8 / 10)).margin(0.02));  // four times the model's pace at most
     }
     SECTION("readings too close together to time the axis leave the model's pace") {
         slow.first_moving = AxisReading{slow.latest.value - 0.05, t0 + move * 59 / 100};
@@ -133,22 +135,22 @@ TEST_CASE("position model: a pace learnt on earlier legs times the next leg befo
     LegMotion leg = leg_from(Axis::elevation, 30.0, 32.0, t0);
     const double at_model_pace = modelled_axis(hal, leg, t0 + move / 2);
     CHECK(at_model_pace == Approx(31.0).margin(0.01));
-    leg.pace = 0.5;   // this axis ran legs of this length at half the model's pace
+    leg.pace = 0.5;  // this axis ran legs of this length at half the model's pace
     CHECK(modelled_axis(hal, leg, t0 + move) == Approx(31.0).margin(0.01));
-    CHECK(observed_pace(hal, leg) == std::nullopt);   // no readings in the leg yet
+    CHECK(observed_pace(hal, leg) == std::nullopt);  // no readings in the leg yet
 }
 
 TEST_CASE("position model: paces are learnt per axis and per leg length") {
     AxisPaces paces;
     CHECK(paces.pace(Axis::azimuth, 0.5) == 1.0);
     paces.learn(Axis::azimuth, 0.6, 0.5);
-    CHECK(paces.pace(Axis::azimuth, 0.7) == Approx(0.5));     // same length class (0.5..1 deg)
-    CHECK(paces.pace(Axis::azimuth, 3.0) == 1.0);             // another length
-    CHECK(paces.pace(Axis::elevation, 0.7) == 1.0);           // another axis
+    CHECK(paces.pace(Axis::azimuth, 0.7) == Approx(0.5));  // same length class (0.5..1 deg)
+    CHECK(paces.pace(Axis::azimuth, 3.0) == 1.0);          // another length
+    CHECK(paces.pace(Axis::elevation, 0.7) == 1.0);        // another axis
     for (int legs = 0; legs < 30; ++legs) {
         paces.learn(Axis::azimuth, 0.6, 0.8);
     }
-    CHECK(paces.pace(Axis::azimuth, 0.6) == Approx(0.8).margin(1e-3));   // follows the motor as it changes
+    CHECK(paces.pace(Axis::azimuth, 0.6) == Approx(0.8).margin(1e-3));  // follows the motor as it changes
 }
 
 namespace {
@@ -187,8 +189,9 @@ std::optional<double> leg_startup(const FirmwareProfile& dish, const DelayedMoto
         const double t = phase_s + 0.1 * i;
         const double wobble = (i % 2 == 0 ? noise : -noise);
         const double value = std::round((20.0 + motor.covered(distance, t) + wobble) * 100.0) / 100.0;
-        add_reading(leg, AxisReading{value, t0 + std::chrono::duration_cast<Clock::duration>(
-                                                       std::chrono::duration<double>(t))});
+        add_reading(
+            leg,
+            AxisReading{value, t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t))});
         seen = StartupDelays::observed(dish, leg);
     }
     return seen;
@@ -205,7 +208,7 @@ TEST_CASE("position model: start-up delays converge from a leg's own readings, w
     const double latest_start_shown = std::sqrt(2.0 * 0.02 / motor.accel) + 0.1;
     StartupDelays delays;
     CHECK_FALSE(delays.learnt(Axis::elevation));
-    CHECK(delays.delay(Axis::elevation, 0.25) == 0.25);   // the initial guess until a leg is timed
+    CHECK(delays.delay(Axis::elevation, 0.25) == 0.25);  // the initial guess until a leg is timed
     const double distances[] = {0.5, 10.0, 2.0, 30.0, 1.0, 5.0, 0.3, 60.0};
     for (int i = 0; i < 8; ++i) {
         const auto observed = leg_startup(hal205, motor, distances[i], 0.013 * i, 0.0);
@@ -220,7 +223,7 @@ TEST_CASE("position model: start-up delays converge from a leg's own readings, w
     CHECK(delays.learnt(Axis::elevation));
     CHECK(delays.delay(Axis::elevation) >= motor.delay_s - 0.05);
     CHECK(delays.delay(Axis::elevation) <= motor.delay_s + latest_start_shown);
-    CHECK_FALSE(delays.learnt(Axis::azimuth));   // per axis
+    CHECK_FALSE(delays.learnt(Axis::azimuth));  // per axis
 }
 
 TEST_CASE("position model: a noisy reading or a late one moves a learnt start-up delay only part of the way") {
@@ -228,7 +231,7 @@ TEST_CASE("position model: a noisy reading or a late one moves a learnt start-up
     const DelayedMotor motor{2.0, 8.0, 3.0};
     StartupDelays delays;
     for (int i = 0; i < 6; ++i) {
-        const auto observed = leg_startup(hal205, motor, 10.0, 0.05, 0.004);   // below the 0.02 deg start
+        const auto observed = leg_startup(hal205, motor, 10.0, 0.05, 0.004);  // below the 0.02 deg start
         REQUIRE(observed);
         delays.learn(Axis::azimuth, *observed);
     }
@@ -244,24 +247,24 @@ TEST_CASE("position model: a noisy reading or a late one moves a learnt start-up
 TEST_CASE("position model: readings before the axis started say nothing of the start, the first under way does") {
     const FirmwareProfile& hal205 = profile(VariantId::travler_hal205);
     LegMotion leg = leg_from(Axis::azimuth, 100.0, 110.0, t0);
-    for (int i = 1; i <= 15; ++i) {   // 1.5 s of readings at the start position
+    for (int i = 1; i <= 15; ++i) {  // 1.5 s of readings at the start position
         add_reading(leg, AxisReading{100.0, t0 + i * 100ms});
         CHECK_FALSE(StartupDelays::observed(hal205, leg));
     }
     add_reading(leg, AxisReading{100.05, t0 + 1600ms});
     const auto observed = StartupDelays::observed(hal205, leg);
     REQUIRE(observed);
-    CHECK(*observed >= 1.5);     // not before the last reading that showed it unmoved
+    CHECK(*observed >= 1.5);  // not before the last reading that showed it unmoved
     CHECK(*observed <= 1.6);
     add_reading(leg, AxisReading{100.3, t0 + 1700ms});
-    CHECK_FALSE(StartupDelays::observed(hal205, leg));   // timed once per leg
+    CHECK_FALSE(StartupDelays::observed(hal205, leg));  // timed once per leg
 }
 
 TEST_CASE("position model: a leg on a motor that starts late stays at its start until the learnt delay is over") {
     const FirmwareProfile& hal205 = profile(VariantId::travler_hal205);
     LegMotion leg = leg_from(Axis::azimuth, 100.0, 110.0, t0);
     const double undelayed_at_1s = modelled_axis(hal205, leg, t0 + 1s);
-    CHECK(undelayed_at_1s > 100.1);   // without a delay the model has it moving a second in
+    CHECK(undelayed_at_1s > 100.1);  // without a delay the model has it moving a second in
     leg.startup_s = 2.0;
     CHECK(modelled_axis(hal205, leg, t0 + 1s) == Approx(100.0));
     CHECK(modelled_axis(hal205, leg, t0 + 3s) == Approx(undelayed_at_1s));

@@ -140,7 +140,8 @@ TEST_CASE("parse_g2_nvs_line") {
 }
 
 TEST_CASE("parse_g2_rssi") {
-    const auto reading = parse_g2_rssi(Lines{"iterations:10  interval(msec):20", " Reads:10  RSSI[avg: 412  cur: 409]"});
+    const auto reading =
+        parse_g2_rssi(Lines{"iterations:10  interval(msec):20", " Reads:10  RSSI[avg: 412  cur: 409]"});
     REQUIRE(reading);
     CHECK(reading.value.reads == 10);
     CHECK(reading.value.average == 412);

@@ -29,8 +29,8 @@ struct ReadyCase {
     VariantId variant;
     sim::BootMarker marker;
     std::string ready_line;
-    std::string stop_first;   // the search stop's first command (docs/firmware.md 3.6, 4.3)
-    std::string stop_last;    // the command that stops the search
+    std::string stop_first;  // the search stop's first command (docs/firmware.md 3.6, 4.3)
+    std::string stop_last;   // the command that stops the search
 };
 
 struct Rig {
@@ -52,7 +52,7 @@ struct Rig {
         sim::Options o;
         o.variant = c.sim_variant;
         o.hal205_boot_marker = c.marker;
-        o.start_az = 20.0;   // near where the emulated calibration ends (AZ 0, EL 45): a short boot
+        o.start_az = 20.0;  // near where the emulated calibration ends (AZ 0, EL 45): a short boot
         o.start_el = 40.0;
         return o;
     }
@@ -61,13 +61,13 @@ struct Rig {
 }  // namespace
 
 TEST_CASE("ready line: after a Trav'ler reboot the search stop is the first thing the dish hears", "[ready_line]") {
-    const ReadyCase c = GENERATE(
-        ReadyCase{"HAL 0.0.00", sim::Variant::travler_hal000, VariantId::travler_hal000, sim::BootMarker::no_gps,
-                  "NoGPS", "os\r", "kill Search\r"},
-        ReadyCase{"HAL 2.05, NoGPS", sim::Variant::travler_hal205, VariantId::travler_hal205,
-                  sim::BootMarker::no_gps, "NoGPS", "ngsearch\r", "s\r"},
-        ReadyCase{"HAL 2.05, No LNB Voltage", sim::Variant::travler_hal205, VariantId::travler_hal205,
-                  sim::BootMarker::no_lnb_voltage, "No LNB Voltage", "ngsearch\r", "s\r"});
+    const ReadyCase c =
+        GENERATE(ReadyCase{"HAL 0.0.00", sim::Variant::travler_hal000, VariantId::travler_hal000,
+                           sim::BootMarker::no_gps, "NoGPS", "os\r", "kill Search\r"},
+                 ReadyCase{"HAL 2.05, NoGPS", sim::Variant::travler_hal205, VariantId::travler_hal205,
+                           sim::BootMarker::no_gps, "NoGPS", "ngsearch\r", "s\r"},
+                 ReadyCase{"HAL 2.05, No LNB Voltage", sim::Variant::travler_hal205, VariantId::travler_hal205,
+                           sim::BootMarker::no_lnb_voltage, "No LNB Voltage", "ngsearch\r", "s\r"});
     INFO(c.name);
     Rig rig(c);
     const std::size_t output_before = rig.dish.dish_output().size();
@@ -95,8 +95,9 @@ TEST_CASE("ready line: after a Trav'ler reboot the search stop is the first thin
     }
 
     const auto& output = rig.dish.dish_output();
-    const auto ready = std::find_if(output.begin() + static_cast<std::ptrdiff_t>(output_before), output.end(),
-                                    [&](const auto& chunk) { return chunk.bytes.find(c.ready_line) != std::string::npos; });
+    const auto ready =
+        std::find_if(output.begin() + static_cast<std::ptrdiff_t>(output_before), output.end(),
+                     [&](const auto& chunk) { return chunk.bytes.find(c.ready_line) != std::string::npos; });
     REQUIRE(ready != output.end());
     std::vector<test::EmulatedConsole::Timed> after;
     for (const auto& write : rig.dish.writes()) {
@@ -105,7 +106,7 @@ TEST_CASE("ready line: after a Trav'ler reboot the search stop is the first thin
         }
     }
     REQUIRE_FALSE(after.empty());
-    CHECK(after.front().bytes == c.stop_first);   // not a bare line ending or `?` to confirm a prompt first
+    CHECK(after.front().bytes == c.stop_first);  // not a bare line ending or `?` to confirm a prompt first
     const auto stop = std::find_if(after.begin(), after.end(), [&](const auto& w) { return w.bytes == c.stop_last; });
     REQUIRE(stop != after.end());
     if (c.sim_variant == sim::Variant::travler_hal000) {

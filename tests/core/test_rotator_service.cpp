@@ -10,8 +10,8 @@
 #include <mutex>
 #include <thread>
 
-#include "service/rotator_service.hpp"
 #include "fake_transport.hpp"
+#include "service/rotator_service.hpp"
 
 using namespace birdcage;
 using namespace birdcage::test;

@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
+#include "fake_transport.hpp"
 #include "service/service_mailbox.hpp"
 #include "service/service_worker.hpp"
-#include "fake_transport.hpp"
 
 using namespace birdcage;
 using namespace birdcage::test;
@@ -33,7 +33,7 @@ struct HandDrivenService {
 
     // `lnb_polarity`: the tuner's `dis` value (FakeG2::lnb_polarity), none: it lists nothing.
     explicit HandDrivenService(std::optional<std::string> lnb_polarity = std::nullopt) {
-        g2.step_per_query = 7.0;   // a move takes several polls, so posts can land mid-move
+        g2.step_per_query = 7.0;  // a move takes several polls, so posts can land mid-move
         g2.lnb_polarity = std::move(lnb_polarity);
         auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return respond(c); });
         wire = transport.get();
@@ -188,7 +188,8 @@ TEST_CASE("service worker: a home requested mid-move is started by the next step
 TEST_CASE("service worker: R then P, in any timing, homes first and then goes to the target, P then R homes") {
     const AzEl target{150, 40};
     auto position_of = [](const std::vector<std::string>& sent, const std::string& prefix) {
-        const auto it = std::find_if(sent.rbegin(), sent.rend(), [&](const std::string& c) { return c.rfind(prefix, 0) == 0; });
+        const auto it =
+            std::find_if(sent.rbegin(), sent.rend(), [&](const std::string& c) { return c.rfind(prefix, 0) == 0; });
         return it == sent.rend() ? -1 : static_cast<int>(sent.rend() - it) - 1;
     };
     // Bit 0: a worker step right after the first post; bit 1: after the second.
@@ -217,7 +218,7 @@ TEST_CASE("service worker: R then P, in any timing, homes first and then goes to
                 CHECK(service.g2.az == Approx(target.az));
                 CHECK(service.g2.el == Approx(target.el));
             } else {
-                CHECK(last_az_move < home_end);   // nothing of the target before the home survives it
+                CHECK(last_az_move < home_end);  // nothing of the target before the home survives it
             }
         }
     }
@@ -258,7 +259,7 @@ TEST_CASE("service worker: while the dish reboots the last reading stays and P i
     REQUIRE(recovered.position);
     CHECK(recovered.position->az == Approx(0.0));
     CHECK(recovered.position->el == Approx(65.0));
-    CHECK(service.moves_sent() == moves_before);   // the target is resumed by the steps that follow
+    CHECK(service.moves_sent() == moves_before);  // the target is resumed by the steps that follow
     service.drain();
     CHECK(service.g2.az == Approx(250.0));
     CHECK(service.g2.el == Approx(65.0));
@@ -320,12 +321,12 @@ TEST_CASE("service worker: what was learnt about the dish and the client survive
             sat.az += 0.5;
             REQUIRE(service.mailbox.post_target(sat, service.now));
             for (int i = 0; i < 5; ++i) {
-                (void)service.worker->step();   // the dish's time moves with the client's second only
+                (void)service.worker->step();  // the dish's time moves with the client's second only
             }
             service.now += 1s;
         }
     };
-    track_for(25);   // an established track (PredictorSettings::established_track_s)
+    track_for(25);  // an established track (PredictorSettings::established_track_s)
     const auto before = service.worker->predictor().predict(service.now);
     REQUIRE(before);
     REQUIRE(before->moving);
@@ -337,7 +338,7 @@ TEST_CASE("service worker: what was learnt about the dish and the client survive
 
     SECTION("a reboot") {
         service.step_into_recovery();
-        track_for(3);   // the client goes on while the dish boots
+        track_for(3);  // the client goes on while the dish boots
         service.recover();
     }
     SECTION("an unplug") {

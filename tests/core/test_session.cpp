@@ -68,7 +68,8 @@ TEST_CASE("session: without a known prompt the reply ends when complete and quie
     CHECK(reply.value.prompt.empty());
 
     SECTION("an incomplete reply times out") {
-        const auto partial = session.transact("a", 300ms, [](Span<const std::string> lines) { return lines.size() >= 9; });
+        const auto partial =
+            session.transact("a", 300ms, [](Span<const std::string> lines) { return lines.size() >= 9; });
         CHECK(partial.status.code == Errc::timeout);
     }
 }

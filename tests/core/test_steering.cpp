@@ -11,9 +11,9 @@
 #include <optional>
 #include <vector>
 
-#include "tracking/steering.hpp"
-#include "firmware/variants.hpp"
 #include "error_stats.hpp"
+#include "firmware/variants.hpp"
+#include "tracking/steering.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;
@@ -27,7 +27,9 @@ Clock::time_point at(double seconds) {
 }
 
 // A satellite crossing at 1 deg/s in azimuth and 0.2 deg/s in elevation, sent every second.
-AzEl satellite(double t) { return {normalize_azimuth(150.0 + 1.0 * t), 30.0 + 0.2 * t}; }
+AzEl satellite(double t) {
+    return {normalize_azimuth(150.0 + 1.0 * t), 30.0 + 0.2 * t};
+}
 
 TargetPredictor fed_until(double last_t) {
     TargetPredictor predictor;
@@ -38,8 +40,8 @@ TargetPredictor fed_until(double last_t) {
 }
 
 SteeringInput input_at(double t, const TargetPredictor& predictor, std::optional<AzEl> aim) {
-    return SteeringInput{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0,
-                         aim, satellite(std::floor(t)), aim};
+    return SteeringInput{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{},
+                         0.0,   aim,       satellite(std::floor(t)),        aim};
 }
 
 }  // namespace
@@ -88,7 +90,8 @@ TEST_CASE("steering: the deadband grows to a share of the client's own threshold
     const double fixed = lead_with(0.0);
     const double shared = lead_with(0.5);
     // Half of 5 deg is capped at 1 deg (on the sky; in azimuth / cos(el), el ~36 deg here).
-    CHECK(shared - fixed == Approx((1.0 - PointingOptions{}.deadband_deg) / std::cos(36.0 * M_PI / 180.0)).margin(0.15));
+    CHECK(shared - fixed ==
+          Approx((1.0 - PointingOptions{}.deadband_deg) / std::cos(36.0 * M_PI / 180.0)).margin(0.15));
 }
 
 TEST_CASE("steering: a stationary target is held without lead, once") {
@@ -96,8 +99,16 @@ TEST_CASE("steering: a stationary target is held without lead, once") {
     for (double t = 0.0; t <= 3.0; t += 1.0) {
         predictor.observe(at(t), {200.0, 40.0}, AzEl{200.0, 40.0});
     }
-    const SteeringInput first_input{at(3.5), predictor, profile(VariantId::carryout_g2), 18.0, 65.0,
-                                    PointingOptions{}, 0.0, std::nullopt, AzEl{200.0, 40.0}, AzEl{180.0, 30.0}};
+    const SteeringInput first_input{at(3.5),
+                                    predictor,
+                                    profile(VariantId::carryout_g2),
+                                    18.0,
+                                    65.0,
+                                    PointingOptions{},
+                                    0.0,
+                                    std::nullopt,
+                                    AzEl{200.0, 40.0},
+                                    AzEl{180.0, 30.0}};
     const auto hold = next_aim(first_input);
     REQUIRE(hold);
     CHECK(hold->holding);
@@ -113,8 +124,10 @@ TEST_CASE("steering: above the elevation cap the dish holds the cap and follows 
     for (double t = 0.0; t <= 10.0; t += 1.0) {
         predictor.observe(at(t), {normalize_azimuth(100.0 + 2.0 * t), 66.0 + 0.3 * t}, std::nullopt);
     }
-    const SteeringInput in{at(10.0), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0,
-                           std::nullopt, AzEl{120.0, 69.0}, std::nullopt};
+    const SteeringInput in{at(10.0),    predictor,    profile(VariantId::carryout_g2),
+                           18.0,        65.0,         PointingOptions{},
+                           0.0,         std::nullopt, AzEl{120.0, 69.0},
+                           std::nullopt};
     const auto decision = next_aim(in);
     REQUIRE(decision);
     CHECK(decision->aim.el == Approx(65.0));
@@ -123,8 +136,9 @@ TEST_CASE("steering: above the elevation cap the dish holds the cap and follows 
 
 TEST_CASE("steering: nothing to steer by before any target") {
     const TargetPredictor predictor;
-    const SteeringInput in{at(0.0), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0,
-                           std::nullopt, std::nullopt, std::nullopt};
+    const SteeringInput in{
+        at(0.0),      predictor,   profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0, std::nullopt,
+        std::nullopt, std::nullopt};
     CHECK_FALSE(next_aim(in));
 }
 
@@ -165,12 +179,12 @@ TEST_CASE("steering: the measured leg overhead is what a step took beyond its mo
     meter.finished(t0 + 5s);
     CHECK(*meter.overhead_s() == Approx(1.0));
     meter.start(t0 + 10s, 1, 3.0);
-    meter.finished(t0 + 13s);   // no slower than the motion: 0 overhead, smoothed in
+    meter.finished(t0 + 13s);  // no slower than the motion: 0 overhead, smoothed in
     CHECK(*meter.overhead_s() == Approx(0.8));
-    meter.start(t0 + 20s, 0, 1.0);   // no leg: nothing to learn
+    meter.start(t0 + 20s, 0, 1.0);  // no leg: nothing to learn
     meter.finished(t0 + 29s);
     CHECK(*meter.overhead_s() == Approx(0.8));
-    meter.finished(t0 + 40s);   // no step in progress
+    meter.finished(t0 + 40s);  // no step in progress
     CHECK(*meter.overhead_s() == Approx(0.8));
 }
 
@@ -203,7 +217,7 @@ struct ManualRun {
     };
     std::vector<Step> steps;
     double az_min = 360.0, az_max = -360.0, el_min = 90.0, el_max = 0.0;  // targets sent so far
-    double worst_outside_deg = 0.0;  // the aims' furthest excursion outside the targets' box
+    double worst_outside_deg = 0.0;     // the aims' furthest excursion outside the targets' box
     std::vector<AzEl> aim_before_step;  // the aim just before each step after the first
     std::optional<AzEl> aim;
 
@@ -228,11 +242,12 @@ struct ManualRun {
                 last_target = target;
                 ++next;
             }
-            const SteeringInput in{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, pointing, 0.0,
-                                   aim, last_target, aim};
+            const SteeringInput in{
+                at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, pointing, 0.0, aim, last_target, aim};
             if (const auto decision = next_aim(in)) {
                 aim = decision->aim;
-                const double outside = std::max({az_min - aim->az, aim->az - az_max, el_min - aim->el, aim->el - el_max, 0.0});
+                const double outside =
+                    std::max({az_min - aim->az, aim->az - az_max, el_min - aim->el, aim->el - el_max, 0.0});
                 worst_outside_deg = std::max(worst_outside_deg, outside);
             }
         }
@@ -329,8 +344,8 @@ TEST_CASE("steering: a Gpredict-like pass after manual moves still gets predicti
         for (int tick = 0; tick * 0.1 <= 150.0; ++tick) {
             const double t = tick * 0.1;
             const AzEl now = sat(t);
-            if (tick % 10 == 0 &&
-                (!last_target || std::max(std::fabs(azimuth_difference(aim->az, now.az)), std::fabs(aim->el - now.el)) > threshold)) {
+            if (tick % 10 == 0 && (!last_target || std::max(std::fabs(azimuth_difference(aim->az, now.az)),
+                                                            std::fabs(aim->el - now.el)) > threshold)) {
                 double lead_s = 0.0;
                 while (std::max(std::fabs(azimuth_difference(now.az, sat(t + lead_s + 0.25).az)),
                                 std::fabs(sat(t + lead_s + 0.25).el - now.el)) <= threshold) {
@@ -344,8 +359,9 @@ TEST_CASE("steering: a Gpredict-like pass after manual moves still gets predicti
                     aim = last_target;
                 }
             }
-            const SteeringInput in{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{},
-                                   0.0, aim, last_target, aim};
+            const SteeringInput in{
+                at(t),       predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0, aim,
+                last_target, aim};
             if (const auto decision = next_aim(in); decision && predictive) {
                 aim = decision->aim;
                 result.leading += azimuth_difference(last_target->az, aim->az) > 0.01 ? 1 : 0;
@@ -361,7 +377,8 @@ TEST_CASE("steering: a Gpredict-like pass after manual moves still gets predicti
     const Result as_sent = run(false);
     INFO("predictive: RMS " << predictive.error.rms() << ", max " << predictive.error.max << ", " << predictive.targets
                             << " targets, " << predictive.leading << " aims ahead of the last target; as sent: RMS "
-                            << as_sent.error.rms() << ", max " << as_sent.error.max << ", " << as_sent.targets << " targets");
+                            << as_sent.error.rms() << ", max " << as_sent.error.max << ", " << as_sent.targets
+                            << " targets");
     CHECK(predictive.leading > 10);
     CHECK(predictive.error.rms() < 0.9 * as_sent.error.rms());
     CHECK(predictive.targets < as_sent.targets / 2);

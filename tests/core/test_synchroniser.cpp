@@ -6,8 +6,8 @@
 // garbage, NULs, a wrong baud rate), and the failure messages.
 #include <catch2/catch.hpp>
 
-#include "dish/controller.hpp"
 #include "console/synchroniser.hpp"
+#include "dish/controller.hpp"
 #include "fake_transport.hpp"
 
 using namespace birdcage;
@@ -24,19 +24,19 @@ struct Logged {
         return [this](LogLevel level, const std::string& m) { lines.emplace_back(level, m); };
     }
     bool has(LogLevel level, std::string_view text) const {
-        return std::any_of(lines.begin(), lines.end(), [&](const auto& l) {
-            return l.first == level && l.second.find(text) != std::string::npos;
-        });
+        return std::any_of(lines.begin(), lines.end(),
+                           [&](const auto& l) { return l.first == level && l.second.find(text) != std::string::npos; });
     }
     std::size_t count(std::string_view text) const {
-        return static_cast<std::size_t>(std::count_if(lines.begin(), lines.end(), [&](const auto& l) {
-            return l.second.find(text) != std::string::npos;
-        }));
+        return static_cast<std::size_t>(std::count_if(
+            lines.begin(), lines.end(), [&](const auto& l) { return l.second.find(text) != std::string::npos; }));
     }
 };
 
 // A clock that never moves by itself: only the synchroniser's timed-out reads advance its time.
-Clock::time_point frozen_time() { return Clock::time_point{} + 1000h; }
+Clock::time_point frozen_time() {
+    return Clock::time_point{} + 1000h;
+}
 const DishClock frozen = DishClock::manual(frozen_time);
 
 SyncSettings g2_settings(std::chrono::milliseconds budget = 60s) {
@@ -59,10 +59,10 @@ FakeTransport::Responder prompt_console(std::string prompt, std::string eol, boo
 TEST_CASE("sync: the prompt is taken from the end of the output, never from a stale line") {
     CHECK(trailing_prompt("\r\nTRK>") == "TRK>");
     CHECK(trailing_prompt("\r\nMOT> ") == "MOT>");
-    CHECK(trailing_prompt("TRK>\r\n") == "TRK>");   // a prompt on a line of its own
+    CHECK(trailing_prompt("TRK>\r\n") == "TRK>");  // a prompt on a line of its own
     CHECK(trailing_prompt("\nTRK>\r\nLoc Startup: IDU NOT Present\r\n").empty());
     CHECK(trailing_prompt("Enter <a3981> - A3981 menu\r\n").empty());
-    CHECK(trailing_prompt("\r\nT\x00RK>").empty());   // garbage inside: not a prompt
+    CHECK(trailing_prompt("\r\nT\x00RK>").empty());  // garbage inside: not a prompt
     CHECK(trailing_prompt("").empty());
 }
 
@@ -83,7 +83,7 @@ TEST_CASE("sync: a booted console is confirmed on two consecutive pokes, in any 
 
 TEST_CASE("sync: stale input is drained and never taken for a prompt") {
     FakeTransport wire;
-    wire.push_input("Boot Complete\r\nTRK>");   // left in the buffer from before we opened
+    wire.push_input("Boot Complete\r\nTRK>");  // left in the buffer from before we opened
     int pokes = 0;
     wire.set_responder([&](const std::string&) -> Commands {
         return {++pokes == 1 ? "\r\nLoc Startup: IDU NOT Present\r\n" : "\r\nTRK>"};
@@ -92,7 +92,7 @@ TEST_CASE("sync: stale input is drained and never taken for a prompt") {
     const auto synced = sync.synchronise();
     REQUIRE(synced);
     CHECK(synced.value.prompt == "TRK>");
-    CHECK(pokes == 3);   // the first reply ended on a boot line: two more to confirm
+    CHECK(pokes == 3);  // the first reply ended on a boot line: two more to confirm
     CHECK(synced.value.last_boot_line == "Loc Startup: IDU NOT Present");
 }
 
@@ -138,7 +138,8 @@ TEST_CASE("controller G2: rotctld started during boot survives the late Loc Star
     // Never `q` at the root, and `mot` only after the prompt was confirmed.
     const auto& sent = wire.commands();
     CHECK(std::find(sent.begin(), sent.end(), "q") == sent.end());
-    CHECK(log.has(LogLevel::warning, "the dish is booting (\"Motor init: System=12Inch, master=40000 steps\"); waiting for it to finish"));
+    CHECK(log.has(LogLevel::warning,
+                  "the dish is booting (\"Motor init: System=12Inch, master=40000 steps\"); waiting for it to finish"));
 }
 
 TEST_CASE("sync: while boot output is in progress the console is only listened to") {
@@ -156,10 +157,13 @@ TEST_CASE("sync: while boot output is in progress the console is only listened t
     wire.push_delayed("Motor init: System=12Inch\r\n", 0);
     wire.push_delayed("Boot Complete\r\n", 0);
     Logged log;
-    ConsoleSynchroniser sync(wire, g2_settings(), [&](LogLevel l, const std::string& m) {
-        log.lines.emplace_back(l, m);
-        booted = booted || m.find("Boot Complete") != std::string::npos;
-    }, frozen);
+    ConsoleSynchroniser sync(
+        wire, g2_settings(),
+        [&](LogLevel l, const std::string& m) {
+            log.lines.emplace_back(l, m);
+            booted = booted || m.find("Boot Complete") != std::string::npos;
+        },
+        frozen);
     const auto synced = sync.synchronise();
     REQUIRE(synced);
     CHECK(pokes_while_booting == 0);
@@ -168,7 +172,7 @@ TEST_CASE("sync: while boot output is in progress the console is only listened t
 
 TEST_CASE("sync: a dish that prints its boot log for minutes is announced and reported every 30 s") {
     FakeTransport wire;
-    bool booted = false;   // a booting dish ignores its input
+    bool booted = false;  // a booting dish ignores its input
     wire.set_responder([&](const std::string&) -> Commands { return booted ? Commands{"\r\nTRK>"} : Commands{}; });
     wire.push_input("Bootloader v1.01\r\n");
     for (int i = 0; i < 12; ++i) {
@@ -176,10 +180,13 @@ TEST_CASE("sync: a dish that prints its boot log for minutes is announced and re
     }
     wire.push_delayed("Boot Complete\r\n", 2);
     Logged log;
-    ConsoleSynchroniser sync(wire, g2_settings(900s), [&](LogLevel l, const std::string& m) {
-        log.lines.emplace_back(l, m);
-        booted = booted || m.find("Boot Complete") != std::string::npos;
-    }, frozen);
+    ConsoleSynchroniser sync(
+        wire, g2_settings(900s),
+        [&](LogLevel l, const std::string& m) {
+            log.lines.emplace_back(l, m);
+            booted = booted || m.find("Boot Complete") != std::string::npos;
+        },
+        frozen);
     const auto synced = sync.synchronise();
     REQUIRE(synced);
     CHECK(synced.value.prompt == "TRK>");
@@ -189,7 +196,7 @@ TEST_CASE("sync: a dish that prints its boot log for minutes is announced and re
 }
 
 TEST_CASE("sync: a silent console is waited for with progress every 30 s, then the reason") {
-    FakeTransport wire;   // never says anything
+    FakeTransport wire;  // never says anything
     Logged log;
     ConsoleSynchroniser sync(wire, g2_settings(100s), log.sink(), frozen);
     const auto synced = sync.synchronise();
@@ -223,9 +230,14 @@ TEST_CASE("sync: garbage and NULs around a prompt never confirm a garbage prompt
     FakeTransport wire([&](const std::string&) -> Commands {
         ++poke;
         switch (poke % 3) {
-        case 0: return {std::string("\x00\x00Q>", 4)};
-        case 1: return {"\xff\xfe" "A>"};
-        default: return {std::string("\r\n\x00TRK>", 7)};
+            case 0:
+                return {std::string("\x00\x00Q>", 4)};
+            case 1:
+                return {
+                    "\xff\xfe"
+                    "A>"};
+            default:
+                return {std::string("\r\n\x00TRK>", 7)};
         }
     });
     ConsoleSynchroniser sync(wire, g2_settings(20s), {}, frozen);
@@ -243,7 +255,8 @@ TEST_CASE("sync: NULs before a clean prompt line are dropped") {
 }
 
 TEST_CASE("sync: replies that look like a wrong baud rate get a warning naming the usual rate") {
-    FakeTransport wire([](const std::string&) -> Commands { return {std::string("\xf0\x8a\x00\xfe\x9c\x13\xe0\x80\xff\x11", 10)}; });
+    FakeTransport wire(
+        [](const std::string&) -> Commands { return {std::string("\xf0\x8a\x00\xfe\x9c\x13\xe0\x80\xff\x11", 10)}; });
     Logged log;
     ConsoleSynchroniser sync(wire, g2_settings(10s), log.sink(), frozen);
     CHECK_FALSE(sync.synchronise());
@@ -278,7 +291,7 @@ TEST_CASE("sync: boot chatter answering a prompt-less probe is not taken for a l
     wire.set_responder([&](const std::string& c) -> Commands {
         if (c == "?") {
             ++probes;
-            return {"Calibrating step " + std::to_string(probes) + "\r\n"};   // different each time
+            return {"Calibrating step " + std::to_string(probes) + "\r\n"};  // different each time
         }
         return {};
     });
@@ -306,7 +319,7 @@ public:
             return {0, Status{Errc::timeout, "noisy line: deadline"}};
         }
         now_ += byte_interval_;
-        state_ = state_ * 1103515245u + 12345u;   // deterministic: the same bytes every run
+        state_ = state_ * 1103515245u + 12345u;  // deterministic: the same bytes every run
         buf[0] = static_cast<char>(state_ >> 24);
         ++noise_bytes_;
         return {1, Status::ok()};
@@ -341,10 +354,10 @@ TEST_CASE("sync: a line that is never quiet still comes into sync (noise is not 
     INFO(synced.status.message);
     REQUIRE(synced);
     CHECK(synced.value.prompt == "MOT>");
-    CHECK(console.commands() == Commands{"", ""});   // two pokes, nothing but line endings
+    CHECK(console.commands() == Commands{"", ""});  // two pokes, nothing but line endings
     CHECK(line.noise_bytes() > 100);
     CHECK(std::none_of(synced.value.heard.begin(), synced.value.heard.end(),
-                       [](const std::string& l) { return l != "MOT>"; }));   // noise is never a line heard
+                       [](const std::string& l) { return l != "MOT>"; }));  // noise is never a line heard
     CHECK(line.now() - frozen_time() < 3s);
 }
 
@@ -366,9 +379,7 @@ TEST_CASE("sync: under steady noise a late boot line after a stale prompt still 
 
 TEST_CASE("sync: noise after a prompt leaves it the prompt, text after it on its line does not") {
     SECTION("prompt, then noise read with it and after it, a noise line ending among it") {
-        FakeTransport wire([](const std::string&) -> Commands {
-            return {"\r\nMOT>k\x9aQ", "\x01\r7\xfe", "\xe0"};
-        });
+        FakeTransport wire([](const std::string&) -> Commands { return {"\r\nMOT>k\x9aQ", "\x01\r7\xfe", "\xe0"}; });
         ConsoleSynchroniser sync(wire, g2_settings(), {}, frozen);
         const auto synced = sync.synchronise();
         INFO(synced.status.message);
@@ -387,11 +398,12 @@ TEST_CASE("sync: a dish is up once two pokes find a prompt, whatever its last bo
     // The reported G2: after `Loc Startup: IDU NOT Present` one more line nobody documented, then
     // `TRK>` and silence. When that line happened to contain a boot marker the backend kept
     // waiting ("still waiting for the dish to boot: 60 s; last boot output ...") at a ready console.
-    const std::string extra = GENERATE(std::string("Antenna Facing Rear: re-homing skipped"), std::string("Motor init: wrap manager on"),
-                                       std::string("Ant ID - check passed"), std::string("Tracker disabled (NVS 20)"));
+    const std::string extra =
+        GENERATE(std::string("Antenna Facing Rear: re-homing skipped"), std::string("Motor init: wrap manager on"),
+                 std::string("Ant ID - check passed"), std::string("Tracker disabled (NVS 20)"));
     const bool auto_detect = GENERATE(true, false);
     FakeTransport wire;
-    bool booted = false;   // a booting dish ignores its input
+    bool booted = false;  // a booting dish ignores its input
     wire.set_responder([&](const std::string&) -> Commands { return booted ? Commands{"\r\nTRK>"} : Commands{}; });
     wire.push_input("Bootloader v1.01\r\nMotor init: System=12Inch, master=40000 steps\r\n");
     wire.push_delayed("Ant ID - 12-IN G2\r\nAntenna Facing Front\r\nBoot Complete\r\n", 2);
@@ -399,10 +411,13 @@ TEST_CASE("sync: a dish is up once two pokes find a prompt, whatever its last bo
     wire.push_delayed(extra + "\r\nTRK>", 1);
     Logged log;
     const FirmwareProfile& row = auto_detect ? probe_profile() : profile(VariantId::carryout_g2);
-    ConsoleSynchroniser sync(wire, console_sync_settings(row, 120s), [&](LogLevel l, const std::string& m) {
-        log.lines.emplace_back(l, m);
-        booted = booted || m.find("Loc Startup") != std::string::npos;
-    }, frozen);
+    ConsoleSynchroniser sync(
+        wire, console_sync_settings(row, 120s),
+        [&](LogLevel l, const std::string& m) {
+            log.lines.emplace_back(l, m);
+            booted = booted || m.find("Loc Startup") != std::string::npos;
+        },
+        frozen);
     const auto synced = sync.synchronise();
     INFO(extra << (auto_detect ? " (auto-detect)" : " (G2 profile)") << ": " << synced.status.message);
     REQUIRE(synced);
@@ -428,18 +443,21 @@ TEST_CASE("sync: silences of several seconds inside a boot are waited out, not t
         return {"\r\nTRK>"};
     });
     wire.push_input("Bootloader v1.01\r\nMotor init: System=12Inch\r\n");
-    wire.push_delayed("wrap_min:-42333 wrap_max:2333\r\n", 6);   // after a long silence
+    wire.push_delayed("wrap_min:-42333 wrap_max:2333\r\n", 6);  // after a long silence
     wire.push_delayed("Boot Complete\r\n", 4);
     Logged log;
-    ConsoleSynchroniser sync(wire, g2_settings(120s), [&](LogLevel l, const std::string& m) {
-        log.lines.emplace_back(l, m);
-        booted = booted || m.find("Boot Complete") != std::string::npos;
-    }, frozen);
+    ConsoleSynchroniser sync(
+        wire, g2_settings(120s),
+        [&](LogLevel l, const std::string& m) {
+            log.lines.emplace_back(l, m);
+            booted = booted || m.find("Boot Complete") != std::string::npos;
+        },
+        frozen);
     const auto synced = sync.synchronise();
     REQUIRE(synced);
     CHECK(synced.value.prompt == "TRK>");
     CHECK(synced.value.last_boot_line == "Boot Complete");
-    CHECK(pokes_while_booting > 0);   // poked during the silences, unanswered, so still booting
+    CHECK(pokes_while_booting > 0);  // poked during the silences, unanswered, so still booting
     for (const auto& c : wire.commands()) {
         CHECK(c.empty());
     }
@@ -448,8 +466,8 @@ TEST_CASE("sync: silences of several seconds inside a boot are waited out, not t
 // A G2 console whose prompts carry a product tag (`WG TRK>`, `[G2]MOT>`) is the same firmware: its
 // prompt is known by its shape, and the session learns the menu from the documented text.
 TEST_CASE("sync: a prompt with a tag before it or marks after it is confirmed as its documented text") {
-    const std::string prompt = GENERATE(std::string("WG TRK>"), std::string("[G2]MOT>"), std::string("TRK>$"),
-                                        std::string("dish: TRK> "));
+    const std::string prompt =
+        GENERATE(std::string("WG TRK>"), std::string("[G2]MOT>"), std::string("TRK>$"), std::string("dish: TRK> "));
     FakeTransport wire(prompt_console(prompt, "\r\n", true));
     Logged log;
     ConsoleSynchroniser sync(wire, g2_settings(), log.sink(), frozen);

@@ -17,10 +17,12 @@ using wrap::Window;
 
 namespace {
 
-Window travel(VariantId id) { return {profile(id).az_min, profile(id).az_max}; }
+Window travel(VariantId id) {
+    return {profile(id).az_min, profile(id).az_max};
+}
 
-const Window g2 = travel(VariantId::carryout_g2);            // -423.33 .. 23.33
-const Window travler = travel(VariantId::travler_hal205);     // 0 .. 455
+const Window g2 = travel(VariantId::carryout_g2);          // -423.33 .. 23.33
+const Window travler = travel(VariantId::travler_hal205);  // 0 .. 455
 
 // A model of the firmware's mapping as the emulator implements it (sim resolve_target): a 0..360
 // command goes to the branch inside the travel nearest the axis' current target. ("The shortest
@@ -115,7 +117,7 @@ TEST_CASE("wrap: branches, nearest branch, unwrapped readings and the start assu
 
     CHECK(wrap::nearest_branch(10, 400) == Approx(370));
     CHECK(wrap::nearest_branch(350, 5) == Approx(-10));
-    CHECK(wrap::nearest_branch(-90, 400) == Approx(270));   // -180..180 input
+    CHECK(wrap::nearest_branch(-90, 400) == Approx(270));  // -180..180 input
     CHECK(wrap::nearest_branch(270, 400) == Approx(270));
 
     // Readings unwrap to the in-travel branch nearest the estimate.
@@ -123,8 +125,8 @@ TEST_CASE("wrap: branches, nearest branch, unwrapped readings and the start assu
     CHECK(wrap::unwrap_reading(12, 10, g2) == Approx(12));
     CHECK(wrap::unwrap_reading(50, 400, travler) == Approx(410));
     CHECK(wrap::unwrap_reading(50, 200, travler) == Approx(50));
-    CHECK(wrap::unwrap_reading(100, 0, g2) == Approx(-260));    // the only branch, however far
-    CHECK(wrap::unwrap_reading(24, 20, g2) == Approx(24));      // 1 deg of overshoot past the limit
+    CHECK(wrap::unwrap_reading(100, 0, g2) == Approx(-260));  // the only branch, however far
+    CHECK(wrap::unwrap_reading(24, 20, g2) == Approx(24));    // 1 deg of overshoot past the limit
 
     // Start: the branch nearest AZ 0 (G2 homes there); the reading itself on the Trav'ler.
     CHECK(wrap::start_branch(10, g2) == Approx(10));
@@ -211,7 +213,7 @@ TEST_CASE("wrap: passes across north on the Trav'ler's 0..455") {
     }
     SECTION("a pass start leaves a branch with little room ahead for one with enough") {
         const auto choice = wrap::choose_branch(20, 20, -1, true, wrap::usable_window(travler));
-        CHECK(choice.mechanical == Approx(380));   // 20 has 18 deg left anticlockwise, 380 has 378
+        CHECK(choice.mechanical == Approx(380));  // 20 has 18 deg left anticlockwise, 380 has 378
         CHECK(choice.reason == Reason::pass_start);
     }
     SECTION("a pass start with no branch that has 180 deg ahead takes the one with the most room") {
@@ -247,7 +249,8 @@ TEST_CASE("wrap: forced unwinds go to the branch with the most room ahead") {
                 for (double az = 0; az < 360; az += 3.7) {
                     for (int direction : {-1, 0, 1}) {
                         for (bool starting : {false, true}) {
-                            const double chosen = wrap::choose_branch(az, reference, direction, starting, inside).mechanical;
+                            const double chosen =
+                                wrap::choose_branch(az, reference, direction, starting, inside).mechanical;
                             REQUIRE(inside.contains(chosen));
                             REQUIRE(normalize_azimuth(chosen) == Approx(az).margin(1e-9));
                         }

@@ -15,18 +15,18 @@
 #include <thread>
 #include <vector>
 
-#include "dish/controller.hpp"
-#include "console/transport.hpp"
-#include "tracking/wrap.hpp"
 #include "birdcage_sim/emulator.hpp"
+#include "console/transport.hpp"
+#include "dish/controller.hpp"
+#include "tracking/wrap.hpp"
 
 using namespace std::chrono_literals;
 namespace sim = birdcage::sim;
 
 namespace {
 
-constexpr double time_scale = 50.0;      // simulated seconds per real second
-constexpr auto target_deadline = 60s;    // a failure bound, not a timing assertion
+constexpr double time_scale = 50.0;    // simulated seconds per real second
+constexpr auto target_deadline = 60s;  // a failure bound, not a timing assertion
 
 struct Case {
     const char* name;
@@ -39,8 +39,8 @@ struct Case {
 };
 
 struct Run {
-    std::vector<double> settled;   // true mechanical azimuth after each target
-    std::vector<double> samples;   // true mechanical azimuth while following targets 1..n
+    std::vector<double> settled;  // true mechanical azimuth after each target
+    std::vector<double> samples;  // true mechanical azimuth while following targets 1..n
     unsigned hazards = 0;
     std::vector<std::string> az_commands;
 };
@@ -117,7 +117,7 @@ TEST_CASE("wrap on the emulator: north-crossing passes never unwind mid-pass", "
     for (const Case& c : cases) {
         for (const sim::AzReport report : {sim::AzReport::displayed, sim::AzReport::mechanical}) {
             DYNAMIC_SECTION(c.name << (report == sim::AzReport::displayed ? ", az displayed" : ", az mechanical")) {
-                constexpr int targets = 12;   // 10-deg steps
+                constexpr int targets = 12;  // 10-deg steps
                 const Run run = fly(c, report, targets);
                 const double step = std::fabs(c.span) / targets;
                 REQUIRE(run.settled.size() == targets + 1);

@@ -25,12 +25,12 @@ TEST_CASE("wrap tracker: the first displayed reading takes the branch nearest AZ
     CHECK_FALSE(tracker.mechanical());
     tracker.note_reading(300.0, t0);
     REQUIRE(tracker.mechanical());
-    CHECK(*tracker.mechanical() == Approx(-60.0));   // 300 = -60, the branch nearest 0
+    CHECK(*tracker.mechanical() == Approx(-60.0));  // 300 = -60, the branch nearest 0
     tracker.note_reading(200.0, t0 + 1s);
     CHECK(*tracker.mechanical() == Approx(-160.0));
-    tracker.note_reading(100.0, t0 + 2s);              // +100 is beyond the travel: -260
+    tracker.note_reading(100.0, t0 + 2s);  // +100 is beyond the travel: -260
     CHECK(*tracker.mechanical() == Approx(-260.0));
-    tracker.note_reading(20.0, t0 + 3s);               // -340 is nearer -260 than +20 is
+    tracker.note_reading(20.0, t0 + 3s);  // -340 is nearer -260 than +20 is
     CHECK(*tracker.mechanical() == Approx(-340.0));
     CHECK(tracker.readings() == 4);
     CHECK_FALSE(tracker.reports_mechanical());
@@ -42,7 +42,7 @@ TEST_CASE("wrap tracker: two readings beyond 0..360 prove mechanical reports, ta
     CHECK_FALSE(tracker.reports_mechanical());
     tracker.note_reading(-110.0, t0 + 1s);
     CHECK(tracker.reports_mechanical());
-    tracker.note_reading(10.0, t0 + 2s);               // a displayed reading would unwrap to -350
+    tracker.note_reading(10.0, t0 + 2s);  // a displayed reading would unwrap to -350
     CHECK(*tracker.mechanical() == Approx(10.0));
 }
 
@@ -53,9 +53,9 @@ TEST_CASE("wrap tracker: after a re-initialisation the branch is kept only if th
     const double before = *tracker.mechanical();
     tracker.recheck_branch();
     tracker.note_reading(40.2, t0 + 3s);
-    CHECK(*tracker.mechanical() == Approx(before + 0.2));    // same branch
+    CHECK(*tracker.mechanical() == Approx(before + 0.2));  // same branch
     tracker.recheck_branch();
-    tracker.note_reading(180.0, t0 + 4s);                    // it moved: the start assumption again
+    tracker.note_reading(180.0, t0 + 4s);  // it moved: the start assumption again
     CHECK(*tracker.mechanical() == Approx(180.0));
 }
 
@@ -137,12 +137,12 @@ TEST_CASE("wrap tracker: an unwind no branch can spare a pass happens just past 
     tracker.note_reading(257.0, t0);
     const std::vector<double> chosen = follow_pass(tracker, 257.0, 155.0, 18.0, 60.0, 100);
     CHECK(chosen.front() == Approx(-103.0));
-    CHECK(chosen[50] == Approx(334.5 - 360.0));          // the culmination, still on the first branch
+    CHECK(chosen[50] == Approx(334.5 - 360.0));  // the culmination, still on the first branch
     // Target 57 is the first a degree below the top (59.0): the other branch, with 396 deg of room
     // for the 88 deg still to come.
     CHECK(chosen[56] == Approx(343.8 - 360.0));
     CHECK(chosen[57] == Approx(345.35 - 720.0));
-    CHECK(chosen.back() == Approx(52.0 - 360.0));       // and on it to the end, no second unwind
+    CHECK(chosen.back() == Approx(52.0 - 360.0));  // and on it to the end, no second unwind
     for (std::size_t i = 58; i < chosen.size(); ++i) {
         CHECK(chosen[i] - chosen[i - 1] == Approx(1.55).margin(0.01));
     }
@@ -162,7 +162,7 @@ TEST_CASE("wrap tracker: a pass its branch holds is never unwound at its culmina
     const std::vector<double> over = follow_pass(keyhole, 300.0, 180.0, 15.0, 85.0, 100);
     CHECK(over.front() == Approx(300.0));
     CHECK(over[55] == Approx(399.0));
-    CHECK(over[56] == Approx(400.8 - 360.0));   // the first target a degree below the top (85)
+    CHECK(over[56] == Approx(400.8 - 360.0));  // the first target a degree below the top (85)
     CHECK(over.back() == Approx(120.0));
 }
 
@@ -188,7 +188,7 @@ TEST_CASE("wrap tracker: azimuth turned below el_min does not count towards the 
     }
     CHECK(chosen.back() == Approx(451.9));
     for (std::size_t i = 1; i < chosen.size(); ++i) {
-        CHECK(chosen[i] - chosen[i - 1] < 3.0);   // never a turn the other way round
+        CHECK(chosen[i] - chosen[i - 1] < 3.0);  // never a turn the other way round
         CHECK(chosen[i] > chosen[i - 1]);
     }
 }
@@ -208,7 +208,7 @@ TEST_CASE("wrap tracker: targets a little past the end, or after the satellite s
     CHECK(send({310.72, 15.0}) == Approx(310.72));
     CHECK(send({20.17, 44.99}) == Approx(380.17));
     CHECK(send({57.65, 38.51}) == Approx(417.65));
-    CHECK(send({93.07, 23.39}) == Approx(453.0));      // 0.07 past: held, not unwound
+    CHECK(send({93.07, 23.39}) == Approx(453.0));  // 0.07 past: held, not unwound
     // The satellite has set: the client holds el_min while the azimuth turns on to LOS (103).
     for (double az = 94.0; az <= 103.0; az += 1.0) {
         CHECK(send({az, 15.0}) == Approx(453.0));
@@ -221,42 +221,13 @@ TEST_CASE("wrap tracker: between sparse targets the culmination is where their e
     // the culmination (72.6): from it, 54 deg seemed still to come against 52 of room, and the
     // unwind waited for the limit (27.7 deg RMS). 62 are to come; the peak of a parabola through
     // the targets near the top puts it there.
-    const AzEl targets[] = {
-        {152.12, 19.96},
-        {148.36, 30.02},
-        {148.28, 30.20},
-        {143.04, 40.40},
-        {142.89, 40.65},
-        {135.11, 50.73},
-        {134.81, 51.03},
-        {124.44, 59.08},
-        {123.90, 59.40},
-        {123.91, 59.39},
-        {123.36, 59.70},
-        {122.78, 60.02},
-        {122.19, 60.34},
-        {121.59, 60.65},
-        {110.92, 64.96},
-        {110.03, 65.23},
-        {109.12, 65.50},
-        {98.64, 67.89},
-        {97.47, 68.09},
-        {96.27, 68.28},
-        {95.06, 68.46},
-        {93.83, 68.63},
-        {92.56, 68.80},
-        {83.01, 69.68},
-        {81.60, 69.76},
-        {80.18, 69.83},
-        {78.75, 69.89},
-        {77.32, 69.93},
-        {75.89, 69.97},
-        {65.79, 69.87},
-        {64.37, 69.81},
-        {62.95, 69.74},
-        {61.56, 69.65},
-        {57.73, 69.36},
-        {53.77, 68.96}};
+    const AzEl targets[] = {{152.12, 19.96}, {148.36, 30.02}, {148.28, 30.20}, {143.04, 40.40}, {142.89, 40.65},
+                            {135.11, 50.73}, {134.81, 51.03}, {124.44, 59.08}, {123.90, 59.40}, {123.91, 59.39},
+                            {123.36, 59.70}, {122.78, 60.02}, {122.19, 60.34}, {121.59, 60.65}, {110.92, 64.96},
+                            {110.03, 65.23}, {109.12, 65.50}, {98.64, 67.89},  {97.47, 68.09},  {96.27, 68.28},
+                            {95.06, 68.46},  {93.83, 68.63},  {92.56, 68.80},  {83.01, 69.68},  {81.60, 69.76},
+                            {80.18, 69.83},  {78.75, 69.89},  {77.32, 69.93},  {75.89, 69.97},  {65.79, 69.87},
+                            {64.37, 69.81},  {62.95, 69.74},  {61.56, 69.65},  {57.73, 69.36},  {53.77, 68.96}};
     WrapTracker tracker(travler_travel, std::nullopt, {});
     tracker.note_reading(156.8, t0);
     std::optional<AzEl> previous;
@@ -291,7 +262,7 @@ TEST_CASE("wrap tracker: a reading taken back restores the previous estimate") {
 }
 
 TEST_CASE("wrap: the travel a pass needs from a branch, and the branch that holds it") {
-    const wrap::Window travel = wrap::usable_window({0.0, 455.0});   // the Trav'ler's, 2..453
+    const wrap::Window travel = wrap::usable_window({0.0, 455.0});  // the Trav'ler's, 2..453
     // Rising at 100, turning 150 deg clockwise; the target before the rise waits at 100 too.
     const wrap::PassAhead low_pass{100.0, 150.0, 60.0, 300.0};
     const auto [lowest, highest] = wrap::pass_travel(100.0, 100.0, low_pass);
@@ -348,8 +319,8 @@ TEST_CASE("wrap tracker: with the orbit, a pass joined after its rise unwinds at
     // Just past the top, 130 deg still to come from 340: the branch at 340 has 113; the one at -20
     // does not exist; no branch holds it, so it stays (and holds or unwinds at the limit later).
     const wrap::PassAhead past_top{340.0, 130.0, 0.0, -1.0};
-    CHECK(tracker.choose_branch({340.0, 80.0}, AzEl{330.0, 70.0}, 0.5, 15.0, std::nullopt, std::nullopt,
-                                past_top) == Approx(340.0));
+    CHECK(tracker.choose_branch({340.0, 80.0}, AzEl{330.0, 70.0}, 0.5, 15.0, std::nullopt, std::nullopt, past_top) ==
+          Approx(340.0));
 
     // Anticlockwise from 60 through north to 270: 150 deg to go past the top; the branch at 60 has
     // 58 of room, the one at 420 holds it: the unwind happens now, once.

@@ -32,7 +32,7 @@ double time_one(e2e::RotctldConnection& c, const std::string& cmd, int lines) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-} // namespace
+}  // namespace
 
 int main(int argc, char** argv) {
     const int iterations = argc > 1 ? std::atoi(argv[1]) : 500;
@@ -43,8 +43,8 @@ int main(int argc, char** argv) {
     } cases[] = {{birdcage::sim::Variant::travler_hal205, 90102, "Trav'ler HAL 2.05"},
                  {birdcage::sim::Variant::carryout_g2, 90105, "Carryout G2"}};
 
-    std::printf("rotctld round trip over loopback TCP, %d commands each (emulated dish, Hamlib %s)\n",
-                iterations, "from /usr/bin/rotctld");
+    std::printf("rotctld round trip over loopback TCP, %d commands each (emulated dish, Hamlib %s)\n", iterations,
+                "from /usr/bin/rotctld");
     std::printf("%-20s %-4s %9s %9s %9s %9s\n", "model", "cmd", "median", "p95", "p99", "max");
     for (const Case& c : cases) {
         birdcage::sim::Options o;
@@ -66,8 +66,8 @@ int main(int argc, char** argv) {
         }
         for (auto [label, data] : {std::pair{"p", &p_ms}, std::pair{"P", &set_ms}}) {
             const Figures f = summarise(*data);
-            std::printf("%-20s %-4s %7.3fms %7.3fms %7.3fms %7.3fms\n", c.name, label, f.median_ms, f.p95_ms,
-                        f.p99_ms, f.max_ms);
+            std::printf("%-20s %-4s %7.3fms %7.3fms %7.3fms %7.3fms\n", c.name, label, f.median_ms, f.p95_ms, f.p99_ms,
+                        f.max_ms);
         }
     }
     return 0;

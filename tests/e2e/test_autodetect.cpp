@@ -64,7 +64,7 @@ void detect_and_drive(const AutoCase& c) {
     CHECK(rig.dish().shell_alive());
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("auto-detect (90100) identifies every emulated variant without sending a hazard", "[e2e][autodetect]") {
     const std::vector<AutoCase> cases = {
@@ -81,8 +81,11 @@ TEST_CASE("auto-detect (90100) identifies every emulated variant without sending
              o.echo = false;
              o.line_ending = birdcage::sim::LineEnding::lf;
          }},
-        {"hal205 bare prompts, left in motor", Variant::travler_hal205, "HAL 2.05",
-         [](Options& o) { o.prompt_style = birdcage::sim::PromptStyle::bare; }, {"motor"}},
+        {"hal205 bare prompts, left in motor",
+         Variant::travler_hal205,
+         "HAL 2.05",
+         [](Options& o) { o.prompt_style = birdcage::sim::PromptStyle::bare; },
+         {"motor"}},
         {"hal000 booting", Variant::travler_hal000, "HAL 0.0.00", [](Options& o) { o.already_booted = false; }},
         // `?` answers one line, a label then the command words, at `>` prompts: dish up and booting
         // (where `NoGPS` alone ties the two Trav'ler HALs).
@@ -108,16 +111,27 @@ TEST_CASE("auto-detect (90100) identifies every emulated variant without sending
              o.already_booted = false;
              o.after_boot_line = "Antenna Facing Front: tracker disabled";
          }},
-        {"carryout2003 left in target, no unknown-command text", Variant::carryout2003, "Carryout HAL 1.00.065",
-         [](Options& o) { o.unknown_command_reply = ""; }, {"target"}},
-        {"pro left in ODU mot, q returns to the IDU", Variant::travler_pro, "Trav'ler Pro",
-         [](Options& o) { o.pro_q_at_odu_root_returns_to_idu = true; }, {"odu", "mot"}},
+        {"carryout2003 left in target, no unknown-command text",
+         Variant::carryout2003,
+         "Carryout HAL 1.00.065",
+         [](Options& o) { o.unknown_command_reply = ""; },
+         {"target"}},
+        {"pro left in ODU mot, q returns to the IDU",
+         Variant::travler_pro,
+         "Trav'ler Pro",
+         [](Options& o) { o.pro_q_at_odu_root_returns_to_idu = true; },
+         {"odu", "mot"}},
         // Indistinguishable from a HAL 0.0.00 root: reported as such, with the Pro's 75 deg cap kept.
-        {"pro left in ODU mot, q stays on the ODU", Variant::travler_pro, "el limits 15.00..75.00",
-         [](Options&) {}, {"odu", "mot"}},
+        {"pro left in ODU mot, q stays on the ODU",
+         Variant::travler_pro,
+         "el limits 15.00..75.00",
+         [](Options&) {},
+         {"odu", "mot"}},
     };
     for (const AutoCase& c : cases) {
-        DYNAMIC_SECTION(c.name) { detect_and_drive(c); }
+        DYNAMIC_SECTION(c.name) {
+            detect_and_drive(c);
+        }
     }
 }
 

@@ -26,7 +26,7 @@ using birdcage::sim::Variant;
 namespace {
 
 constexpr double time_scale = 50.0;
-constexpr double pass_seconds = 240.0;   // simulated
+constexpr double pass_seconds = 240.0;  // simulated
 constexpr double reversal_allowed_deg = 3.0;
 // The dish ends the pass at rest within this of the last target (the last legs may stop inside the
 // firmware's arrival tolerance and the backend's same-angle rounding, never further).
@@ -36,17 +36,17 @@ struct PassCase {
     const char* name;
     Variant variant;
     int model;
-    double az0, span;        // display azimuth at AOS, signed azimuth span (through north)
+    double az0, span;  // display azimuth at AOS, signed azimuth span (through north)
     double el_min, el_peak;
     AzMapping mapping;
     double wrap_point;
-    int forced_long_ways;    // 0: the pass is holdable under this mapping
-    double end_mech;         // true mechanical azimuth expected at LOS
+    int forced_long_ways;  // 0: the pass is holdable under this mapping
+    double end_mech;       // true mechanical azimuth expected at LOS
 };
 
 struct Flight {
-    double worst_reversal = 0.0;   // against the pass direction, from the running extreme
-    int long_ways = 0;             // reversals of more than 180 deg
+    double worst_reversal = 0.0;  // against the pass direction, from the running extreme
+    int long_ways = 0;            // reversals of more than 180 deg
     double end_mech = 0.0;
     double end_display_error = 0.0;
     unsigned hazards = 0;
@@ -73,7 +73,7 @@ Flight fly(const PassCase& c) {
     REQUIRE(e2e::wait_until([&] { return e2e::settled_at(dish, c.az0, c.el_min, 0.2); }, 60s));
 
     Flight flight;
-    std::vector<double> track;   // true mechanical azimuth, sampled while the pass runs
+    std::vector<double> track;  // true mechanical azimuth, sampled while the pass runs
     const double start = dish.sim_time();
     const auto sample = [&] { track.push_back(dish.true_mechanical_az()); };
     const int steps = static_cast<int>(pass_seconds);
@@ -81,7 +81,7 @@ Flight fly(const PassCase& c) {
         const double f = static_cast<double>(i) / steps;
         target(c.az0 + c.span * f, c.el_min + (c.el_peak - c.el_min) * std::sin(f * 3.14159265358979));
         if (i % 5 == 0) {
-            client.ask("p", 2);   // Gpredict reads the position back every cycle; a few suffice here
+            client.ask("p", 2);  // Gpredict reads the position back every cycle; a few suffice here
         }
         // Pace the client in simulated time; sample the true azimuth meanwhile.
         REQUIRE(e2e::wait_until(
@@ -129,8 +129,7 @@ Flight fly(const PassCase& c) {
 
 }  // namespace
 
-TEST_CASE("az mapping e2e: north-crossing passes under every emulator mapping, az_mapping=auto",
-          "[e2e][az_mapping]") {
+TEST_CASE("az mapping e2e: north-crossing passes under every emulator mapping, az_mapping=auto", "[e2e][az_mapping]") {
     const PassCase cases[] = {
         // Trav'ler, the failure the tracking benchmark measured: 248 -> 43 growing, held by 248 -> 403.
         {"hal205 nearest", Variant::travler_hal205, 90102, 248, 155, 15, 60, AzMapping::nearest, 0, 0, 403},

@@ -15,12 +15,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
 #include <thread>
-#include <unistd.h>
 
 using namespace std::chrono_literals;
 using birdcage::sim::Variant;
@@ -57,12 +57,12 @@ const bench::Pass& iss45() {
 
 struct PassRun {
     bench::ClientRecord record;
-    double rms_deg = 0.0;      // dish vs satellite while the satellite is inside the dish's range
+    double rms_deg = 0.0;  // dish vs satellite while the satellite is inside the dish's range
     double max_deg = 0.0;
-    double off_target_s = 0.0; // simulated seconds with the dish more than 2 deg off the satellite
-    double tail_rms_deg = 0.0; // the last 20 s of the window: tracking again after the fault
+    double off_target_s = 0.0;  // simulated seconds with the dish more than 2 deg off the satellite
+    double tail_rms_deg = 0.0;  // the last 20 s of the window: tracking again after the fault
     unsigned recoveries = 0;
-    std::string info;          // `_` at the end
+    std::string info;  // `_` at the end
 };
 
 std::string temp_link(const char* what) {
@@ -95,7 +95,7 @@ PassRun track_through(const Dish& d, Fault fault) {
     rig.dish().set_idle_noise(kIdleNoiseBps);
 
     bench::ClientSettings settings;
-    settings.threshold_deg = 0.5;   // docs/gpredict.md's setting
+    settings.threshold_deg = 0.5;  // docs/gpredict.md's setting
     settings.min_el = d.el_min;
     settings.max_el = d.el_max;
     bench::GpredictClient client(pass, settings, rig.dish(), kScale, rig.port(), start);
@@ -166,8 +166,8 @@ void report(const Dish& d, Fault fault, const PassRun& run) {
                 << run.record.longest_error_streak << " cycle(s), " << run.record.erroring_cycles
                 << " erroring cycle(s), disengaged " << (run.record.disengaged ? "YES" : "no") << "; pass RMS "
                 << run.rms_deg << " deg, max " << run.max_deg << " deg, " << run.off_target_s
-                << " s more than 2 deg off, last 20 s RMS " << run.tail_rms_deg << " deg; recovered "
-                << run.recoveries << " time(s); " << run.record.sent_targets.size() << " P sent");
+                << " s more than 2 deg off, last 20 s RMS " << run.tail_rms_deg << " deg; recovered " << run.recoveries
+                << " time(s); " << run.record.sent_targets.size() << " P sent");
 }
 
 void client_survives(const Dish& d, Fault fault) {
@@ -176,7 +176,7 @@ void client_survives(const Dish& d, Fault fault) {
     CHECK_FALSE(run.record.disengaged);
     // Gpredict tolerates five erroring cycles in a row; the dish must never bring it to the edge.
     CHECK(run.record.longest_error_streak < 5);
-    CHECK(run.recoveries >= 1);   // line noise may add a re-synchronisation
+    CHECK(run.recoveries >= 1);  // line noise may add a re-synchronisation
     if (fault == Fault::unplug) {
         // An unplugged adapter does not move the dish: it falls behind the satellite by what the
         // satellite covers meanwhile (a few degrees), never by a turn onto another cable-wrap branch.

@@ -73,33 +73,33 @@ struct Way {
     Meeting meeting;
     bool auto_detect;
 };
-const Way kAllWays[] = {{Meeting::dish_up, false}, {Meeting::booting, true}, {Meeting::booting, false}, {Meeting::dish_up, true}};
-std::vector<Way> ways_for(std::uint32_t seed)
-{
-    if (std::getenv("BIRDCAGE_DIALECT_ALL_WAYS") != nullptr) return {std::begin(kAllWays), std::end(kAllWays)};
+const Way kAllWays[] = {
+    {Meeting::dish_up, false}, {Meeting::booting, true}, {Meeting::booting, false}, {Meeting::dish_up, true}};
+std::vector<Way> ways_for(std::uint32_t seed) {
+    if (std::getenv("BIRDCAGE_DIALECT_ALL_WAYS") != nullptr)
+        return {std::begin(kAllWays), std::end(kAllWays)};
     return {kAllWays[seed % 4]};
 }
 
-std::string meeting_name(Meeting m) { return m == Meeting::dish_up ? "dish up" : "booting"; }
+std::string meeting_name(Meeting m) {
+    return m == Meeting::dish_up ? "dish up" : "booting";
+}
 
-std::string cell_name(const VariantRow& v, std::uint32_t seed, const Way& way)
-{
+std::string cell_name(const VariantRow& v, std::uint32_t seed, const Way& way) {
     std::ostringstream name;
     name << v.name << " seed " << seed << " / " << meeting_name(way.meeting) << " / "
          << (way.auto_detect ? "auto 90100" : "own " + std::to_string(v.own_model));
     return name.str();
 }
 
-std::string tail(const std::string& text, std::size_t bytes)
-{
+std::string tail(const std::string& text, std::size_t bytes) {
     return text.size() <= bytes ? text : "...\n" + text.substr(text.size() - bytes);
 }
 
 // The console transcript as --trace prints it: `<<` client bytes, `>>` dish bytes.
 class Transcript {
 public:
-    void add(bool from_client, std::string_view bytes)
-    {
+    void add(bool from_client, std::string_view bytes) {
         const std::lock_guard lock(mutex_);
         if (from_client != last_from_client_ || text_.empty() || text_.back() == '\n') {
             text_ += text_.empty() ? "" : "\n";
@@ -108,8 +108,7 @@ public:
         last_from_client_ = from_client;
         text_ += birdcage::sim::escape_chunk(bytes);
     }
-    std::string text() const
-    {
+    std::string text() const {
         const std::lock_guard lock(mutex_);
         return text_;
     }
@@ -121,23 +120,21 @@ private:
 };
 
 // BIRDCAGE_DIALECT_TRANSCRIPT=full (the soak script) prints the whole transcript on failure.
-std::size_t transcript_bytes()
-{
+std::size_t transcript_bytes() {
     const char* full = std::getenv("BIRDCAGE_DIALECT_TRANSCRIPT");
     return full != nullptr && std::string(full) == "full" ? std::string::npos : 6000;
 }
 
-std::string where(Emulator& dish)
-{
+std::string where(Emulator& dish) {
     const birdcage::sim::Pose p = dish.true_position();
     std::ostringstream out;
     out << "dish at az " << p.az << " el " << p.el << (dish.moving() ? " (moving)" : " (at rest)") << ", sim time "
-        << dish.sim_time() << " s, hazards " << dish.hazards_received() << ", shell " << (dish.shell_alive() ? "alive" : "DEAD");
+        << dish.sim_time() << " s, hazards " << dish.hazards_received() << ", shell "
+        << (dish.shell_alive() ? "alive" : "DEAD");
     return out.str();
 }
 
-void run_cell(const VariantRow& v, std::uint32_t seed, const Way& way)
-{
+void run_cell(const VariantRow& v, std::uint32_t seed, const Way& way) {
     const birdcage::sim::Dialect dialect = birdcage::sim::draw_dialect(v.variant, seed);
     Options o = dialect.options;
     o.time_scale = kTimeScale;
@@ -150,22 +147,25 @@ void run_cell(const VariantRow& v, std::uint32_t seed, const Way& way)
     o.idle_line_period *= kTimeScale;
     // A 2003 Carryout whose search is off (all DIP switches up, docs/firmware.md §8.2), as in the
     // first-contact matrix: a search cannot be stopped nor seen from the console.
-    if (v.variant == Variant::carryout2003) o.carryout_search_seconds = 0.0;
+    if (v.variant == Variant::carryout2003)
+        o.carryout_search_seconds = 0.0;
     auto transcript = std::make_shared<Transcript>();
     o.trace = [transcript](bool from_client, std::string_view bytes) { transcript->add(from_client, bytes); };
 
     std::vector<std::string> args = {"-C", "time_scale=" + std::to_string(kTimeScale)};
-    if (way.auto_detect) args.insert(args.end(), {"-s", std::to_string(v.baud)});
+    if (way.auto_detect)
+        args.insert(args.end(), {"-s", std::to_string(v.baud)});
     const int model = way.auto_detect ? kAutoDetectModel : v.own_model;
 
     INFO("the drawn console (birdcage-sim --variant " << v.name << " --dialect describe --seed " << seed << "):\n"
-                                                       << dialect.description);
+                                                      << dialect.description);
     std::unique_ptr<e2e::Rig> rig;
     try {
         rig = std::make_unique<e2e::Rig>(o, model, args, nullptr, kOpenWithin);
     } catch (const std::exception& e) {
-        FAIL("rotctld did not open the dish; its log:\n" << tail(e.what(), 4000) << "\nconsole transcript:\n"
-                                                         << tail(transcript->text(), transcript_bytes()));
+        FAIL("rotctld did not open the dish; its log:\n"
+             << tail(e.what(), 4000) << "\nconsole transcript:\n"
+             << tail(transcript->text(), transcript_bytes()));
     }
     INFO("console transcript:\n" << tail(transcript->text(), transcript_bytes()));
     e2e::RotctldConnection client(rig->port());
@@ -219,40 +219,42 @@ private:
 };
 
 // dialects-known-failing.txt: one cell name per line, `#` starts a comment (the cause).
-std::set<std::string> known_failing()
-{
+std::set<std::string> known_failing() {
     std::set<std::string> names;
     std::ifstream in(BIRDCAGE_DIALECTS_KNOWN_FAILING);
     for (std::string line; std::getline(in, line);) {
         line = line.substr(0, line.find('#'));
-        while (!line.empty() && (line.back() == ' ' || line.back() == '\t')) line.pop_back();
-        if (!line.empty()) names.insert(line);
+        while (!line.empty() && (line.back() == ' ' || line.back() == '\t'))
+            line.pop_back();
+        if (!line.empty())
+            names.insert(line);
     }
     return names;
 }
 
 // BIRDCAGE_DIALECT_SEEDS="A-B" or "A,B,C" replaces the CI list (the soak script).
-std::vector<std::uint32_t> seeds()
-{
+std::vector<std::uint32_t> seeds() {
     std::vector<std::uint32_t> list;
     const char* spec = std::getenv("BIRDCAGE_DIALECT_SEEDS");
     if (spec == nullptr || *spec == '\0') {
-        for (std::uint32_t s = kFirstSeed; s < kFirstSeed + kSeedsPerVariant; ++s) list.push_back(s);
+        for (std::uint32_t s = kFirstSeed; s < kFirstSeed + kSeedsPerVariant; ++s)
+            list.push_back(s);
         return list;
     }
     std::istringstream in(spec);
     for (std::string part; std::getline(in, part, ',');) {
         const auto dash = part.find('-');
         const auto first = static_cast<std::uint32_t>(std::stoul(part.substr(0, dash)));
-        const auto last = dash == std::string::npos ? first : static_cast<std::uint32_t>(std::stoul(part.substr(dash + 1)));
-        for (std::uint32_t s = first; s <= last; ++s) list.push_back(s);
+        const auto last =
+            dash == std::string::npos ? first : static_cast<std::uint32_t>(std::stoul(part.substr(dash + 1)));
+        for (std::uint32_t s = first; s <= last; ++s)
+            list.push_back(s);
     }
     return list;
 }
 
 struct Registrar {
-    Registrar()
-    {
+    Registrar() {
         const std::set<std::string> known = known_failing();
         for (const VariantRow& v : kVariants) {
             for (const std::uint32_t seed : seeds()) {

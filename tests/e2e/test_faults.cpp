@@ -43,7 +43,9 @@ std::string temp_link(const char* what) {
            std::to_string(Clock::now().time_since_epoch().count());
 }
 
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 long rss_kib(pid_t pid) {
     std::ifstream status("/proc/" + std::to_string(pid) + "/status");
@@ -97,7 +99,8 @@ TEST_CASE("faults: idle garbage and noise during tracking leave the position exa
     CHECK(rig.dish().hazards_received() == 0);
 }
 
-TEST_CASE("faults: inverted polarity: p keeps the last reading and s says BUSY until the pair is fixed", "[e2e][faults]") {
+TEST_CASE("faults: inverted polarity: p keeps the last reading and s says BUSY until the pair is fixed",
+          "[e2e][faults]") {
     e2e::Rig rig(g2_at(100.0, 30.0), kG2, {"-C", "leapfrog=0"});
     e2e::RotctldConnection client(rig.port());
     REQUIRE(client.get_position().ok);
@@ -167,7 +170,8 @@ TEST_CASE("faults: the dish reboots mid-move, the backend re-initialises and res
 // A G2 boot of about 25 simulated seconds (2 s between boot lines, then homing to AZ 0, EL 65):
 // a G2 whose boot homes (the captured unit's does not; §6.2 leaves it a switch), so that the
 // position after the boot differs from the last reading.
-TEST_CASE("faults: while the dish reboots p gives its last reading, s BUSY and _ why, P is kept and S drops it", "[e2e][faults]") {
+TEST_CASE("faults: while the dish reboots p gives its last reading, s BUSY and _ why, P is kept and S drops it",
+          "[e2e][faults]") {
     auto options = g2_at(100.0, 30.0, 10.0);
     options.boot_line_gap = 2.0;
     options.g2_boot_homes = true;
@@ -222,8 +226,9 @@ TEST_CASE("faults: while the dish reboots p gives its last reading, s BUSY and _
     REQUIRE(e2e::wait_until([&] { return reports_true_position(client, rig.dish()); }, 5s));
     CHECK(e2e::settled_at(rig.dish(), 0.0, kG2ElMax));
     const auto commands = rig.dish().received_commands();
-    const auto moves = std::count_if(commands.begin() + static_cast<std::ptrdiff_t>(commands_before), commands.end(),
-                                     [](const std::string& c) { return c.rfind("a 0 ", 0) == 0 || c.rfind("a 1 ", 0) == 0; });
+    const auto moves =
+        std::count_if(commands.begin() + static_cast<std::ptrdiff_t>(commands_before), commands.end(),
+                      [](const std::string& c) { return c.rfind("a 0 ", 0) == 0 || c.rfind("a 1 ", 0) == 0; });
     CHECK(moves == 0);
     CHECK(errors == 0);
     CHECK(rig.dish().hazards_received() == 0);
@@ -260,17 +265,21 @@ void reboot_mid_move_resumes(const RebootCase& v) {
 // Not the Carryout 2003: it prints no boot lines and is only listened to during `g`, so a reboot
 // mid-move goes unnoticed until the next command (docs/reliability.md, known limits).
 TEST_CASE("faults: reboot mid-move, Trav'ler HAL variants", "[e2e][faults][variants]") {
-    for (const RebootCase& v : {RebootCase{Variant::travler_hal000, 90101, "hal000"},
-                                RebootCase{Variant::travler_hal205, 90102, "hal205"}}) {
-        DYNAMIC_SECTION(v.name) { reboot_mid_move_resumes(v); }
+    for (const RebootCase& v :
+         {RebootCase{Variant::travler_hal000, 90101, "hal000"}, RebootCase{Variant::travler_hal205, 90102, "hal205"}}) {
+        DYNAMIC_SECTION(v.name) {
+            reboot_mid_move_resumes(v);
+        }
     }
 }
 
 // The Pro prints no boot lines either: the reboot shows as its IDU> prompt answering a poll.
 TEST_CASE("faults: reboot mid-move, Trav'ler Pro and Carryout G2", "[e2e][faults][variants]") {
-    for (const RebootCase& v : {RebootCase{Variant::travler_pro, 90103, "pro"},
-                                RebootCase{Variant::carryout_g2, 90105, "g2"}}) {
-        DYNAMIC_SECTION(v.name) { reboot_mid_move_resumes(v); }
+    for (const RebootCase& v :
+         {RebootCase{Variant::travler_pro, 90103, "pro"}, RebootCase{Variant::carryout_g2, 90105, "g2"}}) {
+        DYNAMIC_SECTION(v.name) {
+            reboot_mid_move_resumes(v);
+        }
     }
 }
 
@@ -398,8 +407,8 @@ TEST_CASE("faults: dropped bytes never produce a garbage position", "[e2e][fault
         }
         std::this_thread::sleep_for(50ms);
     }
-    WARN("3% dropped bytes: " << rig.dish().fault_counters().dropped_bytes << " bytes lost; p at rest: "
-                              << good << " exact, " << errors << " errors, " << wrong << " wrong");
+    WARN("3% dropped bytes: " << rig.dish().fault_counters().dropped_bytes << " bytes lost; p at rest: " << good
+                              << " exact, " << errors << " errors, " << wrong << " wrong");
     CHECK(wrong == 0);
     CHECK(good > 0);
     CHECK(rig.dish().hazards_received() == 0);
@@ -457,8 +466,9 @@ TEST_CASE("bad client input: a flood of 1000 P on one connection", "[e2e][faults
     // What keeps memory bounded: P keeps only the latest target, so the flood is coalesced into
     // far fewer moves than targets.
     const auto commands = rig.dish().received_commands();
-    const auto moves = std::count_if(commands.begin(), commands.end(),
-                                     [](const std::string& c) { return c.rfind("a 0 ", 0) == 0 || c.rfind("a 1 ", 0) == 0; });
+    const auto moves = std::count_if(commands.begin(), commands.end(), [](const std::string& c) {
+        return c.rfind("a 0 ", 0) == 0 || c.rfind("a 1 ", 0) == 0;
+    });
     CHECK(moves < 500);
 #ifndef BIRDCAGE_SANITIZER_RUNTIME
     // Under AddressSanitizer the freed memory sits in its quarantine, so RSS measures the

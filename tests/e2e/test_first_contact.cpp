@@ -66,7 +66,7 @@ enum class Meeting { dish_up, boot_0s, boot_5s, boot_15s, reboot_mid_pass };
 struct MeetingRow {
     Meeting meeting;
     const char* name;
-    double into_boot = 0.0;   // simulated seconds of boot before rotctld starts
+    double into_boot = 0.0;  // simulated seconds of boot before rotctld starts
 };
 
 const std::vector<MeetingRow> kMeetings = {
@@ -91,7 +91,9 @@ HelpLayout other_help_layout(const VariantRow& v, int which) {
 // Timings that compete with the backend's own windows (its quiet gap and reply windows are real
 // time, because the line is) are stated in real seconds and scaled into the emulator's simulated
 // ones; otherwise at 50x a one-second gap on the console would shrink to 20 ms.
-double real_seconds(const Options& o, double seconds) { return seconds * o.time_scale; }
+double real_seconds(const Options& o, double seconds) {
+    return seconds * o.time_scale;
+}
 
 // Two alternative readings of docs/firmware.md' open questions (sim/README.md, "Switches").
 // Together they flip every switch that bears on first contact; a switch a variant does not have
@@ -238,7 +240,8 @@ void run_cell(const VariantRow& v, const MeetingRow& m, const Profile& profile, 
     // no trace a backend could read (docs/firmware.md 8.2): the README tells users to wait for it to
     // end. The matrix meets a unit whose search is off (all DIP switches up, 8.2); opening one
     // that is still searching is the open case listed in the closing note.
-    if (v.variant == Variant::carryout2003) o.carryout_search_seconds = 0.0;
+    if (v.variant == Variant::carryout2003)
+        o.carryout_search_seconds = 0.0;
 
     std::vector<std::string> args = {"-C", "time_scale=" + std::to_string(v.time_scale)};
     if (model == kAutoDetectModel) {
@@ -364,4 +367,4 @@ struct Registrar {
 
 const Registrar registrar;
 
-} // namespace
+}  // namespace

@@ -22,18 +22,20 @@
 
 namespace {
 
-constexpr double el_min = 15.0, el_max = 90.0;   // the HAL 2.05's limits
+constexpr double el_min = 15.0, el_max = 90.0;  // the HAL 2.05's limits
 constexpr int hal205_model = 90102;
 // Simulated seconds per real second: the pass window below takes ~20 s of real time.
 constexpr double time_scale = 10.0;
-constexpr double window_s = 200.0;   // around the culmination: the fast part of the pass
+constexpr double window_s = 200.0;  // around the culmination: the fast part of the pass
 
 struct PassFigures {
     double rms = 0.0, max = 0.0;
     std::size_t motor_starts = 0, stopped_short = 0;
 };
 
-bool is_move(const std::string& line) { return line.rfind("a ", 0) == 0 && line.find(' ', 2) != std::string::npos; }
+bool is_move(const std::string& line) {
+    return line.rfind("a ", 0) == 0 && line.find(' ', 2) != std::string::npos;
+}
 
 std::size_t occurrences(const std::string& text, const std::string& what) {
     std::size_t count = 0;
@@ -47,7 +49,7 @@ PassFigures run_pass(const bench::Pass& pass, double threshold, bool oracle) {
     const double start = pass.tca() - window_s / 2.0, end = pass.tca() + window_s / 2.0;
     birdcage::sim::Options dish = e2e::dish_options(birdcage::sim::Variant::travler_hal205, pass.at(start).az,
                                                     std::clamp(pass.at(start).el, el_min, el_max), time_scale);
-    dish.motor.startup_delay = 2.0;   // --motor-startup-delay 2 --motor-accel 3
+    dish.motor.startup_delay = 2.0;  // --motor-startup-delay 2 --motor-accel 3
     dish.motor.accel = 3.0;
     char scale_conf[48];
     std::snprintf(scale_conf, sizeof scale_conf, "time_scale=%g", time_scale);
@@ -89,17 +91,17 @@ PassFigures run_pass(const bench::Pass& pass, double threshold, bool oracle) {
     }
     REQUIRE(n > 0);
     figures.rms = std::sqrt(sum_squares / static_cast<double>(n));
-    std::printf("hal205, start-up delay 2 s, accel 3 deg/s^2, %s, threshold %g deg: RMS %.2f deg, max %.2f deg, "
-                "%zu motor starts, %zu legs declared stopped short\n",
-                oracle ? "oracle" : "Gpredict-like", threshold, figures.rms, figures.max, figures.motor_starts,
-                figures.stopped_short);
+    std::printf(
+        "hal205, start-up delay 2 s, accel 3 deg/s^2, %s, threshold %g deg: RMS %.2f deg, max %.2f deg, "
+        "%zu motor starts, %zu legs declared stopped short\n",
+        oracle ? "oracle" : "Gpredict-like", threshold, figures.rms, figures.max, figures.motor_starts,
+        figures.stopped_short);
     return figures;
 }
 
 }  // namespace
 
-TEST_CASE("motor dynamics: a 60 deg pass on a motor that starts 2 s late stays on the satellite",
-          "[motor_dynamics]") {
+TEST_CASE("motor dynamics: a 60 deg pass on a motor that starts 2 s late stays on the satellite", "[motor_dynamics]") {
     const bench::Pass pass = bench::Pass::load(std::string(BIRDCAGE_BENCH_PASSES_DIR) + "/iss-60.csv");
     // The oracle posts the true position every cycle: no threshold, so one run serves both.
     const PassFigures oracle = run_pass(pass, 0.0, true);
@@ -141,11 +143,10 @@ std::string pointing_log(const bench::Pass& pass, const birdcage::sim::MotorDyna
 
 }  // namespace
 
-TEST_CASE("motor dynamics: the pointing mode follows the dish's own motors, not its firmware",
-          "[motor_dynamics]") {
+TEST_CASE("motor dynamics: the pointing mode follows the dish's own motors, not its firmware", "[motor_dynamics]") {
     const bench::Pass pass = bench::Pass::load(std::string(BIRDCAGE_BENCH_PASSES_DIR) + "/iss-60.csv");
     SECTION("a HAL 2.05 console on motors as fast as the G2's steers ahead") {
-        birdcage::sim::MotorDynamics fast;   // the G2's (sim variants.cpp): 65 deg/s, 400 deg/s^2
+        birdcage::sim::MotorDynamics fast;  // the G2's (sim variants.cpp): 65 deg/s, 400 deg/s^2
         fast.az_velocity = 65.0;
         fast.el_velocity = 65.0;
         fast.accel = 400.0;

@@ -73,7 +73,7 @@ void no_streaming_or_hazard(e2e::Rig& rig) {
 
 TEST_CASE("G2: v RSSI follows where the dish points, and V LNB changes the sky it hears", "[e2e][receiver]") {
     const auto options = e2e::dish_options(Variant::carryout_g2, 174.0, 43.0);
-    const SkyModel sky(0, options.rssi_floor);   // the emulator's own model, as the oracle
+    const SkyModel sky(0, options.rssi_floor);  // the emulator's own model, as the oracle
     e2e::Rig rig(options, kG2);
     e2e::RotctldConnection client(rig.port());
 
@@ -125,17 +125,19 @@ TEST_CASE("G2: v RSSI follows where the dish points, and V LNB changes the sky i
 // ODU:13V` row) or unknown; setting it makes it known; a reboot of the dish makes 18 V true again.
 TEST_CASE("G2: the LNB supply after open is the dish's or unknown and never an assumed 18 V", "[e2e][receiver]") {
     const auto options = e2e::dish_options(Variant::carryout_g2, 174.0, 43.0);
-    e2e::Rig rig(options, kG2, {}, [](birdcage::sim::Emulator& dish) { e2e::type_into(dish, {"dvb", "lnbdc odu", "q"}); });
+    e2e::Rig rig(options, kG2, {}, [](birdcage::sim::Emulator& dish) {
+        e2e::type_into(dish, {"dvb", "lnbdc odu", "q"});
+    });
     e2e::RotctldConnection client(rig.port());
-    CHECK(sent(rig, "dis"));   // asked, one-shot
-    CHECK(reading(client, "LNB") == 13.0);   // the dish's own supply, not the boot default
+    CHECK(sent(rig, "dis"));                // asked, one-shot
+    CHECK(reading(client, "LNB") == 13.0);  // the dish's own supply, not the boot default
     REQUIRE(client.ask("V LNB 18", 1).find("RPRT 0") != std::string::npos);
     CHECK(reading(client, "LNB") == 18.0);
     REQUIRE(client.ask("V LNB 13", 1).find("RPRT 0") != std::string::npos);
     CHECK(reading(client, "LNB") == 13.0);
     rig.dish().power_cycle();
     REQUIRE(e2e::wait_until([&] { return client.ask("_", 1).find("recovered 1") != std::string::npos; }, 60s));
-    CHECK(reading(client, "LNB") == 18.0);   // the boot default again (`Enabled LNB ODU 18V`)
+    CHECK(reading(client, "LNB") == 18.0);  // the boot default again (`Enabled LNB ODU 18V`)
     no_streaming_or_hazard(rig);
 }
 
@@ -145,7 +147,9 @@ TEST_CASE("G2: an LNB supply the tuner does not list is unknown after open", "[e
     auto options = e2e::dish_options(Variant::carryout_g2, 174.0, 43.0);
     options.g2_console = birdcage::sim::G2Console::reconstructed;
     options.unlisted_commands = true;
-    e2e::Rig rig(options, kG2, {}, [](birdcage::sim::Emulator& dish) { e2e::type_into(dish, {"dvb", "lnbdc odu", "q"}); });
+    e2e::Rig rig(options, kG2, {}, [](birdcage::sim::Emulator& dish) {
+        e2e::type_into(dish, {"dvb", "lnbdc odu", "q"});
+    });
     e2e::RotctldConnection client(rig.port());
     CHECK(sent(rig, "dis"));
     const std::string after_open = client.ask("v LNB", 1);
@@ -159,7 +163,7 @@ TEST_CASE("G2: an LNB supply the tuner does not list is unknown after open", "[e
 TEST_CASE("Trav'ler: the receiver levels answer not available", "[e2e][receiver]") {
     e2e::Rig rig(e2e::dish_options(Variant::travler_hal205, 100.0, 30.0), kHal205);
     e2e::RotctldConnection client(rig.port());
-    CHECK(client.ask("v RSSI", 1).find("RPRT -11") != std::string::npos);   // -RIG_ENAVAIL
+    CHECK(client.ask("v RSSI", 1).find("RPRT -11") != std::string::npos);  // -RIG_ENAVAIL
     CHECK(client.ask("v LNB", 1).find("RPRT -11") != std::string::npos);
     CHECK(client.ask("V LNB 13", 1).find("RPRT -11") != std::string::npos);
     const auto p = client.get_position();
@@ -170,8 +174,7 @@ TEST_CASE("Trav'ler: the receiver levels answer not available", "[e2e][receiver]
     }
 }
 
-TEST_CASE("G2: a reading asked during a move waits for it, loses nothing of it, and p answers",
-          "[e2e][receiver]") {
+TEST_CASE("G2: a reading asked during a move waits for it, loses nothing of it, and p answers", "[e2e][receiver]") {
     // Slower time so the azimuth leg (120 -> 200) is still running when the reading is asked.
     const auto options = e2e::dish_options(Variant::carryout_g2, 120.0, 30.0, 10.0);
     e2e::Rig rig(options, kG2, {"-C", "leapfrog=0"});
@@ -201,7 +204,8 @@ TEST_CASE("G2: a reading asked during a move waits for it, loses nothing of it, 
     CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 200.0, 40.0); }, 60s));
     const auto commands = rig.dish().received_commands();
     // The reading's trip (the open's LNB read went to DVB> before any leg).
-    const auto dvb = std::find_if(commands.begin(), commands.end(), [](const std::string& c) { return c.rfind("rssi ", 0) == 0; });
+    const auto dvb =
+        std::find_if(commands.begin(), commands.end(), [](const std::string& c) { return c.rfind("rssi ", 0) == 0; });
     REQUIRE(dvb != commands.end());
     // The worker entered the tuner menu only with no leg in flight: both legs (the controller
     // sends the next one as the previous arrives) were sent before it.
@@ -234,10 +238,11 @@ std::vector<ScanRow> read_csv(const std::string& path) {
     std::ifstream in(path);
     std::vector<ScanRow> rows;
     std::string line;
-    std::getline(in, line);   // header
+    std::getline(in, line);  // header
     while (std::getline(in, line)) {
         ScanRow r{};
-        if (std::sscanf(line.c_str(), "%lf,%lf,%lf", &r.az, &r.el, &r.value) == 3) rows.push_back(r);
+        if (std::sscanf(line.c_str(), "%lf,%lf,%lf", &r.az, &r.el, &r.value) == 3)
+            rows.push_back(r);
     }
     return rows;
 }
@@ -298,12 +303,19 @@ TEST_CASE("birdcage-skyscan on the emulator finds its satellites within one grid
 TEST_CASE("birdcage-skyscan resumes after a kill without losing or repeating a point", "[e2e][receiver][skyscan]") {
     e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 120.0, 30.0, 100.0), kG2, {"-C", "pointing=none"});
     const std::string csv = scan_path("resume");
-    const std::vector<std::string> scan = {BIRDCAGE_SKYSCAN_PATH, "--port", std::to_string(rig.port()), "--az",
-                                           "120:130:2", "--el", "30:40:2", "--out", csv};
+    const std::vector<std::string> scan = {BIRDCAGE_SKYSCAN_PATH,
+                                           "--port",
+                                           std::to_string(rig.port()),
+                                           "--az",
+                                           "120:130:2",
+                                           "--el",
+                                           "30:40:2",
+                                           "--out",
+                                           csv};
     {
         e2e::Child first(scan, {}, scan_path("resume-log"));
         REQUIRE(e2e::wait_until([&] { return read_csv(csv).size() >= 10; }, 120s));
-    }   // SIGTERM mid-scan
+    }  // SIGTERM mid-scan
     const std::size_t before = read_csv(csv).size();
     CHECK(before < 36u);
     std::vector<std::string> again = scan;
@@ -315,10 +327,12 @@ TEST_CASE("birdcage-skyscan resumes after a kill without losing or repeating a p
     const auto rows = read_csv(csv);
     CHECK(rows.size() == 36u);
     std::set<std::pair<long, long>> points;
-    for (const auto& r : rows) points.insert({std::lround(r.az * 100), std::lround(r.el * 100)});
+    for (const auto& r : rows)
+        points.insert({std::lround(r.az * 100), std::lround(r.el * 100)});
     CHECK(points.size() == 36u);
     for (double az = 120; az <= 130; az += 2)
-        for (double el = 30; el <= 40; el += 2) CHECK(points.count({std::lround(az * 100), std::lround(el * 100)}) == 1);
+        for (double el = 30; el <= 40; el += 2)
+            CHECK(points.count({std::lround(az * 100), std::lround(el * 100)}) == 1);
     std::remove(csv.c_str());
     std::remove(scan_path("resume-log").c_str());
 }

@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <utility>
 #include <sstream>
+#include <utility>
 
 using namespace std::chrono_literals;
 using birdcage::sim::Variant;
@@ -35,7 +35,7 @@ const ModelUnderTest kModels[] = {
     {Variant::carryout_g2, 90105, "Carryout G2", 18.0, 65.0, 2.0},
 };
 
-} // namespace
+}  // namespace
 
 TEST_CASE("rotctl -l lists the Winegard models only when the backend is preloaded", "[e2e][registration]") {
     const e2e::CommandResult with = e2e::run({"/usr/bin/rotctl", "-l"}, e2e::preload_environment());
@@ -117,16 +117,20 @@ TEST_CASE("predictive pointing: manual steps a few seconds apart end exactly on 
     for (const char* step : {"P 185 40", "P 190 40"}) {
         const double sent_at = rig.dish().sim_time();
         REQUIRE(client.ask(step, 1) == "RPRT 0\n");
-        e2e::wait_until([&] {
-            furthest_az = std::max(furthest_az, rig.dish().true_position().az);
-            return rig.dish().sim_time() - sent_at >= 2.0;
-        }, 10s);
+        e2e::wait_until(
+            [&] {
+                furthest_az = std::max(furthest_az, rig.dish().true_position().az);
+                return rig.dish().sim_time() - sent_at >= 2.0;
+            },
+            10s);
     }
     // Well past any extrapolation horizon (10 s): the dish has come to rest.
-    REQUIRE(e2e::wait_until([&] {
-        furthest_az = std::max(furthest_az, rig.dish().true_position().az);
-        return rig.dish().sim_time() - start > 20.0 && !rig.dish().moving();
-    }, 20s));
+    REQUIRE(e2e::wait_until(
+        [&] {
+            furthest_az = std::max(furthest_az, rig.dish().true_position().az);
+            return rig.dish().sim_time() - start > 20.0 && !rig.dish().moving();
+        },
+        20s));
     CHECK(e2e::settled_at(rig.dish(), 190.0, 40.0, 0.02));
     CHECK(furthest_az < 190.05);
     CHECK(rig.dish().hazards_received() == 0);
@@ -138,7 +142,8 @@ TEST_CASE("S stops the dish: the leg not yet sent is dropped", "[e2e][stop]") {
             auto options = e2e::dish_options(m.variant, 100.0, 30.0, m.watchable_time_scale);
             // The 2003 Carryout's `g` stops on input only under one reading of the notes (sim/README:
             // g_aborts_on_input); this test is about S under it, the next one about the other.
-            if (m.variant == Variant::carryout2003) options.g_aborts_on_input = true;
+            if (m.variant == Variant::carryout2003)
+                options.g_aborts_on_input = true;
             e2e::Rig rig(options, m.model, {"-C", "leapfrog=0"});
             // The first move sends azimuth first; elevation waits until azimuth has arrived.
             REQUIRE(rig.rotctl({"P", "280", "50"}).exit_code == 0);

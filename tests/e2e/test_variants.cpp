@@ -30,7 +30,7 @@ struct VariantUnderTest {
     int model;
     const char* name;
     double el_min, el_max;
-    std::vector<std::string> motor_menu_keys;   // what a user types to reach the motor menu
+    std::vector<std::string> motor_menu_keys;  // what a user types to reach the motor menu
 };
 
 const VariantUnderTest kHal000{Variant::travler_hal000, 90101, "hal000", 15.0, 90.0, {"mot"}};
@@ -103,7 +103,9 @@ Setting bare_prompts() {
 
 void run_all(const VariantUnderTest& v, const std::vector<Setting>& settings) {
     for (const Setting& s : settings) {
-        DYNAMIC_SECTION(s.name) { init_move_report_stop(v, s); }
+        DYNAMIC_SECTION(s.name) {
+            init_move_report_stop(v, s);
+        }
     }
 }
 
@@ -119,12 +121,18 @@ std::vector<Setting> init_situations(const VariantUnderTest& v) {
     const std::vector<std::string> keys = v.motor_menu_keys;
     return {
         {"still booting", [](Options& o) { o.already_booted = false; }},
-        {"left inside the motor menu", [](Options&) {},
-         {}, [keys](birdcage::sim::Emulator& dish) { e2e::type_into(dish, keys); }},
-        {"skip_init with the motor menu open", [](Options&) {},
-         {"-C", "skip_init=1"}, [keys](birdcage::sim::Emulator& dish) { e2e::type_into(dish, keys); }},
-        {"left inside the nvs menu", [](Options&) {},
-         {}, [v](birdcage::sim::Emulator& dish) {
+        {"left inside the motor menu",
+         [](Options&) {},
+         {},
+         [keys](birdcage::sim::Emulator& dish) { e2e::type_into(dish, keys); }},
+        {"skip_init with the motor menu open",
+         [](Options&) {},
+         {"-C", "skip_init=1"},
+         [keys](birdcage::sim::Emulator& dish) { e2e::type_into(dish, keys); }},
+        {"left inside the nvs menu",
+         [](Options&) {},
+         {},
+         [v](birdcage::sim::Emulator& dish) {
              if (v.variant == Variant::travler_pro) {
                  e2e::type_into(dish, {"odu", "nvs"});
              } else {
@@ -138,7 +146,7 @@ const std::vector<Setting> search_running = {
     {"TV search running", [](Options& o) { o.search_running = true; }},
 };
 
-} // namespace
+}  // namespace
 
 TEST_CASE("hal000: every unknown-behaviour switch and start-up situation", "[e2e][variants][hal000]") {
     run_all(kHal000, concat(common_switches(), position_query_switches(), std::vector<Setting>{bare_prompts()},
@@ -155,8 +163,8 @@ TEST_CASE("hal205: every unknown-behaviour switch and start-up situation", "[e2e
              o.hal205_boot_marker = birdcage::sim::BootMarker::no_lnb_voltage;
          }},
     };
-    run_all(kHal205, concat(common_switches(), position_query_switches(), own, init_situations(kHal205),
-                            search_running));
+    run_all(kHal205,
+            concat(common_switches(), position_query_switches(), own, init_situations(kHal205), search_running));
 }
 
 TEST_CASE("pro: every unknown-behaviour switch and start-up situation", "[e2e][variants][pro]") {
@@ -165,7 +173,10 @@ TEST_CASE("pro: every unknown-behaviour switch and start-up situation", "[e2e][v
         {"q at the ODU root returns to the IDU", [](Options& o) { o.pro_q_at_odu_root_returns_to_idu = true; }},
         {"q returns to the IDU, left inside the ODU motor menu",
          [](Options& o) { o.pro_q_at_odu_root_returns_to_idu = true; },
-         {}, [](birdcage::sim::Emulator& dish) { e2e::type_into(dish, {"odu", "mot"}); }},
+         {},
+         [](birdcage::sim::Emulator& dish) {
+             e2e::type_into(dish, {"odu", "mot"});
+         }},
     };
     run_all(kPro, concat(common_switches(), position_query_switches(), own, init_situations(kPro), search_running));
 }

@@ -26,7 +26,7 @@ struct ParkCase {
     double park_az, park_el;
 };
 
-} // namespace
+}  // namespace
 
 TEST_CASE("K parks every variant with ordinary moves, never with stow", "[e2e][verbs][park]") {
     const ParkCase cases[] = {
@@ -76,7 +76,7 @@ TEST_CASE("R: homing on the G2, RPRT -11 (not available) where the firmware has 
 TEST_CASE("G2: while R 1 homes, p answers, s says BUSY, and a P sent meanwhile is moved to after the home",
           "[e2e][verbs][g2][homing]") {
     Options o = e2e::dish_options(Variant::carryout_g2, 100.0, 30.0);
-    o.time_scale = 2.0;   // a home of several dish seconds: the client sees it run
+    o.time_scale = 2.0;  // a home of several dish seconds: the client sees it run
     e2e::Rig rig(o, 90105, {"-C", "leapfrog=0", "-C", "pointing=none"});
     e2e::RotctldConnection client(rig.port());
     REQUIRE(client.ask("R 1", 1) == "RPRT 0\n");
@@ -87,9 +87,10 @@ TEST_CASE("G2: while R 1 homes, p answers, s says BUSY, and a P sent meanwhile i
     const bool home_ended = e2e::wait_until(
         [&] {
             const std::string position = client.ask("p", 2);
-            if (position.find("RPRT") != std::string::npos) refused = position;
+            if (position.find("RPRT") != std::string::npos)
+                refused = position;
             if (answers_while_homing++ == 0) {
-                CHECK(client.ask("P 150 40", 1) == "RPRT 0\n");   // taken at once, moved to after the home
+                CHECK(client.ask("P 150 40", 1) == "RPRT 0\n");  // taken at once, moved to after the home
             }
             return client.ask("s", 1).find("BUSY") == std::string::npos;
         },
@@ -105,7 +106,9 @@ TEST_CASE("G2: while R 1 homes, p answers, s says BUSY, and a P sent meanwhile i
 
 TEST_CASE("G2 with unhomed axes: moves refused with a clear error until R homes them", "[e2e][verbs][g2][homing]") {
     Options o = e2e::dish_options(Variant::carryout_g2);
-    SECTION("booted unhomed") { o.g2_homed = false; }
+    SECTION("booted unhomed") {
+        o.g2_homed = false;
+    }
     SECTION("boot skips homing and loses the calibration (tracker disabled, the predecessor's claim)") {
         o.already_booted = false;
         o.g2_boot_homes = false;
@@ -113,16 +116,19 @@ TEST_CASE("G2 with unhomed axes: moves refused with a clear error until R homes 
     }
     e2e::Rig rig(o, 90105, {"-C", "leapfrog=0"});
     e2e::RotctldConnection client(rig.port());
-    CHECK(client.ask("P 150 40", 1) == "RPRT -9\n");   // -RIG_ERJCTED: refused, client stays connected
+    CHECK(client.ask("P 150 40", 1) == "RPRT -9\n");  // -RIG_ERJCTED: refused, client stays connected
     CHECK(client.ask("p", 1) == "RPRT -9\n");
     const std::string info = client.ask("_", 1);
     CHECK(info.find("NOT homed") != std::string::npos);
-    CHECK(rig.rotctld_log_text().find("R 1") != std::string::npos);  // the error says how to home
+    CHECK(rig.rotctld_log_text().find("R 1") != std::string::npos);            // the error says how to home
     CHECK_FALSE(any_command_starting(rig.dish().received_commands(), "a 0"));  // no move sent while unhomed
 
     CHECK(client.ask("R 1", 1) == "RPRT 0\n");
-    REQUIRE(e2e::wait_until([&] { return client.ask("s", 1).find("MOVING") == std::string::npos &&
-                                         e2e::settled_at(rig.dish(), 0.0, 65.0); }, 30s));
+    REQUIRE(e2e::wait_until(
+        [&] {
+            return client.ask("s", 1).find("MOVING") == std::string::npos && e2e::settled_at(rig.dish(), 0.0, 65.0);
+        },
+        30s));
     REQUIRE(e2e::wait_until([&] { return client.ask("P 150 40", 1) == "RPRT 0\n"; }, 10s));
     CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 150.0, 40.0); }, 30s));
     CHECK(rig.dish().hazards_received() == 0);
@@ -157,16 +163,18 @@ TEST_CASE("s reports MOVING while a leg runs and nothing at rest", "[e2e][verbs]
 
 TEST_CASE("conf parameters: listed by rotctl -L, and they take effect", "[e2e][verbs][conf]") {
     // Stock rotctl lists the parameters, then opens the port: a missing one makes it exit at once.
-    const e2e::CommandResult listed = e2e::run({"/usr/bin/rotctl", "-m", "90103", "-r", "/nonexistent/port", "-L"},
-                                               e2e::preload_environment());
-    for (const char* name : {"variant", "leapfrog", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max"}) {
+    const e2e::CommandResult listed =
+        e2e::run({"/usr/bin/rotctl", "-m", "90103", "-r", "/nonexistent/port", "-L"}, e2e::preload_environment());
+    for (const char* name :
+         {"variant", "leapfrog", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max"}) {
         INFO(name);
         CHECK(listed.out.find(name) != std::string::npos);
     }
     CHECK(listed.out.find("75.00") != std::string::npos);  // the Pro's own elevation cap as the default
 
     SECTION("az_min/az_max clamp azimuth targets") {
-        e2e::Rig rig(e2e::dish_options(Variant::carryout_g2), 90105, {"-C", "leapfrog=0", "-C", "az_min=90", "-C", "az_max=270"});
+        e2e::Rig rig(e2e::dish_options(Variant::carryout_g2), 90105,
+                     {"-C", "leapfrog=0", "-C", "az_min=90", "-C", "az_max=270"});
         REQUIRE(rig.rotctl({"P", "300", "40"}).exit_code == 0);
         CHECK(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 270.0, 40.0); }, 30s));
     }
@@ -192,9 +200,9 @@ TEST_CASE("conf parameters set while rotctld runs are refused, with a log line n
     e2e::RotctldConnection client(rig.port());
     REQUIRE(client.ask("_", 1).find("pointing predictive") != std::string::npos);
     const std::pair<const char*, const char*> settings[] = {
-        {"pointing", "none"}, {"leapfrog", "1"},  {"deadband", "0.5"},   {"deadband_share", "0"},
-        {"pass_model", "1"},  {"el_min", "30"},   {"el_max", "50"},      {"az_min", "90"},
-        {"az_max", "270"},    {"variant", "hal205"}, {"boot_timeout", "10"}, {"skip_init", "1"},
+        {"pointing", "none"}, {"leapfrog", "1"},        {"deadband", "0.5"},    {"deadband_share", "0"},
+        {"pass_model", "1"},  {"el_min", "30"},         {"el_max", "50"},       {"az_min", "90"},
+        {"az_max", "270"},    {"variant", "hal205"},    {"boot_timeout", "10"}, {"skip_init", "1"},
         {"time_scale", "1"},  {"az_mapping", "literal"}};
     for (const auto& [key, value] : settings) {
         INFO(key << " = " << value);

@@ -25,8 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         framer.expect_echo(all.substr(0, echo_len));
         for (std::size_t at = 0; at < all.size(); at += chunk) {
             for (const birdcage::FrameEvent& e : framer.feed(all.substr(at, chunk))) {
-                if (e.kind != birdcage::FrameEvent::Kind::noise &&
-                    e.text.find_first_of("\r\n") != std::string::npos) {
+                if (e.kind != birdcage::FrameEvent::Kind::noise && e.text.find_first_of("\r\n") != std::string::npos) {
                     std::abort();
                 }
                 if (e.kind == birdcage::FrameEvent::Kind::prompt && !birdcage::looks_like_prompt(e.text)) {

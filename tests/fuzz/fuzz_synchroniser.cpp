@@ -25,10 +25,22 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr std::array<std::string_view, 16> pieces{
-    "Bootloader v1.01", "Ant ID - 12-IN G2", "Boot Complete", "Loc Startup: IDU NOT Present",
-    "NoGPS", "No LNB Voltage", "TRK>", "MOT>", "NVS> ", ">", "Enter <a3981> - A3981 menu",
-    "mot os nvs", "odu - Connect to ODU", "target", "a - position", "help [<command>]"};
+constexpr std::array<std::string_view, 16> pieces{"Bootloader v1.01",
+                                                  "Ant ID - 12-IN G2",
+                                                  "Boot Complete",
+                                                  "Loc Startup: IDU NOT Present",
+                                                  "NoGPS",
+                                                  "No LNB Voltage",
+                                                  "TRK>",
+                                                  "MOT>",
+                                                  "NVS> ",
+                                                  ">",
+                                                  "Enter <a3981> - A3981 menu",
+                                                  "mot os nvs",
+                                                  "odu - Connect to ODU",
+                                                  "target",
+                                                  "a - position",
+                                                  "help [<command>]"};
 constexpr std::array<std::string_view, 4> endings{"\r\n", "\n", "\r", ""};
 
 // The scripted console. Every read that finds nothing queued counts; the synchroniser's budget
@@ -42,7 +54,7 @@ public:
             if (c == '\r' || c == '\n') {
                 sent_.push_back(line_);
                 if (line_ == "q" && last_output_ends_g2_root()) {
-                    std::abort();   // `q` at the G2 root
+                    std::abort();  // `q` at the G2 root
                 }
                 line_.clear();
                 queued_.push_back(next_chunk());
@@ -55,7 +67,7 @@ public:
 
     birdcage::Result<std::size_t> read(char* buf, std::size_t n, birdcage::Deadline) override {
         if (++reads_ > 200000) {
-            std::abort();   // hangs past any budget
+            std::abort();  // hangs past any budget
         }
         if (queued_.empty() && !later_.empty()) {
             queued_.push_back(later_.front());
@@ -94,11 +106,20 @@ private:
         while (at_ < script_.size()) {
             const auto op = static_cast<unsigned char>(script_[at_++]);
             switch (op % 5) {
-            case 0: return chunk;   // end of this chunk
-            case 1: chunk += pieces[(op / 5) % pieces.size()]; break;
-            case 2: chunk += endings[(op / 5) % endings.size()]; break;
-            case 3: chunk += static_cast<char>(op ^ 0x5a); break;   // garbage, NULs included
-            case 4: chunk += line_; break;                           // an echo
+                case 0:
+                    return chunk;  // end of this chunk
+                case 1:
+                    chunk += pieces[(op / 5) % pieces.size()];
+                    break;
+                case 2:
+                    chunk += endings[(op / 5) % endings.size()];
+                    break;
+                case 3:
+                    chunk += static_cast<char>(op ^ 0x5a);
+                    break;  // garbage, NULs included
+                case 4:
+                    chunk += line_;
+                    break;  // an echo
             }
         }
         return chunk;
@@ -127,7 +148,8 @@ private:
 bool ends_text_at(std::string_view output, std::size_t at, std::string_view prompt) {
     // The prompt as the console printed it, its decoration marks after '>' (`TRK>$`) included: the
     // prompt rule's own reading (src/core/firmware/prompt.hpp).
-    std::string_view rest = output.substr(at + std::max(prompt.size(), birdcage::leading_prompt_length(output.substr(at))));
+    std::string_view rest =
+        output.substr(at + std::max(prompt.size(), birdcage::leading_prompt_length(output.substr(at))));
     std::size_t text = 0;
     std::size_t noise = 0;
     bool prompt_line = true;
@@ -173,11 +195,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     {
         ScriptedConsole console(script);
         console.preload();
-        birdcage::ConsoleSynchroniser sync(console, birdcage::console_sync_settings(birdcage::profile(birdcage::VariantId::carryout_g2), budget), {},
-                                           birdcage::DishClock::manual([] { return birdcage::Clock::time_point{}; }));
+        birdcage::ConsoleSynchroniser sync(
+            console, birdcage::console_sync_settings(birdcage::profile(birdcage::VariantId::carryout_g2), budget), {},
+            birdcage::DishClock::manual([] { return birdcage::Clock::time_point{}; }));
         const auto synced = sync.synchronise();
         if (synced && !synced.value.prompt.empty() && !prompt_ends_text(console.output(), synced.value.prompt)) {
-            std::abort();   // a prompt that console text came after
+            std::abort();  // a prompt that console text came after
         }
     }
     {

@@ -11,8 +11,7 @@ using birdcage::hamlib::check_abi;
 using birdcage::hamlib::parse_version;
 using birdcage::hamlib::soname_major;
 
-TEST_CASE("Hamlib version strings as hamlib_version2 and pkg-config give them")
-{
+TEST_CASE("Hamlib version strings as hamlib_version2 and pkg-config give them") {
     const auto bookworm = parse_version("Hamlib 4.5.4 Jan 10 01:31:41Z 2023 SHA=921cc5");
     REQUIRE(bookworm);
     CHECK(bookworm->major == 4);
@@ -34,8 +33,7 @@ TEST_CASE("Hamlib version strings as hamlib_version2 and pkg-config give them")
     CHECK_FALSE(soname_major("/usr/lib/libhamlib.so"));
 }
 
-TEST_CASE("A 4.5.4 build runs in 4.5.4 and 4.6.2 but never in 5.0")
-{
+TEST_CASE("A 4.5.4 build runs in 4.5.4 and 4.6.2 but never in 5.0") {
     const auto same = check_abi("4.5.4", 4, "Hamlib 4.5.4 Jan 10 01:31:41Z 2023 SHA=921cc5", 4);
     CHECK(same.compatible);
     CHECK(same.message.empty());
@@ -46,15 +44,15 @@ TEST_CASE("A 4.5.4 build runs in 4.5.4 and 4.6.2 but never in 5.0")
 
     const auto master = check_abi("4.5.4", 4, "Hamlib 5.0.0~git 2025-06-01 SHA=8319dc", 5);
     CHECK_FALSE(master.compatible);
-    CHECK_THAT(master.message, Catch::Contains("built for Hamlib 4.5.4 (libhamlib.so.4), running Hamlib 5.0.0 (libhamlib.so.5)"));
+    CHECK_THAT(master.message,
+               Catch::Contains("built for Hamlib 4.5.4 (libhamlib.so.4), running Hamlib 5.0.0 (libhamlib.so.5)"));
     CHECK(master.message.find('\n') == std::string::npos);  // one line
 
     // The soname unknown at run time: the version major alone still refuses.
     CHECK_FALSE(check_abi("4.5.4", 4, "Hamlib 5.0.0~git", 0).compatible);
 }
 
-TEST_CASE("A 4.6.2 build refuses an older 4.5.4 and a 5.0 - a 5.0 build refuses 4.x")
-{
+TEST_CASE("A 4.6.2 build refuses an older 4.5.4 and a 5.0 - a 5.0 build refuses 4.x") {
     const auto older = check_abi("4.6.2", 4, "Hamlib 4.5.4 Jan 10 01:31:41Z 2023 SHA=921cc5", 4);
     CHECK_FALSE(older.compatible);
     CHECK_THAT(older.message, Catch::Contains("built for Hamlib 4.6.2 (libhamlib.so.4), running Hamlib 4.5.4"));
@@ -65,8 +63,7 @@ TEST_CASE("A 4.6.2 build refuses an older 4.5.4 and a 5.0 - a 5.0 build refuses 
     CHECK(check_abi("5.0.0~git", 5, "Hamlib 5.0.0~git 2025-06-01", 5).compatible);
 }
 
-TEST_CASE("An unreadable version is accepted only on an equal and known soname")
-{
+TEST_CASE("An unreadable version is accepted only on an equal and known soname") {
     CHECK(check_abi("4.5.4", 4, "(custom build)", 4).compatible);
     CHECK_FALSE(check_abi("4.5.4", 4, "(custom build)", 0).compatible);
     CHECK_FALSE(check_abi("4.5.4", 0, "(custom build)", 4).compatible);

@@ -8,20 +8,23 @@
 #include <set>
 #include <sstream>
 
-#include "tracking/az_mapping.hpp"
-#include "firmware/protocol.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "firmware/protocol.hpp"
+#include "tracking/az_mapping.hpp"
 
 namespace birdcage::golden {
 
 namespace {
 
-std::string degrees(double value) { return format_degrees(value); }
+std::string degrees(double value) {
+    return format_degrees(value);
+}
 
-std::string az_el(const AzEl& position) { return "az=" + degrees(position.az) + " el=" + degrees(position.el); }
+std::string az_el(const AzEl& position) {
+    return "az=" + degrees(position.az) + " el=" + degrees(position.el);
+}
 
-std::string mapping_fields(const azmap::Learner& learner)
-{
+std::string mapping_fields(const azmap::Learner& learner) {
     std::string text;
     if (const auto stated = learner.stated()) {
         text = "az_mapping=stated:" + std::string(azmap::mapping_name(*stated));
@@ -32,7 +35,8 @@ std::string mapping_fields(const azmap::Learner& learner)
     }
     std::string possible;
     for (const auto mapping : azmap::all_mappings) {
-        if (!learner.possible(mapping)) continue;
+        if (!learner.possible(mapping))
+            continue;
         possible += (possible.empty() ? "" : ",") + std::string(azmap::mapping_name(mapping));
     }
     text += " possible=" + (possible.empty() ? std::string("none") : possible);
@@ -42,39 +46,46 @@ std::string mapping_fields(const azmap::Learner& learner)
     return text;
 }
 
-std::vector<std::string> split_lines(const std::string& text)
-{
+std::vector<std::string> split_lines(const std::string& text) {
     std::vector<std::string> lines;
     std::istringstream stream(text);
-    for (std::string line; std::getline(stream, line);) lines.push_back(line);
+    for (std::string line; std::getline(stream, line);)
+        lines.push_back(line);
     return lines;
 }
 
-bool is_annotation(const std::string& line) { return line.empty() || line.front() == '#'; }
+bool is_annotation(const std::string& line) {
+    return line.empty() || line.front() == '#';
+}
 
 }  // namespace
 
-std::string status_field(const Status& status)
-{
-    if (status) return "ok";
+std::string status_field(const Status& status) {
+    if (status)
+        return "ok";
     return std::string("error=") + errc_name(status.code);
 }
 
-std::string quoted(std::string_view text) { return "\"" + sim::escape_chunk(text) + "\""; }
+std::string quoted(std::string_view text) {
+    return "\"" + sim::escape_chunk(text) + "\"";
+}
 
-const char* yes_no(bool value) { return value ? "yes" : "no"; }
+const char* yes_no(bool value) {
+    return value ? "yes" : "no";
+}
 
-std::vector<std::string> state_lines(const Controller& controller)
-{
+std::vector<std::string> state_lines(const Controller& controller) {
     const auto& profile = controller.profile();
     std::vector<std::string> lines;
     std::string state = "state: variant=" + std::string(profile.short_name) +
                         " detected=" + yes_no(controller.auto_detected()) +
                         " baud=" + std::to_string(controller.line_baud());
-    state += " menu=" + (controller.console_menu().empty() ? std::string("unknown") : golden::quoted(controller.console_menu()));
-    state += " prompt=" + (controller.console_prompt().empty() ? std::string("none") : golden::quoted(controller.console_prompt()));
-    state += std::string(" initialised=") + yes_no(controller.initialised()) + " homed=" + yes_no(!controller.unhomed()) +
-             " tracker_enabled=" + yes_no(controller.tracker_enabled());
+    state += " menu=" +
+             (controller.console_menu().empty() ? std::string("unknown") : golden::quoted(controller.console_menu()));
+    state += " prompt=" +
+             (controller.console_prompt().empty() ? std::string("none") : golden::quoted(controller.console_prompt()));
+    state += std::string(" initialised=") + yes_no(controller.initialised()) +
+             " homed=" + yes_no(!controller.unhomed()) + " tracker_enabled=" + yes_no(controller.tracker_enabled());
     lines.push_back(state);
 
     if (const auto position = controller.last_position()) {
@@ -99,55 +110,60 @@ std::vector<std::string> state_lines(const Controller& controller)
     return lines;
 }
 
-std::string event_line(const ConsoleEvent& event)
-{
+std::string event_line(const ConsoleEvent& event) {
     if (event.kind == ConsoleEvent::Kind::reached) {
         return "reached: menu=" + (event.menu.empty() ? std::string("unknown") : golden::quoted(event.menu)) +
                " prompt=" + (event.text.empty() ? std::string("none") : golden::quoted(event.text));
     }
     std::string line = "parsed: " + std::string(console_event_name(event.kind));
-    if (!event.command.empty()) line += " command=" + golden::quoted(event.command);
-    if (event.position) line += " " + az_el(*event.position);
-    if (event.angle) line += " angle=" + degrees(*event.angle);
+    if (!event.command.empty())
+        line += " command=" + golden::quoted(event.command);
+    if (event.position)
+        line += " " + az_el(*event.position);
+    if (event.angle)
+        line += " angle=" + degrees(*event.angle);
     switch (event.kind) {
-    case ConsoleEvent::Kind::fault:
-    case ConsoleEvent::Kind::unrecognised:
-        line += " line=" + (event.text.empty() ? std::string("none") : golden::quoted(event.text));
-        break;
-    default: break;
+        case ConsoleEvent::Kind::fault:
+        case ConsoleEvent::Kind::unrecognised:
+            line += " line=" + (event.text.empty() ? std::string("none") : golden::quoted(event.text));
+            break;
+        default:
+            break;
     }
     return line;
 }
 
-std::vector<std::string> content_lines(const std::string& text)
-{
+std::vector<std::string> content_lines(const std::string& text) {
     std::vector<std::string> lines;
     for (auto& line : split_lines(text)) {
-        if (!is_annotation(line)) lines.push_back(std::move(line));
+        if (!is_annotation(line))
+            lines.push_back(std::move(line));
     }
     return lines;
 }
 
-std::string keep_annotations(const std::string& previous, const std::string& fresh, std::vector<std::string>& dropped)
-{
+std::string keep_annotations(const std::string& previous, const std::string& fresh, std::vector<std::string>& dropped) {
     const auto fresh_lines = split_lines(fresh);
     const std::set<std::string> generated(fresh_lines.begin(),
                                           std::find_if(fresh_lines.begin(), fresh_lines.end(),
                                                        [](const std::string& line) { return !is_annotation(line); }));
     struct Note {
         std::vector<std::string> lines;
-        std::optional<std::string> before;   // the content line it preceded; nullopt: the end
+        std::optional<std::string> before;  // the content line it preceded; nullopt: the end
     };
     std::vector<Note> notes;
     std::vector<std::string> pending;
     for (const auto& line : split_lines(previous)) {
         if (is_annotation(line)) {
-            if (!generated.count(line)) pending.push_back(line);
+            if (!generated.count(line))
+                pending.push_back(line);
             continue;
         }
-        if (!pending.empty()) notes.push_back({std::exchange(pending, {}), line});
+        if (!pending.empty())
+            notes.push_back({std::exchange(pending, {}), line});
     }
-    if (!pending.empty()) notes.push_back({pending, std::nullopt});
+    if (!pending.empty())
+        notes.push_back({pending, std::nullopt});
 
     // Each note goes before the first matching line after the previous note's, in order.
     std::vector<std::vector<std::string>> before(fresh_lines.size() + 1);
@@ -155,7 +171,8 @@ std::string keep_annotations(const std::string& previous, const std::string& fre
     for (auto& note : notes) {
         std::size_t at = fresh_lines.size();
         if (note.before) {
-            const auto found = std::find(fresh_lines.begin() + static_cast<std::ptrdiff_t>(cursor), fresh_lines.end(), *note.before);
+            const auto found =
+                std::find(fresh_lines.begin() + static_cast<std::ptrdiff_t>(cursor), fresh_lines.end(), *note.before);
             if (found == fresh_lines.end()) {
                 dropped.insert(dropped.end(), note.lines.begin(), note.lines.end());
                 continue;
@@ -167,8 +184,10 @@ std::string keep_annotations(const std::string& previous, const std::string& fre
     }
     std::string merged;
     for (std::size_t i = 0; i <= fresh_lines.size(); ++i) {
-        for (const auto& line : before[i]) merged += line + '\n';
-        if (i < fresh_lines.size()) merged += fresh_lines[i] + '\n';
+        for (const auto& line : before[i])
+            merged += line + '\n';
+        if (i < fresh_lines.size())
+            merged += fresh_lines[i] + '\n';
     }
     return merged;
 }

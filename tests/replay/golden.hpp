@@ -11,9 +11,9 @@
 #include <string_view>
 #include <vector>
 
+#include "base/errors.hpp"
 #include "console/console_events.hpp"
 #include "dish/controller.hpp"
-#include "base/errors.hpp"
 
 namespace birdcage::golden {
 

@@ -12,8 +12,8 @@
 //                                            session as a transcript (every chunk marked `~`)
 #include <chrono>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -23,13 +23,13 @@
 #include <thread>
 #include <vector>
 
-#include "dish/controller.hpp"
-#include "firmware/protocol.hpp"
-#include "console/session.hpp"
-#include "console/transport.hpp"
-#include "firmware/variants.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "console/session.hpp"
+#include "console/transport.hpp"
+#include "dish/controller.hpp"
+#include "firmware/protocol.hpp"
+#include "firmware/variants.hpp"
 #include "golden.hpp"
 
 namespace {
@@ -37,30 +37,29 @@ namespace {
 using namespace std::chrono_literals;
 namespace sim = birdcage::sim;
 
-constexpr auto move_deadline = 30s;        // real time for one `move`, however the replay is paced
-constexpr auto pump_period = 5ms;          // how often `move` calls Controller::service()
-constexpr auto send_timeout = 3000ms;      // one `send` through the core's session
-constexpr auto replay_drain_deadline = 3s; // for the last recorded dish chunks to go out
+constexpr auto move_deadline = 30s;         // real time for one `move`, however the replay is paced
+constexpr auto pump_period = 5ms;           // how often `move` calls Controller::service()
+constexpr auto send_timeout = 3000ms;       // one `send` through the core's session
+constexpr auto replay_drain_deadline = 3s;  // for the last recorded dish chunks to go out
 
 // What the core wrote and what it learnt from the replies, in the order it happened: the golden
 // file shows the knowledge between the commands that brought it.
 struct JournalEntry {
-    bool written = false;   // `text` is bytes the core wrote; otherwise a golden event line
+    bool written = false;  // `text` is bytes the core wrote; otherwise a golden event line
     std::string text;
 };
 
 // Keeps every write the core makes, so the golden file can show the exact bytes it sent.
 class RecordingTransport final : public birdcage::Transport {
 public:
-    RecordingTransport(birdcage::Transport& inner, std::vector<JournalEntry>& journal) : inner_(inner), journal_(journal) {}
+    RecordingTransport(birdcage::Transport& inner, std::vector<JournalEntry>& journal)
+        : inner_(inner), journal_(journal) {}
 
-    birdcage::Status write(std::string_view bytes, birdcage::Deadline deadline) override
-    {
+    birdcage::Status write(std::string_view bytes, birdcage::Deadline deadline) override {
         journal_.push_back({true, std::string(bytes)});
         return inner_.write(bytes, deadline);
     }
-    birdcage::Result<std::size_t> read(char* buf, std::size_t n, birdcage::Deadline deadline) override
-    {
+    birdcage::Result<std::size_t> read(char* buf, std::size_t n, birdcage::Deadline deadline) override {
         return inner_.read(buf, n, deadline);
     }
     void discard_input() override { inner_.discard_input(); }
@@ -72,8 +71,7 @@ private:
 
 // `init position move 180 45 send "d 20"`: whitespace-separated, double quotes group words and
 // take the transcript escapes.
-std::vector<std::string> split_operations(const std::string& text)
-{
+std::vector<std::string> split_operations(const std::string& text) {
     std::vector<std::string> tokens;
     std::size_t i = 0;
     while (i < text.size()) {
@@ -83,7 +81,8 @@ std::vector<std::string> split_operations(const std::string& text)
         }
         if (text[i] == '"') {
             const std::size_t close = text.find('"', i + 1);
-            if (close == std::string::npos) throw std::runtime_error("unterminated quote in operations: " + text);
+            if (close == std::string::npos)
+                throw std::runtime_error("unterminated quote in operations: " + text);
             tokens.push_back(sim::unescape_chunk(text.substr(i + 1, close - i - 1)));
             i = close + 1;
             continue;
@@ -95,12 +94,13 @@ std::vector<std::string> split_operations(const std::string& text)
     return tokens;
 }
 
-double number_token(const std::vector<std::string>& tokens, std::size_t index)
-{
-    if (index >= tokens.size()) throw std::runtime_error("operation needs more arguments");
+double number_token(const std::vector<std::string>& tokens, std::size_t index) {
+    if (index >= tokens.size())
+        throw std::runtime_error("operation needs more arguments");
     std::size_t used = 0;
     const double value = std::stod(tokens[index], &used);
-    if (used != tokens[index].size()) throw std::runtime_error("not a number: " + tokens[index]);
+    if (used != tokens[index].size())
+        throw std::runtime_error("not a number: " + tokens[index]);
     return value;
 }
 
@@ -116,13 +116,11 @@ public:
           recorder_(transport, journal_),
           profile_(birdcage::profile(variant)),
           controller_(recorder_, make_options(variant, journal_sink())),
-          session_(recorder_, profile_, {})
-    {
+          session_(recorder_, profile_, {}) {
         session_.set_event_sink(journal_sink());
     }
 
-    std::string run(const std::vector<std::string>& tokens)
-    {
+    std::string run(const std::vector<std::string>& tokens) {
         std::ostringstream out;
         for (std::size_t i = 0; i < tokens.size();) {
             if (stop_ && stop_()) {
@@ -145,15 +143,19 @@ public:
                 out << "op move " << birdcage::format_degrees(az) << ' ' << birdcage::format_degrees(el) << ": "
                     << move(az, el) << '\n';
             } else if (op == "send") {
-                if (i >= tokens.size()) throw std::runtime_error("send needs a command");
+                if (i >= tokens.size())
+                    throw std::runtime_error("send needs a command");
                 const std::string command = tokens[i++];
                 const auto reply = session_.transact(command, send_timeout);
                 out << "op send " << birdcage::golden::quoted(command) << ": " << status_field(reply.status) << '\n';
-                for (const auto& line : reply.value.lines) out << "  line: " << birdcage::golden::quoted(line) << '\n';
-                if (!reply.value.prompt.empty()) out << "  prompt: " << birdcage::golden::quoted(reply.value.prompt) << '\n';
+                for (const auto& line : reply.value.lines)
+                    out << "  line: " << birdcage::golden::quoted(line) << '\n';
+                if (!reply.value.prompt.empty())
+                    out << "  prompt: " << birdcage::golden::quoted(reply.value.prompt) << '\n';
             } else if (op == "resync") {
                 const auto synced = session_.resync(send_timeout);
-                out << "op resync: " << status_field(synced) << " menu=" << birdcage::golden::quoted(session_.menu()) << '\n';
+                out << "op resync: " << status_field(synced) << " menu=" << birdcage::golden::quoted(session_.menu())
+                    << '\n';
             } else if (op == "home") {
                 out << "op home: " << status_field(controller_.home()) << '\n';
             } else if (op == "request-moves") {
@@ -178,23 +180,26 @@ public:
                 const std::string& bytes = entry.text;
                 const bool poke = op != "send" && (bytes == "\r" || bytes == "\n" || bytes == "\r\n" ||
                                                    bytes == "?\r" || bytes == "?\n");
-                if (poke && poking) continue;
+                if (poke && poking)
+                    continue;
                 poking = poke;
-                out << "  sent: " << (poke ? std::string("pokes (\\r or ?\\r, one or more)") : sim::escape_chunk(bytes)) << '\n';
+                out << "  sent: " << (poke ? std::string("pokes (\\r or ?\\r, one or more)") : sim::escape_chunk(bytes))
+                    << '\n';
             }
         }
-        for (const auto& line : birdcage::golden::state_lines(controller_)) out << line << '\n';
+        for (const auto& line : birdcage::golden::state_lines(controller_))
+            out << line << '\n';
         return out.str();
     }
 
 private:
-    birdcage::ConsoleEventSink journal_sink()
-    {
-        return [this](const birdcage::ConsoleEvent& event) { journal_.push_back({false, birdcage::golden::event_line(event)}); };
+    birdcage::ConsoleEventSink journal_sink() {
+        return [this](const birdcage::ConsoleEvent& event) {
+            journal_.push_back({false, birdcage::golden::event_line(event)});
+        };
     }
 
-    static birdcage::ControllerOptions make_options(birdcage::VariantId variant, birdcage::ConsoleEventSink events)
-    {
+    static birdcage::ControllerOptions make_options(birdcage::VariantId variant, birdcage::ConsoleEventSink events) {
         birdcage::ControllerOptions options;
         options.variant = variant;
         options.console_events = std::move(events);
@@ -203,15 +208,18 @@ private:
         return options;
     }
 
-    std::string move(double az, double el)
-    {
-        if (const auto accepted = controller_.set_target({az, el}); !accepted) return status_field(accepted);
+    std::string move(double az, double el) {
+        if (const auto accepted = controller_.set_target({az, el}); !accepted)
+            return status_field(accepted);
         const auto deadline = std::chrono::steady_clock::now() + move_deadline;
         std::optional<birdcage::Status> first_failure;
         while (!controller_.idle()) {
-            if (std::chrono::steady_clock::now() > deadline) return "error=not_idle_by_test_deadline";
-            if (stop_ && stop_()) return "stopped: replay_failed";
-            if (const auto status = controller_.service(); !status && !first_failure) first_failure = status;
+            if (std::chrono::steady_clock::now() > deadline)
+                return "error=not_idle_by_test_deadline";
+            if (stop_ && stop_())
+                return "stopped: replay_failed";
+            if (const auto status = controller_.service(); !status && !first_failure)
+                first_failure = status;
             std::this_thread::sleep_for(pump_period);
         }
         return first_failure ? status_field(*first_failure) : "ok";
@@ -226,22 +234,21 @@ private:
     birdcage::ConsoleSession session_;
 };
 
-birdcage::VariantId variant_of(const std::string& name)
-{
+birdcage::VariantId variant_of(const std::string& name) {
     const auto variant = birdcage::variant_from_name(name);
-    if (!variant) throw std::runtime_error("unknown variant \"" + name + "\"");
+    if (!variant)
+        throw std::runtime_error("unknown variant \"" + name + "\"");
     return *variant;
 }
 
-std::unique_ptr<birdcage::FdTransport> open_device(const std::string& path, int baud)
-{
+std::unique_ptr<birdcage::FdTransport> open_device(const std::string& path, int baud) {
     auto opened = birdcage::FdTransport::open(path, baud);
-    if (!opened) throw std::runtime_error("cannot open " + path + ": " + opened.status.message);
+    if (!opened)
+        throw std::runtime_error("cannot open " + path + ": " + opened.status.message);
     return std::move(opened.value);
 }
 
-std::filesystem::path golden_path(const std::filesystem::path& transcript)
-{
+std::filesystem::path golden_path(const std::filesystem::path& transcript) {
     auto golden = transcript;
     return golden.replace_extension(".chk");
 }
@@ -252,14 +259,15 @@ struct Outcome {
     bool failed = false;
 };
 
-Outcome replay(const std::filesystem::path& transcript_path)
-{
+Outcome replay(const std::filesystem::path& transcript_path) {
     const sim::Transcript transcript = sim::load_transcript(transcript_path.string());
     const auto variant_name = transcript.header("Variant");
     const auto operations = transcript.header("Operations");
-    if (!variant_name || !operations) throw std::runtime_error(transcript_path.string() + ": needs # Variant: and # Operations: headers");
+    if (!variant_name || !operations)
+        throw std::runtime_error(transcript_path.string() + ": needs # Variant: and # Operations: headers");
     const auto sim_variant = sim::parse_variant(*variant_name);
-    if (!sim_variant) throw std::runtime_error("the emulator does not know variant " + *variant_name);
+    if (!sim_variant)
+        throw std::runtime_error("the emulator does not know variant " + *variant_name);
 
     sim::Options options;
     options.variant = *sim_variant;
@@ -298,22 +306,21 @@ Outcome replay(const std::filesystem::path& transcript_path)
     return outcome;
 }
 
-std::string read_file(const std::filesystem::path& path)
-{
+std::string read_file(const std::filesystem::path& path) {
     std::ifstream file(path, std::ios::binary);
     std::ostringstream contents;
     contents << file.rdbuf();
     return contents.str();
 }
 
-void print_difference(const std::string& expected, const std::string& actual)
-{
+void print_difference(const std::string& expected, const std::string& actual) {
     const auto want = birdcage::golden::content_lines(expected);
     const auto got = birdcage::golden::content_lines(actual);
     for (std::size_t i = 0; i < std::max(want.size(), got.size()); ++i) {
         const std::string* w = i < want.size() ? &want[i] : nullptr;
         const std::string* g = i < got.size() ? &got[i] : nullptr;
-        if (w && g && *w == *g) continue;
+        if (w && g && *w == *g)
+            continue;
         std::cerr << "first difference at event " << i + 1 << " of the golden file (# lines not counted):\n"
                   << "  golden: " << (w ? *w : "<end of file>") << '\n'
                   << "  now:    " << (g ? *g : "<end of file>") << '\n';
@@ -322,30 +329,31 @@ void print_difference(const std::string& expected, const std::string& actual)
     std::cerr << "--- full output now ---\n" << actual;
 }
 
-int check(const std::filesystem::path& transcript)
-{
+int check(const std::filesystem::path& transcript) {
     const Outcome outcome = replay(transcript);
     const auto golden = golden_path(transcript);
     if (!std::filesystem::exists(golden)) {
         std::cerr << "missing golden file " << golden << " (a missing file is a failure); create it with "
                   << "`cmake --build <build dir> --target regress-update` and say why in the commit message\n"
-                  << "--- output now ---\n" << outcome.text;
+                  << "--- output now ---\n"
+                  << outcome.text;
         return 1;
     }
     const std::string expected = read_file(golden);
     // Notes (`#` lines) are the reader's; only the events are compared.
     if (birdcage::golden::content_lines(expected) != birdcage::golden::content_lines(outcome.text)) {
-        std::cerr << "regression: " << transcript.filename().string() << " differs from " << golden.filename().string() << '\n';
+        std::cerr << "regression: " << transcript.filename().string() << " differs from " << golden.filename().string()
+                  << '\n';
         print_difference(expected, outcome.text);
         return 1;
     }
-    if (outcome.failed) return 1;
+    if (outcome.failed)
+        return 1;
     std::cout << outcome.text;
     return 0;
 }
 
-int update(const std::vector<std::filesystem::path>& transcripts)
-{
+int update(const std::vector<std::filesystem::path>& transcripts) {
     int status = 0;
     for (const auto& transcript : transcripts) {
         const Outcome outcome = replay(transcript);
@@ -359,7 +367,8 @@ int update(const std::vector<std::filesystem::path>& transcripts)
             std::vector<std::string> dropped;
             text = birdcage::golden::keep_annotations(read_file(golden_path(transcript)), outcome.text, dropped);
             for (const auto& note : dropped)
-                std::cerr << golden_path(transcript).string() << ": note dropped, the event it preceded is gone: " << note << '\n';
+                std::cerr << golden_path(transcript).string()
+                          << ": note dropped, the event it preceded is gone: " << note << '\n';
         }
         std::ofstream(golden_path(transcript), std::ios::binary) << text;
         std::cout << "wrote " << golden_path(transcript).string() << '\n';
@@ -367,23 +376,29 @@ int update(const std::vector<std::filesystem::path>& transcripts)
     return status;
 }
 
-int draft(int argc, char** argv)
-{
+int draft(int argc, char** argv) {
     sim::Options options;
     std::string variant_name, operations;
     options.time_scale = 1.0;
     for (int i = 0; i < argc; ++i) {
         const std::string arg = argv[i];
         const bool has_value = i + 1 < argc;
-        if (arg == "--variant" && has_value) variant_name = argv[++i];
-        else if (arg == "--operations" && has_value) operations = argv[++i];
-        else if (arg == "--time-scale" && has_value) options.time_scale = std::stod(argv[++i]);
-        else if (arg == "--booting") options.already_booted = false;
-        else if (arg == "--search") options.search_running = true;
-        else throw std::runtime_error("draft: unknown argument " + arg);
+        if (arg == "--variant" && has_value)
+            variant_name = argv[++i];
+        else if (arg == "--operations" && has_value)
+            operations = argv[++i];
+        else if (arg == "--time-scale" && has_value)
+            options.time_scale = std::stod(argv[++i]);
+        else if (arg == "--booting")
+            options.already_booted = false;
+        else if (arg == "--search")
+            options.search_running = true;
+        else
+            throw std::runtime_error("draft: unknown argument " + arg);
     }
     const auto sim_variant = sim::parse_variant(variant_name);
-    if (!sim_variant) throw std::runtime_error("draft: --variant is required");
+    if (!sim_variant)
+        throw std::runtime_error("draft: --variant is required");
     options.variant = *sim_variant;
 
     const auto variant = variant_of(variant_name);
@@ -414,25 +429,26 @@ int draft(int argc, char** argv)
     return 0;
 }
 
-void usage()
-{
+void usage() {
     std::cerr << "usage: birdcage-regress check TRANSCRIPT | update TRANSCRIPT... |\n"
                  "       draft --variant V --operations OPS [--booting] [--search] [--time-scale X]\n";
 }
 
 }  // namespace
 
-int main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
     if (argc < 2) {
         usage();
         return 2;
     }
     const std::string mode = argv[1];
     try {
-        if (mode == "check" && argc == 3) return check(argv[2]);
-        if (mode == "update" && argc >= 3) return update({argv + 2, argv + argc});
-        if (mode == "draft") return draft(argc - 2, argv + 2);
+        if (mode == "check" && argc == 3)
+            return check(argv[2]);
+        if (mode == "update" && argc >= 3)
+            return update({argv + 2, argv + argc});
+        if (mode == "draft")
+            return draft(argc - 2, argv + 2);
     } catch (const std::exception& error) {
         std::cerr << "birdcage-regress: " << error.what() << '\n';
         return 1;

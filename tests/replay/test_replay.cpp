@@ -5,19 +5,19 @@
 // core's FdTransport as a client, the way the regression tests drive it.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
-#include <unistd.h>
 #include <utility>
 #include <vector>
 
-#include "dish/controller.hpp"
-#include "console/transport.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "console/transport.hpp"
+#include "dish/controller.hpp"
 #include "golden.hpp"
 
 namespace sim = birdcage::sim;
@@ -41,8 +41,7 @@ const char* const g2_two_queries =
 struct TempTranscript {
     explicit TempTranscript(const std::string& text)
         : path(std::filesystem::temp_directory_path() /
-               ("birdcage-replay-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".log"))
-    {
+               ("birdcage-replay-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".log")) {
         std::ofstream(path) << text;
     }
     ~TempTranscript() { std::filesystem::remove(path); }
@@ -51,19 +50,20 @@ struct TempTranscript {
 };
 
 struct Client {
-    explicit Client(const std::string& device) : transport(std::move(birdcage::FdTransport::open(device, 115200).value)) {}
+    explicit Client(const std::string& device)
+        : transport(std::move(birdcage::FdTransport::open(device, 115200).value)) {}
 
     void send(std::string_view bytes) { REQUIRE(transport->write(bytes, birdcage::Clock::now() + 1s)); }
 
     // Reads until `ending` arrives or the deadline passes; returns everything read.
-    std::string read_until(std::string_view ending, std::chrono::milliseconds patience = reply_deadline)
-    {
+    std::string read_until(std::string_view ending, std::chrono::milliseconds patience = reply_deadline) {
         std::string text;
         const auto deadline = birdcage::Clock::now() + patience;
         char buffer[256];
         while (text.find(ending) == std::string::npos) {
             const auto got = transport->read(buffer, sizeof buffer, deadline);
-            if (!got) break;
+            if (!got)
+                break;
             text.append(buffer, got.value);
         }
         return text;
@@ -72,8 +72,7 @@ struct Client {
     std::unique_ptr<birdcage::FdTransport> transport;
 };
 
-sim::Options replay_options(const TempTranscript& transcript, sim::ReplayMode mode)
-{
+sim::Options replay_options(const TempTranscript& transcript, sim::ReplayMode mode) {
     sim::Options options;
     options.variant = sim::Variant::carryout_g2;
     options.transcript_path = transcript.path.string();
@@ -83,11 +82,11 @@ sim::Options replay_options(const TempTranscript& transcript, sim::ReplayMode mo
 }
 
 template <class Predicate>
-bool eventually(Predicate predicate)
-{
+bool eventually(Predicate predicate) {
     const auto deadline = std::chrono::steady_clock::now() + reply_deadline;
     while (!predicate()) {
-        if (std::chrono::steady_clock::now() > deadline) return false;
+        if (std::chrono::steady_clock::now() > deadline)
+            return false;
         std::this_thread::sleep_for(5ms);
     }
     return true;
@@ -95,8 +94,7 @@ bool eventually(Predicate predicate)
 
 }  // namespace
 
-TEST_CASE("transcript: headers, directions, timing, markers and line numbers are parsed")
-{
+TEST_CASE("transcript: headers, directions, timing, markers and line numbers are parsed") {
     const auto transcript = sim::parse_transcript(g2_two_queries);
     CHECK(transcript.header("Variant") == "g2");
     CHECK_FALSE(transcript.header("Operations"));
@@ -109,24 +107,22 @@ TEST_CASE("transcript: headers, directions, timing, markers and line numbers are
     CHECK(transcript.entries[4].line_number == 8);
 }
 
-TEST_CASE("transcript: escapes round-trip every byte value")
-{
+TEST_CASE("transcript: escapes round-trip every byte value") {
     std::string all;
-    for (int byte = 0; byte < 256; ++byte) all += static_cast<char>(byte);
+    for (int byte = 0; byte < 256; ++byte)
+        all += static_cast<char>(byte);
     CHECK(sim::unescape_chunk(sim::escape_chunk(all)) == all);
     CHECK(sim::escape_chunk(" Saving ... ") == "\\x20Saving ...\\x20");
     CHECK(sim::escape_chunk("a\\b\r\n\x01") == "a\\\\b\\r\\n\\x01");
 }
 
-TEST_CASE("transcript: a malformed line is reported with its line number")
-{
+TEST_CASE("transcript: a malformed line is reported with its line number") {
     CHECK_THROWS_WITH(sim::parse_transcript("# Variant: g2\n> ok\\r\nhello\n"), Catch::Contains("line 3"));
     CHECK_THROWS_WITH(sim::parse_transcript("> bad \\q escape\n"), Catch::Contains("line 1"));
     CHECK_THROWS_WITH(sim::parse_transcript("< @+fast x\n"), Catch::Contains("timing"));
 }
 
-TEST_CASE("transcript: what the fuzzer found formats back to the same entry (timing-like bytes, huge delays)")
-{
+TEST_CASE("transcript: what the fuzzer found formats back to the same entry (timing-like bytes, huge delays)") {
     sim::TranscriptEntry entry;
     entry.direction = sim::Direction::host_to_dish;
     entry.bytes = "@+0mss cade:";
@@ -139,8 +135,7 @@ TEST_CASE("transcript: what the fuzzer found formats back to the same entry (tim
     CHECK(sim::parse_transcript("< @+86400s x\n").entries.at(0).delay_ms == 86400000.0);
 }
 
-TEST_CASE("transcript: the recorder writes what the parser reads back")
-{
+TEST_CASE("transcript: the recorder writes what the parser reads back") {
     sim::TranscriptRecorder recorder(std::vector<std::pair<std::string, std::string>>{{"Variant", "g2"}});
     recorder.add(sim::Direction::host_to_dish, "a\r", 1.0);
     recorder.add(sim::Direction::dish_to_host, "a\r\nMOT>", 1.25, true);
@@ -152,8 +147,7 @@ TEST_CASE("transcript: the recorder writes what the parser reads back")
     CHECK(transcript.entries[1].bytes == "a\r\nMOT>");
 }
 
-TEST_CASE("emulator: strict mode answers each expected command with the recorded bytes")
-{
+TEST_CASE("emulator: strict mode answers each expected command with the recorded bytes") {
     const TempTranscript transcript(g2_two_queries);
     sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
     Client client(dish.device_path());
@@ -168,8 +162,7 @@ TEST_CASE("emulator: strict mode answers each expected command with the recorded
     CHECK_FALSE(dish.replay_failure());
 }
 
-TEST_CASE("emulator: strict mode stops at a wrong command with a diff naming the line")
-{
+TEST_CASE("emulator: strict mode stops at a wrong command with a diff naming the line") {
     const TempTranscript transcript(g2_two_queries);
     sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
     Client client(dish.device_path());
@@ -182,12 +175,11 @@ TEST_CASE("emulator: strict mode stops at a wrong command with a diff naming the
     CHECK_THAT(failure, Catch::Contains("expected:  > mot\\r"));
     CHECK_THAT(failure, Catch::Contains("received:  > a 0 90.00\\r"));
     CHECK_THAT(failure, Catch::Contains("<~ \\r\\nTRK>"));  // context before the divergence
-    CHECK(client.read_until("MOT>", 300ms).empty());         // and the dish says nothing more
+    CHECK(client.read_until("MOT>", 300ms).empty());        // and the dish says nothing more
     CHECK_FALSE(dish.replay_complete());
 }
 
-TEST_CASE("emulator: strict mode fails on bytes after the end of the transcript")
-{
+TEST_CASE("emulator: strict mode fails on bytes after the end of the transcript") {
     const TempTranscript transcript("# Variant: g2\n> \\r\n< \\r\\nTRK>\n");
     sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
     Client client(dish.device_path());
@@ -198,15 +190,14 @@ TEST_CASE("emulator: strict mode fails on bytes after the end of the transcript"
     CHECK_THAT(*dish.replay_failure(), Catch::Contains("after the last line"));
 }
 
-TEST_CASE("emulator: strict mode answers unrecorded pokes as the firmware does and goes on")
-{
+TEST_CASE("emulator: strict mode answers unrecorded pokes as the firmware does and goes on") {
     // How many line endings a synchronising client sends depends on timing, not on the dish.
     const TempTranscript transcript("# Variant: g2\n> \\r\n< \\r\\nTRK>\n> mot\\r\n< mot\\r\\nMOT>\n");
     sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
     Client client(dish.device_path());
     client.send("\r");
     client.read_until("TRK>");
-    client.send("\r");   // not recorded: the prompt again (docs/firmware.md 6.1)
+    client.send("\r");  // not recorded: the prompt again (docs/firmware.md 6.1)
     client.read_until("TRK>");
     client.send("?\r");  // not recorded: ignored, never answered from nothing
     client.send("mot\r");
@@ -215,8 +206,7 @@ TEST_CASE("emulator: strict mode answers unrecorded pokes as the firmware does a
     CHECK(dish.replay_complete());
 }
 
-TEST_CASE("emulator: lenient mode hands a wrong command to the model console")
-{
+TEST_CASE("emulator: lenient mode hands a wrong command to the model console") {
     const TempTranscript transcript(g2_two_queries);
     sim::Emulator dish(replay_options(transcript, sim::ReplayMode::lenient));
     Client client(dish.device_path());
@@ -228,8 +218,7 @@ TEST_CASE("emulator: lenient mode hands a wrong command to the model console")
     CHECK_FALSE(dish.replay_failure());
 }
 
-TEST_CASE("emulator: recorded timing is divided by the time scale")
-{
+TEST_CASE("emulator: recorded timing is divided by the time scale") {
     // An hour recorded: unscaled, the reply could never arrive within the read's patience (30 s,
     // far beyond any scheduling delay); divided by 3600 it takes a second. The only tight bound
     // is a lower one: the reply must not come before its scaled delay.
@@ -244,14 +233,12 @@ TEST_CASE("emulator: recorded timing is divided by the time scale")
     CHECK(std::chrono::steady_clock::now() - start >= 900ms);
 }
 
-TEST_CASE("emulator: a broken transcript is refused when the emulator starts")
-{
+TEST_CASE("emulator: a broken transcript is refused when the emulator starts") {
     const TempTranscript transcript("# Variant: g2\nnot a chunk\n");
     CHECK_THROWS_AS(sim::Emulator(replay_options(transcript, sim::ReplayMode::strict)), sim::TranscriptError);
 }
 
-TEST_CASE("events: a replayed G2 session yields the menus reached and a parsed position per reply, in order")
-{
+TEST_CASE("events: a replayed G2 session yields the menus reached and a parsed position per reply, in order") {
     // The regression tests' golden files print these between the `sent:` lines; a reply the core
     // stopped reporting would vanish from them unnoticed were it not checked here as well.
     const TempTranscript transcript(std::string(g2_two_queries) +

@@ -25,7 +25,7 @@ using namespace std::chrono_literals;
 TEST_CASE("plain replies: values, an RPRT line instead, and set commands") {
     std::string buffer = "100.00\n";
     CHECK_FALSE(take_reply(buffer, Protocol::plain, Shape::values(2)));
-    CHECK(buffer == "100.00\n");   // an incomplete reply is left for later
+    CHECK(buffer == "100.00\n");  // an incomplete reply is left for later
     buffer += "30.00\nRPRT 0\n";
     const auto p = take_reply(buffer, Protocol::plain, Shape::values(2));
     REQUIRE(p);
@@ -65,7 +65,8 @@ TEST_CASE("extended replies, one field a line and semicolon-separated, as rotctl
     CHECK(e->code == -11);
 
     buffer = "get_info:\nInfo: Winegard G2: limits az 0..360\nRPRT 0\n";
-    CHECK(take_reply(buffer, Protocol::extended, Shape::values(1))->values().front() == "Winegard G2: limits az 0..360");
+    CHECK(take_reply(buffer, Protocol::extended, Shape::values(1))->values().front() ==
+          "Winegard G2: limits az 0..360");
     // An idle rotator's status: the key alone.
     buffer = "get_status:\nStatus flags: \nRPRT 0\n";
     CHECK(take_reply(buffer, Protocol::extended, Shape::values(1))->values() == std::vector<std::string>{""});
@@ -104,11 +105,12 @@ TEST_CASE("dump_state limits in Hamlib 4's form, the extended form and Hamlib 3'
 }
 
 TEST_CASE("dump_caps: model, flags and the extension levels") {
-    const Caps c = parse_dump_caps({"Caps dump for model:\t90102", "Model name:\tCarryout G2", "Mfg name:\tWinegard",
-                                    "Backend version:\tbirdcage 0.1.0", "Can Park:\tY", "Can Reset:\tN",
-                                    "Can get Status:\tY", "Min Azimuth:\t-180.00", "Max Azimuth:\t540.00",
-                                    "Min Elevation:\t0.00", "Max Elevation:\t90.00", "Extra levels:", "\tRSSI", "\t\tLabel:\tSignal strength",
-                                    "\t\tRange:\t0..1000/0", "\tLNB", "\t\tLabel:\tLNB supply (V)", "Get parameters: "});
+    const Caps c =
+        parse_dump_caps({"Caps dump for model:\t90102", "Model name:\tCarryout G2", "Mfg name:\tWinegard",
+                         "Backend version:\tbirdcage 0.1.0", "Can Park:\tY", "Can Reset:\tN", "Can get Status:\tY",
+                         "Min Azimuth:\t-180.00", "Max Azimuth:\t540.00", "Min Elevation:\t0.00",
+                         "Max Elevation:\t90.00", "Extra levels:", "\tRSSI", "\t\tLabel:\tSignal strength",
+                         "\t\tRange:\t0..1000/0", "\tLNB", "\t\tLabel:\tLNB supply (V)", "Get parameters: "});
     CHECK(c.model == "Winegard Carryout G2");
     CHECK(c.backend == "birdcage 0.1.0");
     CHECK(c.can_park);
@@ -124,8 +126,9 @@ TEST_CASE("dump_caps: model, flags and the extension levels") {
 
 TEST_CASE("the birdcage backend's `_` narrows the elevation range to the dish's own") {
     const Limits caps{-180, 540, 0, 90};
-    const Limits g2 = narrowed_by_info(caps, "Winegard Carryout G2 [g2, 115200 baud]; initialised; position az 121.00 "
-                                             "el 30.00 (read back); el limits 18.00..65.00; leapfrog off");
+    const Limits g2 = narrowed_by_info(caps,
+                                       "Winegard Carryout G2 [g2, 115200 baud]; initialised; position az 121.00 "
+                                       "el 30.00 (read back); el limits 18.00..65.00; leapfrog off");
     CHECK(g2.min_el == 18.0);
     CHECK(g2.max_el == 65.0);
     CHECK(g2.min_az == -180.0);
@@ -165,17 +168,21 @@ private:
     void serve() {
         while (!stopping_) {
             pollfd p{listen_fd_, POLLIN, 0};
-            if (::poll(&p, 1, 20) <= 0) continue;
+            if (::poll(&p, 1, 20) <= 0)
+                continue;
             const int fd = ::accept(listen_fd_, nullptr, nullptr);
-            if (fd < 0) continue;
+            if (fd < 0)
+                continue;
             ++accepted_;
             std::string in;
             while (!stopping_ && !drop_) {
                 pollfd c{fd, POLLIN, 0};
-                if (::poll(&c, 1, 20) <= 0) continue;
+                if (::poll(&c, 1, 20) <= 0)
+                    continue;
                 char buffer[256];
                 const ssize_t got = ::recv(fd, buffer, sizeof buffer, 0);
-                if (got <= 0) break;
+                if (got <= 0)
+                    break;
                 in.append(buffer, static_cast<std::size_t>(got));
                 for (auto nl = in.find('\n'); nl != std::string::npos; nl = in.find('\n')) {
                     const std::string line = in.substr(0, nl);
@@ -215,7 +222,7 @@ bool wait_for_closed(const Client& client) {
     return client.peer_closed();
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("the client against a scripted rotctld: commands, typed errors, limits") {
     FakeRotctld fake(kAnswers);
@@ -240,7 +247,7 @@ TEST_CASE("the client against a scripted rotctld: commands, typed errors, limits
     CHECK(client.get_limits(limits) == 0);
     CHECK(limits.min_el == 15.0);
     CHECK(limits.max_el == 65.0);
-    CHECK(client.park() == code(Errc::navail));   // the fake knows no K
+    CHECK(client.park() == code(Errc::navail));  // the fake knows no K
     CHECK(client.connected());
 }
 
@@ -265,8 +272,11 @@ TEST_CASE("a lost link reads RIG_EIO, and reconnect() opens it again after the b
 
     Backoff backoff(1ms, 4ms);
     std::vector<long> waits;
-    CHECK(client.reconnect(backoff, [&](std::chrono::milliseconds d) { waits.push_back(d.count()); return true; }));
-    CHECK(waits.empty());   // the rotctld is back at once: no wait
+    CHECK(client.reconnect(backoff, [&](std::chrono::milliseconds d) {
+        waits.push_back(d.count());
+        return true;
+    }));
+    CHECK(waits.empty());  // the rotctld is back at once: no wait
     CHECK(fake.accepted() == 2);
     CHECK(client.get_position(az, el) == 0);
 }
@@ -281,10 +291,13 @@ TEST_CASE("reconnecting to nobody waits the doubling back-off and gives up when 
     Backoff backoff(10ms, 40ms);
     std::vector<long> waits;
     std::string why;
-    CHECK_FALSE(client.reconnect(backoff, [&](std::chrono::milliseconds d) {
-        waits.push_back(d.count());
-        return waits.size() < 4;
-    }, &why));
+    CHECK_FALSE(client.reconnect(
+        backoff,
+        [&](std::chrono::milliseconds d) {
+            waits.push_back(d.count());
+            return waits.size() < 4;
+        },
+        &why));
     CHECK(waits == std::vector<long>{10, 20, 40, 40});
     CHECK(why.find("cannot connect to 127.0.0.1:") == 0);
 }

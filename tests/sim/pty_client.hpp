@@ -7,17 +7,17 @@
 
 #include <catch2/catch.hpp>
 
+#include <fcntl.h>
+#include <poll.h>
+#include <termios.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <fcntl.h>
-#include <poll.h>
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <termios.h>
 #include <thread>
-#include <unistd.h>
 #include <utility>
 
 namespace birdcage::sim::testing {
@@ -26,9 +26,9 @@ using namespace std::chrono_literals;
 
 class PtyClient {
 public:
-    explicit PtyClient(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK))
-    {
-        if (fd_ < 0) throw std::runtime_error("cannot open " + path);
+    explicit PtyClient(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK)) {
+        if (fd_ < 0)
+            throw std::runtime_error("cannot open " + path);
         termios attributes{};
         ::tcgetattr(fd_, &attributes);
         ::cfmakeraw(&attributes);
@@ -40,11 +40,12 @@ public:
 
     int fd() const { return fd_; }
 
-    void send(std::string_view bytes) { REQUIRE(::write(fd_, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size())); }
+    void send(std::string_view bytes) {
+        REQUIRE(::write(fd_, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size()));
+    }
 
     // Everything up to and including `needle`; what follows stays buffered. Empty on timeout.
-    std::string read_until(std::string_view needle, std::chrono::milliseconds timeout = 5s)
-    {
+    std::string read_until(std::string_view needle, std::chrono::milliseconds timeout = 5s) {
         const auto deadline = std::chrono::steady_clock::now() + timeout;
         for (;;) {
             const std::size_t found = buffer_.find(needle);
@@ -53,13 +54,13 @@ public:
                 buffer_.erase(0, found + needle.size());
                 return head;
             }
-            if (!fill_until(deadline)) return {};
+            if (!fill_until(deadline))
+                return {};
         }
     }
 
     // Exactly `count` bytes, or fewer if the deadline passes first.
-    std::string read_count(std::size_t count, std::chrono::milliseconds timeout = 5s)
-    {
+    std::string read_count(std::size_t count, std::chrono::milliseconds timeout = 5s) {
         const auto deadline = std::chrono::steady_clock::now() + timeout;
         while (buffer_.size() < count && fill_until(deadline)) {
         }
@@ -69,8 +70,7 @@ public:
     }
 
     // Everything that arrives within `duration`.
-    std::string read_for(std::chrono::milliseconds duration)
-    {
+    std::string read_for(std::chrono::milliseconds duration) {
         const auto deadline = std::chrono::steady_clock::now() + duration;
         while (fill_until(deadline)) {
         }
@@ -78,19 +78,18 @@ public:
     }
 
     // Everything until the line has been quiet for `quiet` (or `limit` has passed).
-    std::string read_until_quiet(std::chrono::milliseconds quiet, std::chrono::milliseconds limit = 10s)
-    {
+    std::string read_until_quiet(std::chrono::milliseconds quiet, std::chrono::milliseconds limit = 10s) {
         const auto end = std::chrono::steady_clock::now() + limit;
         while (std::chrono::steady_clock::now() < end) {
             const std::size_t before = buffer_.size();
             fill_until(std::chrono::steady_clock::now() + quiet);
-            if (buffer_.size() == before) break;
+            if (buffer_.size() == before)
+                break;
         }
         return std::exchange(buffer_, {});
     }
 
-    std::string command(std::string_view line, std::string_view prompt, std::chrono::milliseconds timeout = 5s)
-    {
+    std::string command(std::string_view line, std::string_view prompt, std::chrono::milliseconds timeout = 5s) {
         send(std::string(line) + "\r");
         return read_until(prompt, timeout);
     }
@@ -102,18 +101,22 @@ public:
 
 private:
     // One poll + read; false when the deadline has passed or the line is hung up.
-    bool fill_until(std::chrono::steady_clock::time_point deadline)
-    {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        if (left.count() <= 0) return false;
+    bool fill_until(std::chrono::steady_clock::time_point deadline) {
+        const auto left =
+            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        if (left.count() <= 0)
+            return false;
         pollfd descriptor{fd_, POLLIN, 0};
-        if (::poll(&descriptor, 1, static_cast<int>(left.count())) <= 0) return false;
+        if (::poll(&descriptor, 1, static_cast<int>(left.count())) <= 0)
+            return false;
         last_revents = descriptor.revents;
         char chunk[4096];
         last_read = ::read(fd_, chunk, sizeof chunk);
         last_errno = last_read < 0 ? errno : 0;
-        if (last_read > 0) buffer_.append(chunk, static_cast<std::size_t>(last_read));
-        if (last_read == 0 || (last_read < 0 && errno != EAGAIN)) return false;  // hung up
+        if (last_read > 0)
+            buffer_.append(chunk, static_cast<std::size_t>(last_read));
+        if (last_read == 0 || (last_read < 0 && errno != EAGAIN))
+            return false;  // hung up
         return true;
     }
 
@@ -122,11 +125,11 @@ private:
 };
 
 template <typename Predicate>
-bool wait_for(Predicate done, std::chrono::milliseconds timeout = 10s)
-{
+bool wait_for(Predicate done, std::chrono::milliseconds timeout = 10s) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (!done()) {
-        if (std::chrono::steady_clock::now() > deadline) return false;
+        if (std::chrono::steady_clock::now() > deadline)
+            return false;
         std::this_thread::sleep_for(1ms);
     }
     return true;

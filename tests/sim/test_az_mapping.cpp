@@ -26,8 +26,7 @@ struct Move {
 // Starts a dish at mechanical `start` (a display azimuth mapped as Options::start_az is), opens its
 // motor menu and sends `a 0 <value>` for each value, one after the other at rest.
 std::vector<Move> moves(Variant variant, AzMapping mapping, double start, const std::vector<std::string>& values,
-                        double wrap_point = 0.0, OutOfRange out_of_range = OutOfRange::clamp)
-{
+                        double wrap_point = 0.0, OutOfRange out_of_range = OutOfRange::clamp) {
     Options options;
     options.variant = variant;
     options.time_scale = 200.0;
@@ -50,7 +49,8 @@ std::vector<Move> moves(Variant variant, AzMapping mapping, double start, const 
         double mech = result.empty() ? dish.true_mechanical_az() : result.back().end;
         bool first = true;
         for (const Sample& sample : dish.history()) {
-            if (sample.t < before) continue;
+            if (sample.t < before)
+                continue;
             if (first) {
                 mech = mech + std::remainder(sample.az - mech, 360.0);
                 first = false;
@@ -68,29 +68,27 @@ std::vector<Move> moves(Variant variant, AzMapping mapping, double start, const 
 
 }  // namespace
 
-TEST_CASE("az mapping: the helpers place the wrap manager's sector", "[emulator][az_mapping]")
-{
+TEST_CASE("az mapping: the helpers place the wrap manager's sector", "[emulator][az_mapping]") {
     // Trav'ler 0..455: wrap point north -> 0..360; at 95 (wrap position 455, §3.4) -> 95..455.
     CHECK(wrap_sector_start(0.0, 0.0, 455.0) == Approx(0.0));
     CHECK(wrap_sector_start(95.0, 0.0, 455.0) == Approx(95.0));
-    CHECK(wrap_sector_start(200.0, 0.0, 455.0) == Approx(200.0));   // 255 deg of 200..560 vs 200 of -160..200
+    CHECK(wrap_sector_start(200.0, 0.0, 455.0) == Approx(200.0));  // 255 deg of 200..560 vs 200 of -160..200
     // G2 -423.33..23.33: wrap point north -> -360..0.
     CHECK(wrap_sector_start(0.0, -423.33, 23.33) == Approx(-360.0));
     CHECK(wrap_manager_target(43.0, 0.0, 300.0, 0.0, 455.0) == Approx(43.0));
     CHECK(wrap_manager_target(403.0, 0.0, 300.0, 0.0, 455.0) == Approx(43.0));
-    CHECK(wrap_manager_target(0.0, 0.0, 350.0, 0.0, 455.0) == Approx(360.0));   // on the point: nearer end
+    CHECK(wrap_manager_target(0.0, 0.0, 350.0, 0.0, 455.0) == Approx(360.0));  // on the point: nearer end
     CHECK(wrap_manager_target(10.0, 0.0, -5.0, -423.33, 23.33) == Approx(-350.0));
 }
 
 TEST_CASE("az mapping nearest (default): the branch nearest the dish, in-travel values beyond 360 literally",
-          "[emulator][az_mapping]")
-{
+          "[emulator][az_mapping]") {
     CHECK(Options{}.az_mapping == AzMapping::nearest);
     const auto travler = moves(Variant::travler_hal205, AzMapping::nearest, 350.0, {"10", "403", "100", "30"});
-    CHECK(travler[0].end == Approx(370.0).margin(0.01));   // 10 from 350: across north, clockwise
+    CHECK(travler[0].end == Approx(370.0).margin(0.01));  // 10 from 350: across north, clockwise
     CHECK(travler[0].lowest >= 349.9);
     CHECK(travler[1].end == Approx(403.0).margin(0.01));
-    CHECK(travler[2].end == Approx(100.0).margin(0.01));   // 460 is beyond the travel
+    CHECK(travler[2].end == Approx(100.0).margin(0.01));  // 460 is beyond the travel
     CHECK(travler[3].end == Approx(30.0).margin(0.01));
     // G2 at 300 = -60: 30 -> -330 (the +30 branch is beyond the travel); 340 -> -380, not -20.
     const auto g2 = moves(Variant::carryout_g2, AzMapping::nearest, 300.0, {"30", "340"});
@@ -99,14 +97,13 @@ TEST_CASE("az mapping nearest (default): the branch nearest the dish, in-travel 
 }
 
 TEST_CASE("az mapping literal: the number is the mechanical angle, G2 numbers name one fixed branch",
-          "[emulator][az_mapping]")
-{
+          "[emulator][az_mapping]") {
     // From 350, 10 is mechanical 10: 340 deg anticlockwise (the wrap limit never reached).
     const auto travler = moves(Variant::travler_hal205, AzMapping::literal, 350.0, {"10", "403", "500"});
     CHECK(travler[0].end == Approx(10.0).margin(0.01));
     CHECK(travler[0].highest <= 350.1);
     CHECK(travler[1].end == Approx(403.0).margin(0.01));
-    CHECK(travler[2].end == Approx(455.0).margin(0.01));   // out of range: clamped (the default)
+    CHECK(travler[2].end == Approx(455.0).margin(0.01));  // out of range: clamped (the default)
     const auto rejected = moves(Variant::travler_hal205, AzMapping::literal, 100.0, {"500"}, 0.0, OutOfRange::reject);
     CHECK(rejected[0].end == Approx(100.0).margin(0.01));
     // G2: 10 is +10, 340 is -20, 30 is -330 - whichever branch the dish is on.
@@ -114,12 +111,11 @@ TEST_CASE("az mapping literal: the number is the mechanical angle, G2 numbers na
     CHECK(g2[0].end == Approx(10.0).margin(0.01));
     CHECK(g2[1].end == Approx(-20.0).margin(0.01));
     CHECK(g2[2].end == Approx(-330.0).margin(0.01));
-    CHECK(g2[3].end == Approx(-20.0).margin(0.01));        // not -380, although it is nearer
+    CHECK(g2[3].end == Approx(-20.0).margin(0.01));  // not -380, although it is nearer
 }
 
 TEST_CASE("az mapping wrap_manager: never through the wrap point, the long way round instead",
-          "[emulator][az_mapping]")
-{
+          "[emulator][az_mapping]") {
     // Wrap point north (default): 350 -> 10 goes 340 deg anticlockwise; 403 is 43 - reverses at north.
     const auto travler = moves(Variant::travler_hal205, AzMapping::wrap_manager, 350.0, {"10", "403", "355"});
     CHECK(travler[0].end == Approx(10.0).margin(0.01));

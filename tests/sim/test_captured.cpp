@@ -22,8 +22,7 @@ namespace {
 
 // The VERBATIM blocks of the captured file by their `####` heading, annotations (`← ...`) and the
 // trailing spaces they leave removed.
-std::map<std::string, std::vector<std::string>> verbatim_blocks()
-{
+std::map<std::string, std::vector<std::string>> verbatim_blocks() {
     std::ifstream file(BIRDCAGE_SOURCE_DIR "/sim/transcripts/captured/g2-bench-02.02.48.txt");
     REQUIRE(file);
     std::map<std::string, std::vector<std::string>> blocks;
@@ -34,18 +33,19 @@ std::map<std::string, std::vector<std::string>> verbatim_blocks()
             current = line.starts_with(verbatim_mark) ? &blocks[line.substr(verbatim_mark.size())] : nullptr;
             continue;
         }
-        if (current == nullptr) continue;
+        if (current == nullptr)
+            continue;
         line = std::regex_replace(line, std::regex(" *← .*$"), "");
         line = std::regex_replace(line, std::regex(" +$"), "");
         current->push_back(line);
     }
     for (auto& [heading, lines] : blocks)
-        if (!lines.empty() && lines.back().empty()) lines.pop_back();  // the separator line
+        if (!lines.empty() && lines.back().empty())
+            lines.pop_back();  // the separator line
     return blocks;
 }
 
-const std::vector<std::string>& block(const std::string& heading)
-{
+const std::vector<std::string>& block(const std::string& heading) {
     static const auto blocks = verbatim_blocks();
     const auto found = blocks.find(heading);
     INFO("captured block " << heading);
@@ -53,23 +53,21 @@ const std::vector<std::string>& block(const std::string& heading)
     return found->second;
 }
 
-std::string crlf_lines(const std::vector<std::string>& lines)
-{
+std::string crlf_lines(const std::vector<std::string>& lines) {
     std::string text;
-    for (const std::string& line : lines) text += line + "\r\n";
+    for (const std::string& line : lines)
+        text += line + "\r\n";
     return text;
 }
 
-Options captured_g2()
-{
+Options captured_g2() {
     Options options;
     options.variant = Variant::carryout_g2;
     return options;
 }
 
 // Everything the console prints for `bytes` until it is idle again.
-std::string converse(Console& console, const std::string& bytes)
-{
+std::string converse(Console& console, const std::string& bytes) {
     console.feed(bytes);
     std::string output;
     for (int step = 0; step < 2000 && (step < 20 || console.moving()); ++step) {
@@ -81,8 +79,7 @@ std::string converse(Console& console, const std::string& bytes)
 
 }  // namespace
 
-TEST_CASE("captured G2: the boot log, bursts and lines in their order and time", "[captured][g2]")
-{
+TEST_CASE("captured G2: the boot log, bursts and lines in their order and time", "[captured][g2]") {
     // Bootloader block: `[0.050s] <text>`, the hex lines standing for raw bytes.
     std::string expected;
     std::vector<double> stamps;
@@ -93,7 +90,8 @@ TEST_CASE("captured G2: the boot log, bursts and lines in their order and time",
         const std::string text = match[2];
         if (std::regex_match(text, std::regex("([0-9a-f]{2} ?)+"))) {
             std::istringstream hex(text);
-            for (std::string byte; hex >> byte;) expected.push_back(static_cast<char>(std::stoi(byte, nullptr, 16)));
+            for (std::string byte; hex >> byte;)
+                expected.push_back(static_cast<char>(std::stoi(byte, nullptr, 16)));
         } else {
             expected += text + "\r\n";
         }
@@ -108,8 +106,10 @@ TEST_CASE("captured G2: the boot log, bursts and lines in their order and time",
     for (int step = 0; step < 1500 && (console.booting() || step < 10); ++step) {
         console.advance(0.01);
         const std::string bytes = console.take_output();
-        if (!bytes.empty() && first_byte_at < 0.0) first_byte_at = console.time();
-        if (bytes.find("Application Starting") != std::string::npos) application_at = console.time();
+        if (!bytes.empty() && first_byte_at < 0.0)
+            first_byte_at = console.time();
+        if (bytes.find("Application Starting") != std::string::npos)
+            application_at = console.time();
         boot += bytes;
     }
     CHECK(boot == expected);
@@ -118,8 +118,7 @@ TEST_CASE("captured G2: the boot log, bursts and lines in their order and time",
     CHECK(console.time() == Approx(10.0).margin(0.2));  // "~10s to prompt"
 }
 
-TEST_CASE("captured G2: MOT> a, a 1 46, ?, l and the homing output", "[captured][g2]")
-{
+TEST_CASE("captured G2: MOT> a, a 1 46, ?, l and the homing output", "[captured][g2]") {
     Console console(captured_g2());  // at AZ 180, EL 45 as in the capture
     converse(console, "mot\r");
     const auto& position = block("Position Query");
@@ -131,8 +130,7 @@ TEST_CASE("captured G2: MOT> a, a 1 46, ?, l and the homing output", "[captured]
     CHECK(converse(console, "h *\r") == "h *\r\n" + crlf_lines(block("Homing Sequence")) + "MOT>");
 }
 
-TEST_CASE("captured G2: DVB rssi 5 has the captured shape", "[captured][g2]")
-{
+TEST_CASE("captured G2: DVB rssi 5 has the captured shape", "[captured][g2]") {
     Console console(captured_g2());
     converse(console, "dvb\r");
     // The numbers are the sky's (the capture's 500 is its unit's floor at 18 V); the rest is text.
@@ -143,8 +141,7 @@ TEST_CASE("captured G2: DVB rssi 5 has the captured shape", "[captured][g2]")
           std::regex_replace(captured, digits, "avg: N  cur: N"));
 }
 
-TEST_CASE("captured G2: the other menus' captured replies", "[captured][g2]")
-{
+TEST_CASE("captured G2: the other menus' captured replies", "[captured][g2]") {
     struct Case {
         const char* menu;
         const char* heading;
@@ -168,7 +165,8 @@ TEST_CASE("captured G2: the other menus' captured replies", "[captured][g2]")
         converse(console, std::string(c.menu) + "\r");
         std::vector<std::string> lines = block(c.heading);
         const std::string command = c.echoed ? lines.front() : c.command;
-        if (!c.echoed) lines.insert(lines.begin(), command);
+        if (!c.echoed)
+            lines.insert(lines.begin(), command);
         std::string reply = converse(console, command + "\r");
         CHECK(reply == crlf_lines(lines) + reply.substr(reply.rfind("\r\n") + 2));
         CHECK(reply.ends_with(">"));

@@ -17,30 +17,27 @@ using namespace birdcage::sim;
 
 namespace {
 
-Options options_for(Variant variant)
-{
+Options options_for(Variant variant) {
     Options options;
     options.variant = variant;
     return options;
 }
 
-Options reconstructed_g2()
-{
+Options reconstructed_g2() {
     Options options = options_for(Variant::carryout_g2);
     options.g2_console = G2Console::reconstructed;
     return options;
 }
 
-std::string send(Console& console, std::string_view bytes, double then_advance = 0.0)
-{
+std::string send(Console& console, std::string_view bytes, double then_advance = 0.0) {
     console.feed(bytes);
-    if (then_advance > 0.0) console.advance(then_advance);
+    if (then_advance > 0.0)
+        console.advance(then_advance);
     return console.take_output();
 }
 
 // Advance simulated time until the console goes quiet and motion has stopped.
-std::string settle(Console& console, double max_seconds = 600.0)
-{
+std::string settle(Console& console, double max_seconds = 600.0) {
     std::string output;
     for (double t = 0.0; t < max_seconds && (console.moving() || console.booting() || t < 0.1); t += 0.05) {
         console.advance(0.05);
@@ -49,8 +46,7 @@ std::string settle(Console& console, double max_seconds = 600.0)
     return output;
 }
 
-std::vector<long> integers_in(const std::string& text)
-{
+std::vector<long> integers_in(const std::string& text) {
     std::vector<long> numbers;
     const std::regex digits("[0-9]+");
     for (auto it = std::sregex_iterator(text.begin(), text.end(), digits); it != std::sregex_iterator(); ++it)
@@ -60,14 +56,14 @@ std::vector<long> integers_in(const std::string& text)
 
 }  // namespace
 
-TEST_CASE("G2: bare CR reprints the prompt, submenus have their own prompts", "[console][g2]")
-{
+TEST_CASE("G2: bare CR reprints the prompt, submenus have their own prompts", "[console][g2]") {
     Console console(options_for(Variant::carryout_g2));
     CHECK(send(console, "\r") == "\r\nTRK>");
     CHECK(send(console, "mot\r") == "mot\r\nMOT>");
     CHECK(send(console, "\r") == "\r\nMOT>");
     CHECK(send(console, "q\r") == "q\r\nTRK>");
-    for (const char* menu : {"nvs", "dvb", "os", "eeprom", "adc", "a3981", "dipswitch", "gpio", "latlon", "peak", "step"}) {
+    for (const char* menu :
+         {"nvs", "dvb", "os", "eeprom", "adc", "a3981", "dipswitch", "gpio", "latlon", "peak", "step"}) {
         const std::string reply = send(console, std::string(menu) + "\r");
         CHECK(reply.size() > 1);
         CHECK(reply.back() == '>');
@@ -76,8 +72,7 @@ TEST_CASE("G2: bare CR reprints the prompt, submenus have their own prompts", "[
     CHECK(send(console, "eeprom\r").ends_with("EE>"));
 }
 
-TEST_CASE("G2: `a` reports two Angle lines with two decimals, indented by four spaces", "[console][g2]")
-{
+TEST_CASE("G2: `a` reports two Angle lines with two decimals, indented by four spaces", "[console][g2]") {
     Console console(options_for(Variant::carryout_g2));
     send(console, "mot\r");
     CHECK(send(console, "a\r") == "a\r\n    Angle[0] = 180.00\r\n    Angle[1] = 45.00\r\nMOT>");
@@ -88,8 +83,7 @@ TEST_CASE("G2: `a` reports two Angle lines with two decimals, indented by four s
     CHECK(send(reconstructed, "a\r") == "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>");
 }
 
-TEST_CASE("G2: absolute and relative moves, ack and true position", "[console][g2]")
-{
+TEST_CASE("G2: absolute and relative moves, ack and true position", "[console][g2]") {
     Console console(options_for(Variant::carryout_g2));
     send(console, "mot\r");
     CHECK(send(console, "a 0 200.5\r") == "a 0 200.5\r\n    Angle = 200.50\r\nMOT>");
@@ -106,8 +100,7 @@ TEST_CASE("G2: absolute and relative moves, ack and true position", "[console][g
     CHECK(send(console, "a\r") == "a\r\n    Angle[0] = 180.00\r\n    Angle[1] = 55.00\r\nMOT>");
 }
 
-TEST_CASE("G2: EL outside 18..65 is clamped by default or rejected by switch", "[console][g2]")
-{
+TEST_CASE("G2: EL outside 18..65 is clamped by default or rejected by switch", "[console][g2]") {
     Console clamping(options_for(Variant::carryout_g2));
     send(clamping, "mot\r");
     CHECK(send(clamping, "a 1 80\r") == "a 1 80\r\n    Angle = 65.00\r\nMOT>");
@@ -122,8 +115,7 @@ TEST_CASE("G2: EL outside 18..65 is clamped by default or rejected by switch", "
     CHECK_FALSE(rejecting.moving());
 }
 
-TEST_CASE("G2: AZ report switch shows the mechanical (wrap) angle", "[console][g2]")
-{
+TEST_CASE("G2: AZ report switch shows the mechanical (wrap) angle", "[console][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.az_report = AzReport::mechanical;
     Console console(options);
@@ -131,8 +123,7 @@ TEST_CASE("G2: AZ report switch shows the mechanical (wrap) angle", "[console][g
     CHECK(send(console, "a\r") == "a\r\n    Angle[0] = -180.00\r\n    Angle[1] = 45.00\r\nMOT>");
 }
 
-TEST_CASE("G2: echo and line-ending switches", "[console][g2]")
-{
+TEST_CASE("G2: echo and line-ending switches", "[console][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.echo = false;
     options.line_ending = LineEnding::lf;
@@ -141,8 +132,7 @@ TEST_CASE("G2: echo and line-ending switches", "[console][g2]")
     CHECK(send(console, "a\r") == "\n    Angle[0] = 180.00\n    Angle[1] = 45.00\nMOT>");
 }
 
-TEST_CASE("line discipline: CR, LF, CRLF end a line - backspace is an ordinary character", "[console]")
-{
+TEST_CASE("line discipline: CR, LF, CRLF end a line - backspace is an ordinary character", "[console]") {
     Console console(options_for(Variant::carryout_g2));
     CHECK(send(console, "mot\r\n") == "mot\r\nMOT>");
     CHECK(send(console, "q\n") == "q\r\nTRK>");
@@ -158,8 +148,7 @@ TEST_CASE("line discipline: CR, LF, CRLF end a line - backspace is an ordinary c
     CHECK(send(quiet, "bogus\r") == "bogus\r\nTRK>");
 }
 
-TEST_CASE("G2: the captured MOT> listing, 23 commands, no g", "[console][g2]")
-{
+TEST_CASE("G2: the captured MOT> listing, 23 commands, no g", "[console][g2]") {
     Console console(options_for(Variant::carryout_g2));
     send(console, "mot\r");
     const std::string help = send(console, "?\r");
@@ -173,13 +162,13 @@ TEST_CASE("G2: the captured MOT> listing, 23 commands, no g", "[console][g2]")
     CHECK_FALSE(console.moving());
 }
 
-TEST_CASE("G2: the captured root answers its 12 submenus, q, Q and help only", "[console][g2]")
-{
+TEST_CASE("G2: the captured root answers its 12 submenus, q, Q and help only", "[console][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.g2_root_q = G2RootQ::harmless;
     Console console(options);
     const std::string help = send(console, "help\r");
-    for (const char* menu : {"a3981", "adc", "dipswitch", "dvb", "eeprom", "gpio", "latlon", "mot", "nvs", "os", "peak", "step"})
+    for (const char* menu :
+         {"a3981", "adc", "dipswitch", "dvb", "eeprom", "gpio", "latlon", "mot", "nvs", "os", "peak", "step"})
         CHECK(help.find(std::string("\r\n   ") + menu + " ") != std::string::npos);
     CHECK(std::count(help.begin(), help.end(), '\n') == 14);  // echo, title, 12 submenus
     CHECK(send(console, "reboot\r") == "reboot\r\nInvalid command\r\nTRK>");
@@ -191,8 +180,7 @@ TEST_CASE("G2: the captured root answers its 12 submenus, q, Q and help only", "
     CHECK(console.hazard_commands() == std::vector<std::string>{"reboot", "stow", "Q", "Q"});
 }
 
-TEST_CASE("G2: the reconstructed console's help lines contain '>' inside <...>", "[console][g2]")
-{
+TEST_CASE("G2: the reconstructed console's help lines contain '>' inside <...>", "[console][g2]") {
     Console console(reconstructed_g2());
     const std::string help = send(console, "?\r");
     CHECK(help.find("Enter <mot> - ") != std::string::npos);
@@ -203,8 +191,7 @@ TEST_CASE("G2: the reconstructed console's help lines contain '>' inside <...>",
     CHECK(send(console, "?\r").find("Enter <g> - ") != std::string::npos);
 }
 
-TEST_CASE("G2: the captured l, p, mv, ma, elminmaxhome and homing output", "[console][g2]")
-{
+TEST_CASE("G2: the captured l, p, mv, ma, elminmaxhome and homing output", "[console][g2]") {
     Console console(options_for(Variant::carryout_g2));
     send(console, "mot\r");
     CHECK(send(console, "l\r") == "l\r\nMotors:\r\n    0 - AZIMUTH: local\r\n    1 - ELEVATION: local\r\nMOT>");
@@ -225,8 +212,7 @@ TEST_CASE("G2: the captured l, p, mv, ma, elminmaxhome and homing output", "[con
     CHECK(console.hazard_commands() == std::vector<std::string>{"p", "h"});
 }
 
-TEST_CASE("G2: streams end at the next byte, DVB ls ends the submenu's shell", "[console][g2]")
-{
+TEST_CASE("G2: streams end at the next byte, DVB ls ends the submenu's shell", "[console][g2]") {
     Console console(options_for(Variant::carryout_g2));
     send(console, "dvb\r");
     CHECK(send(console, "snr\r", 0.35).ends_with("Reads:3  SNR[avg: 0.0  cur: 0.0]\r\n"));
@@ -237,18 +223,18 @@ TEST_CASE("G2: streams end at the next byte, DVB ls ends the submenu's shell", "
     CHECK(send(console, "ee 17\r") == "ee 17\r\nIndex out of bounds:17 Min:0 Max:16\r\nEE>");
 }
 
-TEST_CASE("G2: `rssi 10` takes 0.2 s and yields six integers with its echo", "[console][g2]")
-{
+TEST_CASE("G2: `rssi 10` takes 0.2 s and yields six integers with its echo", "[console][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.start_az = 174.0;
     options.start_el = 43.0;
     Console console(options);
     send(console, "dvb\r");
-    send(console, "lnbdc odu\r");   // 13 V, the setting of the real scan (§11.2); boot default is 18 V
+    send(console, "lnbdc odu\r");  // 13 V, the setting of the real scan (§11.2); boot default is 18 V
     CHECK(send(console, "rssi 10\r") == "rssi 10\r\n");  // still sampling
     const std::string reply = send(console, "", 0.25);
     REQUIRE(reply.ends_with("DVB>"));
-    const std::regex shape("iterations:10  interval\\(msec\\):20\r\n Reads:10  RSSI\\[avg: ([0-9]+)  cur: ([0-9]+)\\]\r\nDVB>");
+    const std::regex shape(
+        "iterations:10  interval\\(msec\\):20\r\n Reads:10  RSSI\\[avg: ([0-9]+)  cur: ([0-9]+)\\]\r\nDVB>");
     std::smatch match;
     REQUIRE(std::regex_match(reply, match, shape));
     CHECK(std::stoi(match[1]) > 520);  // DIRECTV 9S peak region, §11.2 (562 measured)
@@ -263,8 +249,7 @@ TEST_CASE("G2: `rssi 10` takes 0.2 s and yields six integers with its echo", "[c
     CHECK(std::stoi(match[1]) == Approx(401).margin(6));
 }
 
-TEST_CASE("G2: NVS formats from Davidson's transcript - writes count as hazards", "[console][g2][nvs]")
-{
+TEST_CASE("G2: NVS formats from Davidson's transcript - writes count as hazards", "[console][g2][nvs]") {
     Console console(options_for(Variant::carryout_g2));
     send(console, "nvs\r");
     CHECK(send(console, "d 20\r") ==
@@ -287,8 +272,7 @@ TEST_CASE("G2: NVS formats from Davidson's transcript - writes count as hazards"
     CHECK(dump.find("143) Tracking Number") != std::string::npos);
 }
 
-TEST_CASE("G2: Davidson's verbatim d 20 / e 20 1 with the tracker enabled", "[console][g2][nvs]")
-{
+TEST_CASE("G2: Davidson's verbatim d 20 / e 20 1 with the tracker enabled", "[console][g2][nvs]") {
     Options options = options_for(Variant::carryout_g2);
     options.search_running = true;  // NVS 20 FALSE
     Console console(options);
@@ -298,8 +282,7 @@ TEST_CASE("G2: Davidson's verbatim d 20 / e 20 1 with the tracker enabled", "[co
     CHECK(send(console, "e 20 1\r") == "e 20 1\r\n 20) Disable Tracker Proc?           FALSE .       TRUE\r\nNVS>");
 }
 
-TEST_CASE("history samples the true position over simulated time", "[console]")
-{
+TEST_CASE("history samples the true position over simulated time", "[console]") {
     Console console(options_for(Variant::carryout_g2));
     send(console, "mot\ra 0 270\r");
     settle(console);
@@ -314,8 +297,7 @@ TEST_CASE("history samples the true position over simulated time", "[console]")
     CHECK(history.back().t == Approx(console.time()).margin(1.0));
 }
 
-TEST_CASE("G2: os id per Appendix B", "[console][g2]")
-{
+TEST_CASE("G2: os id per Appendix B", "[console][g2]") {
     Console console(options_for(Variant::carryout_g2));
     send(console, "os\r");
     const std::string id = send(console, "id\r");
@@ -323,8 +305,7 @@ TEST_CASE("G2: os id per Appendix B", "[console][g2]")
     CHECK(id.find("System ID:  TWELINCH\r\n") != std::string::npos);
 }
 
-TEST_CASE("G2: unhomed axes read INT_MAX, refuse moves, and home with h (reconstructed console)", "[console][g2]")
-{
+TEST_CASE("G2: unhomed axes read INT_MAX, refuse moves, and home with h (reconstructed console)", "[console][g2]") {
     Options options = reconstructed_g2();
     options.g2_homed = false;
     Console console(options);
@@ -345,8 +326,7 @@ TEST_CASE("G2: unhomed axes read INT_MAX, refuse moves, and home with h (reconst
     CHECK(console.hazards() == 2);
 }
 
-TEST_CASE("G2: hazards at root: q kills the shell until power cycle", "[console][g2][hazard]")
-{
+TEST_CASE("G2: hazards at root: q kills the shell until power cycle", "[console][g2][hazard]") {
     Console console(options_for(Variant::carryout_g2));
     CHECK(send(console, "q\r") == "q\r\nTerminating shell.\r\n");
     CHECK(console.hazards() == 1);
@@ -366,8 +346,7 @@ TEST_CASE("G2: hazards at root: q kills the shell until power cycle", "[console]
     CHECK(restarting.hazards() == 1);
 }
 
-TEST_CASE("G2: q at root harmless by switch - ADC scan deadlocks - other hazards counted", "[console][g2][hazard]")
-{
+TEST_CASE("G2: q at root harmless by switch - ADC scan deadlocks - other hazards counted", "[console][g2][hazard]") {
     Options options = reconstructed_g2();  // `stow` at the root is the reconstruction's
     options.g2_root_q = G2RootQ::harmless;
     Console console(options);
@@ -390,20 +369,20 @@ TEST_CASE("G2: q at root harmless by switch - ADC scan deadlocks - other hazards
     CHECK_FALSE(console.shell_alive());
 }
 
-TEST_CASE("G2: the captured boot - bursts, lines, 10 s, no homing", "[console][g2][boot]")
-{
+TEST_CASE("G2: the captured boot - bursts, lines, 10 s, no homing", "[console][g2][boot]") {
     Options options = options_for(Variant::carryout_g2);
     options.already_booted = false;
     options.start_az = 120.0;
     Console console(options);
     CHECK(send(console, "\r").empty());  // nothing answers during boot
     console.advance(0.14);
-    CHECK(console.take_output() ==
-          std::string("\x01\x00", 2) + "Bootloader version: 1.01\r\nApplication is running...\r\n\x98\x80\x96"
-                                         "Application Starting Kinetis PCB... power up/reset\r\n");
+    CHECK(console.take_output() == std::string("\x01\x00", 2) +
+                                       "Bootloader version: 1.01\r\nApplication is running...\r\n\x98\x80\x96"
+                                       "Application Starting Kinetis PCB... power up/reset\r\n");
     const std::string boot = settle(console, 30.0);
-    CHECK(boot.starts_with("Version 02.02.48\r\nCopyright 2013 - Winegard Company\r\nBoot Complete\r\n\r\n"
-                           "Loc Startup: IDU NOT Present\r\napp_dipswitch:101\r\n"));
+    CHECK(
+        boot.starts_with("Version 02.02.48\r\nCopyright 2013 - Winegard Company\r\nBoot Complete\r\n\r\n"
+                         "Loc Startup: IDU NOT Present\r\napp_dipswitch:101\r\n"));
     CHECK(boot.ends_with("NoGpsStartUp: 721\r\nSTATIONARY MODE\r\nEnabled LNB ODU 18V\r\nGPS Not Found\r\nTRK>"));
     CHECK(std::count(boot.begin(), boot.end(), '\n') == 22);
     CHECK(boot.find("MotorHome") == std::string::npos);
@@ -413,17 +392,17 @@ TEST_CASE("G2: the captured boot - bursts, lines, 10 s, no homing", "[console][g
     CHECK(send(console, "a\r") == "a\r\n    Angle[0] = 120.00\r\n    Angle[1] = 45.00\r\nMOT>");
 }
 
-TEST_CASE("G2: boot log order - NVS 20 decides whether the search runs (reconstructed console)", "[console][g2][boot]")
-{
+TEST_CASE("G2: boot log order - NVS 20 decides whether the search runs (reconstructed console)",
+          "[console][g2][boot]") {
     Options options = reconstructed_g2();
     options.already_booted = false;
     Console console(options);
     CHECK(send(console, "\r").empty());  // nothing answers during boot
     const std::string boot = settle(console);
-    const char* expected[] = {"Bootloader v1.01",  "SPI1 init @ 4 MHz",    "Motor init: System=12Inch",
-                              "SPI2 init @ 6.857", "EXTENDED_DVB_DEBUG",   "BCM4515 ID 0x4515",
-                              "Enabled LNB STB",   "Ant ID - 12-IN G2",    "wrap_min:-42333 wrap_max:2333",
-                              "Antenna Facing Front", "Boot Complete",     "Loc Startup: IDU NOT Present"};
+    const char* expected[] = {"Bootloader v1.01",     "SPI1 init @ 4 MHz",  "Motor init: System=12Inch",
+                              "SPI2 init @ 6.857",    "EXTENDED_DVB_DEBUG", "BCM4515 ID 0x4515",
+                              "Enabled LNB STB",      "Ant ID - 12-IN G2",  "wrap_min:-42333 wrap_max:2333",
+                              "Antenna Facing Front", "Boot Complete",      "Loc Startup: IDU NOT Present"};
     std::size_t position = 0;
     for (const char* line : expected) {
         CAPTURE(line);
@@ -444,14 +423,14 @@ TEST_CASE("G2: boot log order - NVS 20 decides whether the search runs (reconstr
     CHECK(console.moving());
     // ... and the documented way to stop it: NVS 20 TRUE, save, reboot.
     send(console, "nvs\re 20 1\rs\rq\rreboot\r");
-    for (int i = 0; i < 400 && console.search_running(); ++i) console.advance(0.1);
+    for (int i = 0; i < 400 && console.search_running(); ++i)
+        console.advance(0.1);
     settle(console, 60.0);
     CHECK_FALSE(console.search_running());
     CHECK(console.hazards() == 6);
 }
 
-TEST_CASE("G2: move ack after motion (switch) holds the prompt until the dish stops", "[console][g2]")
-{
+TEST_CASE("G2: move ack after motion (switch) holds the prompt until the dish stops", "[console][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.move_ack = MoveAck::after_motion;
     Console console(options);
@@ -462,8 +441,7 @@ TEST_CASE("G2: move ack after motion (switch) holds the prompt until the dish st
     CHECK(rest == "MOT>a\r\n    Angle[0] = 90.00\r\n    Angle[1] = 45.00\r\nMOT>");
 }
 
-TEST_CASE("position queries while moving can be held back (switch)", "[console][g2]")
-{
+TEST_CASE("position queries while moving can be held back (switch)", "[console][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.answer_position_while_moving = false;
     Console console(options);
@@ -472,8 +450,7 @@ TEST_CASE("position queries while moving can be held back (switch)", "[console][
     CHECK(settle(console) == "    Angle[0] = 10.00\r\n    Angle[1] = 45.00\r\nMOT>");
 }
 
-TEST_CASE("G2: g moves both axes and any new byte aborts it (reconstructed console)", "[console][g2]")
-{
+TEST_CASE("G2: g moves both axes and any new byte aborts it (reconstructed console)", "[console][g2]") {
     Console console(reconstructed_g2());
     send(console, "mot\r");
     CHECK(send(console, "g 100 30\r") == "g 100 30\r\n");
@@ -486,8 +463,7 @@ TEST_CASE("G2: g moves both axes and any new byte aborts it (reconstructed conso
     CHECK(console.position().az != Approx(300.0).margin(1.0));
 }
 
-TEST_CASE("HAL 2.05: motor submenu, AZ/EL/SK reply, ngsearch stop", "[console][hal205]")
-{
+TEST_CASE("HAL 2.05: motor submenu, AZ/EL/SK reply, ngsearch stop", "[console][hal205]") {
     Options options = options_for(Variant::travler_hal205);
     options.search_running = true;
     Console console(options);
@@ -496,7 +472,8 @@ TEST_CASE("HAL 2.05: motor submenu, AZ/EL/SK reply, ngsearch stop", "[console][h
     console.advance(30.0);
     CHECK(console.search_running());
     const std::string position = send(console, "a\r");
-    CHECK(std::regex_match(position, std::regex("a\r\nAZ = [0-9]+\\.[0-9]{2} EL = [0-9]+\\.[0-9]{2} SK = 0\\.00\r\nMOTOR>")));
+    CHECK(std::regex_match(position,
+                           std::regex("a\r\nAZ = [0-9]+\\.[0-9]{2} EL = [0-9]+\\.[0-9]{2} SK = 0\\.00\r\nMOTOR>")));
     send(console, "q\r\rngsearch\r");
     CHECK(send(console, "s\r") == "s\r\nNGSEARCH>");
     CHECK_FALSE(console.search_running());
@@ -508,8 +485,7 @@ TEST_CASE("HAL 2.05: motor submenu, AZ/EL/SK reply, ngsearch stop", "[console][h
     CHECK(console.hazards() == 0);
 }
 
-TEST_CASE("HAL 2.05: `mot` accepted by switch - bare prompt style", "[console][hal205]")
-{
+TEST_CASE("HAL 2.05: `mot` accepted by switch - bare prompt style", "[console][hal205]") {
     Options options = options_for(Variant::travler_hal205);
     options.hal205_accepts_mot = true;
     options.prompt_style = PromptStyle::bare;
@@ -519,8 +495,7 @@ TEST_CASE("HAL 2.05: `mot` accepted by switch - bare prompt style", "[console][h
     CHECK(send(console, "a\r") == "a\r\nAZ = 180.00 EL = 45.00 SK = 0.00\r\n>");
 }
 
-TEST_CASE("HAL 2.05: EL floor 15 clamps, AZ uses the 0..455 wrap, one axis at a time", "[console][hal205]")
-{
+TEST_CASE("HAL 2.05: EL floor 15 clamps, AZ uses the 0..455 wrap, one axis at a time", "[console][hal205]") {
     Console console(options_for(Variant::travler_hal205));
     send(console, "motor\r");
     CHECK(send(console, "a 0 400\r") == "a 0 400\r\nMOTOR>");
@@ -536,8 +511,7 @@ TEST_CASE("HAL 2.05: EL floor 15 clamps, AZ uses the 0..455 wrap, one axis at a 
     CHECK(console.mechanical_az() == Approx(390.0));
 }
 
-TEST_CASE("HAL 2.05: boot ends with the marker line, then the search wanders", "[console][hal205][boot]")
-{
+TEST_CASE("HAL 2.05: boot ends with the marker line, then the search wanders", "[console][hal205][boot]") {
     Options options = options_for(Variant::travler_hal205);
     options.already_booted = false;
     Console console(options);
@@ -555,8 +529,7 @@ TEST_CASE("HAL 2.05: boot ends with the marker line, then the search wanders", "
     CHECK(settle(other).find("No LNB Voltage\r\n") != std::string::npos);
 }
 
-TEST_CASE("HAL 0.0.00: mot submenu and os kill Search", "[console][hal000]")
-{
+TEST_CASE("HAL 0.0.00: mot submenu and os kill Search", "[console][hal000]") {
     Options options = options_for(Variant::travler_hal000);
     options.search_running = true;
     Console console(options);
@@ -570,8 +543,7 @@ TEST_CASE("HAL 0.0.00: mot submenu and os kill Search", "[console][hal000]")
     CHECK(console.position().az == Approx(10.5));
 }
 
-TEST_CASE("HAL 0.0.00: g aborts on any byte - NVS write and stow are hazards", "[console][hal000]")
-{
+TEST_CASE("HAL 0.0.00: g aborts on any byte - NVS write and stow are hazards", "[console][hal000]") {
     Console console(options_for(Variant::travler_hal000));
     send(console, "mot\r");
     CHECK(send(console, "g 270 60 0\r", 1.0) == "g 270 60 0\r\n");
@@ -585,8 +557,7 @@ TEST_CASE("HAL 0.0.00: g aborts on any byte - NVS write and stow are hazards", "
     CHECK(console.position().el == Approx(0.0));
 }
 
-TEST_CASE("Trav'ler Pro: IDU console, odu tunnel, q stays in the ODU, EL above 75 stalls", "[console][pro]")
-{
+TEST_CASE("Trav'ler Pro: IDU console, odu tunnel, q stays in the ODU, EL above 75 stalls", "[console][pro]") {
     Options options = options_for(Variant::travler_pro);
     options.search_running = true;
     Console console(options);
@@ -611,8 +582,7 @@ TEST_CASE("Trav'ler Pro: IDU console, odu tunnel, q stays in the ODU, EL above 7
     CHECK(send(other, "odu\rq\r") == "odu\r\nTRK>q\r\nIDU>");
 }
 
-TEST_CASE("Carryout 2003: target/g prints live centidegrees the rotor client can parse", "[console][carryout2003]")
-{
+TEST_CASE("Carryout 2003: target/g prints live centidegrees the rotor client can parse", "[console][carryout2003]") {
     Console console(options_for(Variant::carryout2003));
     CHECK(send(console, "a\r") == "a\r\nUnknown command\r\nTRK>");
     CHECK(send(console, "target\r") == "target\r\nTARGET>");
@@ -624,10 +594,12 @@ TEST_CASE("Carryout 2003: target/g prints live centidegrees the rotor client can
     text = text.substr(text.find_first_not_of(" \r\n"));
     std::vector<std::string> tokens;
     std::stringstream split(text);
-    for (std::string token; std::getline(split, token, ' ');) tokens.push_back(token);
+    for (std::string token; std::getline(split, token, ' ');)
+        tokens.push_back(token);
     tokens.erase(tokens.begin());
     std::size_t k = 0;
-    while (k < tokens.size() && tokens[k] != "el") ++k;
+    while (k < tokens.size() && tokens[k] != "el")
+        ++k;
     REQUIRE(k >= 3);
     REQUIRE(k + 2 < tokens.size());
     CHECK(std::stol(tokens[k - 3]) == 18000);
@@ -636,8 +608,8 @@ TEST_CASE("Carryout 2003: target/g prints live centidegrees the rotor client can
     CHECK(console.position().el == Approx(50.0));
 }
 
-TEST_CASE("Carryout 2003: g aborted by the next byte (switch) - EL 22..73 - search runs out", "[console][carryout2003]")
-{
+TEST_CASE("Carryout 2003: g aborted by the next byte (switch) - EL 22..73 - search runs out",
+          "[console][carryout2003]") {
     Options options = options_for(Variant::carryout2003);
     options.g_aborts_on_input = true;
     options.search_running = true;
@@ -658,8 +630,7 @@ TEST_CASE("Carryout 2003: g aborted by the next byte (switch) - EL 22..73 - sear
     CHECK(console.position().az < 250.0);
 }
 
-TEST_CASE("variant names round-trip", "[console]")
-{
+TEST_CASE("variant names round-trip", "[console]") {
     for (const char* name : {"hal000", "hal205", "pro", "carryout2003", "g2"}) {
         const auto variant = parse_variant(name);
         REQUIRE(variant);

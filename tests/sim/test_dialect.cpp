@@ -22,8 +22,7 @@ const Variant kVariants[] = {Variant::travler_hal000, Variant::travler_hal205, V
                              Variant::carryout2003, Variant::carryout_g2};
 
 // Advance in small steps until the console has booted, collecting its output.
-std::string boot(Console& console, double limit = 400.0)
-{
+std::string boot(Console& console, double limit = 400.0) {
     std::string output;
     while (console.booting() && console.time() < limit) {
         console.advance(0.05);
@@ -33,8 +32,7 @@ std::string boot(Console& console, double limit = 400.0)
     return output + console.take_output();
 }
 
-std::string settle(Console& console, double max_seconds = 120.0)
-{
+std::string settle(Console& console, double max_seconds = 120.0) {
     std::string output;
     for (double t = 0.0; t < max_seconds && (console.moving() || t < 0.5); t += 0.05) {
         console.advance(0.05);
@@ -43,44 +41,46 @@ std::string settle(Console& console, double max_seconds = 120.0)
     return output;
 }
 
-std::string send(Console& console, std::string_view line)
-{
+std::string send(Console& console, std::string_view line) {
     console.feed(line);
     console.feed("\r");
     return settle(console);
 }
 
-std::string lower(std::string text)
-{
-    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+std::string lower(std::string text) {
+    for (char& c : text)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return text;
 }
 
 // The command word appears as a token of its own (any non-alphanumeric neighbours).
-bool lists_word(const std::string& listing, const std::string& word)
-{
+bool lists_word(const std::string& listing, const std::string& word) {
     return std::regex_search(lower(listing), std::regex("(^|[^a-z0-9])" + word + "($|[^a-z0-9])"));
 }
 
-std::vector<std::string> root_words(Variant variant)
-{
+std::vector<std::string> root_words(Variant variant) {
     switch (variant) {
-    case Variant::travler_hal000: return {"mot", "nvs", "os", "stow", "reboot"};
-    case Variant::travler_hal205: return {"motor", "ngsearch", "nvs", "os", "stow", "reboot"};
-    case Variant::travler_pro: return {"odu"};
-    case Variant::carryout2003: return {"target", "motor", "dvb", "os", "nvs"};
-    case Variant::carryout_g2: return {"a3981", "adc", "dvb", "mot", "nvs", "os"};  // and reconstructed: reboot, stow
+        case Variant::travler_hal000:
+            return {"mot", "nvs", "os", "stow", "reboot"};
+        case Variant::travler_hal205:
+            return {"motor", "ngsearch", "nvs", "os", "stow", "reboot"};
+        case Variant::travler_pro:
+            return {"odu"};
+        case Variant::carryout2003:
+            return {"target", "motor", "dvb", "os", "nvs"};
+        case Variant::carryout_g2:
+            return {"a3981", "adc", "dvb", "mot", "nvs", "os"};  // and reconstructed: reboot, stow
     }
     return {};
 }
 
 // The console after `power-on -> boot -> ? -> motor menu -> a -> move -> a`, every byte.
-std::string scripted_session(const Options& options)
-{
+std::string scripted_session(const Options& options) {
     Console console(options);
     std::string bytes = boot(console);
     bytes += send(console, "?");
-    if (options.variant == Variant::travler_pro) bytes += send(console, "odu");
+    if (options.variant == Variant::travler_pro)
+        bytes += send(console, "odu");
     const char* motor = options.variant == Variant::travler_hal205 ? "motor"
                         : options.variant == Variant::carryout2003 ? "target"
                                                                    : "mot";
@@ -99,16 +99,14 @@ std::string scripted_session(const Options& options)
     return bytes + console.take_output();
 }
 
-Options booting(Dialect dialect)
-{
+Options booting(Dialect dialect) {
     dialect.options.already_booted = false;
     return dialect.options;
 }
 
 }  // namespace
 
-TEST_CASE("dialect: a seed is a console, byte for byte", "[dialect]")
-{
+TEST_CASE("dialect: a seed is a console, byte for byte", "[dialect]") {
     for (const Variant variant : kVariants) {
         for (const std::uint32_t seed : {1u, 7u, 4242u}) {
             const Dialect first = draw_dialect(variant, seed), again = draw_dialect(variant, seed);
@@ -120,12 +118,12 @@ TEST_CASE("dialect: a seed is a console, byte for byte", "[dialect]")
             CHECK(session.size() > 100);
         }
         // Another seed, another console (descriptions name the seed, so compare the bytes).
-        CHECK(scripted_session(booting(draw_dialect(variant, 1))) != scripted_session(booting(draw_dialect(variant, 2))));
+        CHECK(scripted_session(booting(draw_dialect(variant, 1))) !=
+              scripted_session(booting(draw_dialect(variant, 2))));
     }
 }
 
-TEST_CASE("dialect: every drawn console keeps the documented words, markers and formats", "[dialect]")
-{
+TEST_CASE("dialect: every drawn console keeps the documented words, markers and formats", "[dialect]") {
     const std::regex travler_position(R"(AZ = *[0-9.]+\s+EL = *[0-9.]+)");
     const std::regex g2_position(R"(Angle\[0\] = [0-9.-]+\s+Angle\[1\] = [0-9.-]+)");
     const std::regex carryout_live(R"(az = *[0-9]+ +el = *[0-9]+)");
@@ -140,25 +138,34 @@ TEST_CASE("dialect: every drawn console keeps the documented words, markers and 
             CHECK(console.time() >= 1.0);
             CHECK(console.time() <= 90.0);
             switch (variant) {
-            case Variant::carryout_g2: {
-                const auto complete = boot_log.find("Boot Complete"), loc = boot_log.find("Loc Startup: IDU NOT Present");
-                CHECK(complete != std::string::npos);
-                CHECK(loc != std::string::npos);
-                CHECK(complete < loc);
-                if (dialect.options.g2_console == G2Console::captured) {
-                    CHECK(boot_log.find(std::string("\x01\x00", 2) + "Bootloader version: 1.01\r\n") != std::string::npos);
-                    CHECK(boot_log.find("\r\nGPS Not Found\r\n") > loc);
-                } else {
-                    CHECK(boot_log.find("Bootloader v1.01") != std::string::npos);
+                case Variant::carryout_g2: {
+                    const auto complete = boot_log.find("Boot Complete"),
+                               loc = boot_log.find("Loc Startup: IDU NOT Present");
+                    CHECK(complete != std::string::npos);
+                    CHECK(loc != std::string::npos);
+                    CHECK(complete < loc);
+                    if (dialect.options.g2_console == G2Console::captured) {
+                        CHECK(boot_log.find(std::string("\x01\x00", 2) + "Bootloader version: 1.01\r\n") !=
+                              std::string::npos);
+                        CHECK(boot_log.find("\r\nGPS Not Found\r\n") > loc);
+                    } else {
+                        CHECK(boot_log.find("Bootloader v1.01") != std::string::npos);
+                    }
+                    break;
                 }
-                break;
-            }
-            case Variant::travler_hal205:
-                CHECK((boot_log.find("NoGPS") != std::string::npos || boot_log.find("No LNB Voltage") != std::string::npos));
-                break;
-            case Variant::carryout2003: CHECK(boot_log.find_first_not_of(" \r\n") == std::string::npos); break;
-            case Variant::travler_hal000: CHECK(boot_log.find("NoGPS") != std::string::npos); break;
-            case Variant::travler_pro: CHECK(boot_log.find_first_not_of(" \r\n") == std::string::npos); break;
+                case Variant::travler_hal205:
+                    CHECK((boot_log.find("NoGPS") != std::string::npos ||
+                           boot_log.find("No LNB Voltage") != std::string::npos));
+                    break;
+                case Variant::carryout2003:
+                    CHECK(boot_log.find_first_not_of(" \r\n") == std::string::npos);
+                    break;
+                case Variant::travler_hal000:
+                    CHECK(boot_log.find("NoGPS") != std::string::npos);
+                    break;
+                case Variant::travler_pro:
+                    CHECK(boot_log.find_first_not_of(" \r\n") == std::string::npos);
+                    break;
             }
             // The commands on a console that is up with its search stopped (the backend's job).
             Console up(dialect.options);
@@ -171,7 +178,8 @@ TEST_CASE("dialect: every drawn console keeps the documented words, markers and 
             }
             // The prompt ends the output: its '>', then the marks drawn after it (sim/README.md, "Dialects").
             CHECK(listing.substr(0, listing.find_last_not_of(' ') + 1).ends_with(">" + dialect.options.prompt_suffix));
-            if (variant == Variant::travler_pro) send(up, "odu");
+            if (variant == Variant::travler_pro)
+                send(up, "odu");
             if (variant == Variant::carryout2003) {
                 send(up, "target");
                 const std::string live = send(up, "g 150 40");
@@ -193,8 +201,7 @@ TEST_CASE("dialect: every drawn console keeps the documented words, markers and 
     }
 }
 
-TEST_CASE("dialect: the Trav'ler motors still meet the documented whole-move timings", "[dialect]")
-{
+TEST_CASE("dialect: the Trav'ler motors still meet the documented whole-move timings", "[dialect]") {
     // docs/firmware.md §3.4: about 6 s for 10 degrees and 13.5 s for 90, here within 25%.
     for (const Variant variant : {Variant::travler_hal000, Variant::travler_hal205, Variant::travler_pro}) {
         double longest_delay = 0.0;
@@ -202,7 +209,8 @@ TEST_CASE("dialect: the Trav'ler motors still meet the documented whole-move tim
             Options options = draw_dialect(variant, seed).options;
             options.start_az = 100.0;
             Console console(options);
-            if (variant == Variant::travler_pro) send(console, "odu");
+            if (variant == Variant::travler_pro)
+                send(console, "odu");
             send(console, variant == Variant::travler_hal205 ? "motor" : "mot");
             for (const double distance : {10.0, 90.0}) {
                 const double start_az = console.position().az;
@@ -211,7 +219,8 @@ TEST_CASE("dialect: the Trav'ler motors still meet the documented whole-move tim
                 double last_motion = t0;
                 for (double t = 0.0; t < 40.0; t += 0.01) {
                     console.advance(0.01);
-                    if (console.moving()) last_motion = console.time();
+                    if (console.moving())
+                        last_motion = console.time();
                 }
                 const double took = last_motion - t0;
                 const double documented = distance == 10.0 ? 6.0 : 13.5;
@@ -225,8 +234,7 @@ TEST_CASE("dialect: the Trav'ler motors still meet the documented whole-move tim
     }
 }
 
-TEST_CASE("dialect: the drawn consoles really differ", "[dialect]")
-{
+TEST_CASE("dialect: the drawn consoles really differ", "[dialect]") {
     for (const Variant variant : {Variant::travler_hal000, Variant::travler_hal205, Variant::carryout2003}) {
         std::set<std::string> shapes, line_endings;
         std::set<std::size_t> listing_lines, extra_boot_lines;
@@ -258,7 +266,8 @@ TEST_CASE("dialect: the drawn consoles really differ", "[dialect]")
         CHECK(shapes.size() >= 60);
         CHECK(listing_lines.size() >= 8);
         CHECK(line_endings.size() == 4);
-        if (variant != Variant::carryout2003) CHECK(extra_boot_lines.size() >= 5);
+        if (variant != Variant::carryout2003)
+            CHECK(extra_boot_lines.size() >= 5);
         CHECK(without_echo >= 10);
         CHECK(with_async >= 15);
         CHECK(longest_boot >= 60.0);
@@ -266,8 +275,7 @@ TEST_CASE("dialect: the drawn consoles really differ", "[dialect]")
     }
 }
 
-TEST_CASE("dialect: one G2 in three or more has a line after its last documented boot line", "[dialect]")
-{
+TEST_CASE("dialect: one G2 in three or more has a line after its last documented boot line", "[dialect]") {
     unsigned with_late_line = 0, captured = 0;
     std::set<std::string> boot_logs;
     for (std::uint32_t seed = 1; seed <= 60; ++seed) {

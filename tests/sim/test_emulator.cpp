@@ -5,14 +5,14 @@
 // motion: a large time scale and waits for conditions with deadlines.
 #include <catch2/catch.hpp>
 
-#include <chrono>
 #include <fcntl.h>
 #include <poll.h>
-#include <stdexcept>
 #include <sys/stat.h>
 #include <termios.h>
-#include <thread>
 #include <unistd.h>
+#include <chrono>
+#include <stdexcept>
+#include <thread>
 
 #include "birdcage_sim/emulator.hpp"
 #include "pty_client.hpp"
@@ -23,8 +23,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-Options fast(Variant variant)
-{
+Options fast(Variant variant) {
     Options options;
     options.variant = variant;
     options.time_scale = 50.0;
@@ -33,8 +32,7 @@ Options fast(Variant variant)
 
 }  // namespace
 
-TEST_CASE("pty: G2 answers prompts and `a` - a move changes the true position", "[emulator][g2]")
-{
+TEST_CASE("pty: G2 answers prompts and `a` - a move changes the true position", "[emulator][g2]") {
     Emulator dish(fast(Variant::carryout_g2));
     REQUIRE(dish.device_path().starts_with("/dev/pts/"));
     PtyClient client(dish.device_path());
@@ -56,14 +54,13 @@ TEST_CASE("pty: G2 answers prompts and `a` - a move changes the true position", 
     CHECK(dish.hazards_received() == 0);
 }
 
-TEST_CASE("pty: symlink, and a client may close and reopen the device", "[emulator]")
-{
+TEST_CASE("pty: symlink, and a client may close and reopen the device", "[emulator]") {
     Options options = fast(Variant::carryout_g2);
     options.link_path = "/tmp/birdcage-sim-test-" + std::to_string(::getpid());
     {
         Emulator dish(options);
         CHECK(dish.device_path() == options.link_path);
-        struct stat info{};
+        struct stat info {};
         REQUIRE(::lstat(options.link_path.c_str(), &info) == 0);
         CHECK(S_ISLNK(info.st_mode));
         for (int round = 0; round < 3; ++round) {
@@ -71,12 +68,11 @@ TEST_CASE("pty: symlink, and a client may close and reopen the device", "[emulat
             CHECK(client.command("", "TRK>") == "\r\nTRK>");
         }
     }
-    struct stat info{};
+    struct stat info {};
     CHECK(::lstat(options.link_path.c_str(), &info) != 0);
 }
 
-TEST_CASE("pty: G2 root q is a hazard that kills the shell until power_cycle", "[emulator][g2][hazard]")
-{
+TEST_CASE("pty: G2 root q is a hazard that kills the shell until power_cycle", "[emulator][g2][hazard]") {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
     CHECK(client.command("q", "Terminating shell.\r\n").size() > 0);
@@ -88,8 +84,7 @@ TEST_CASE("pty: G2 root q is a hazard that kills the shell until power_cycle", "
     CHECK(client.command("", "TRK>") == "\r\nTRK>");
 }
 
-TEST_CASE("pty: G2 boot sequence at a high time scale", "[emulator][g2][boot]")
-{
+TEST_CASE("pty: G2 boot sequence at a high time scale", "[emulator][g2][boot]") {
     Options options = fast(Variant::carryout_g2);
     options.already_booted = false;
     options.time_scale = 100.0;
@@ -97,7 +92,8 @@ TEST_CASE("pty: G2 boot sequence at a high time scale", "[emulator][g2][boot]")
     PtyClient client(dish.device_path());
     const std::string boot = client.read_until("TRK>", 10s);
     REQUIRE_FALSE(boot.empty());
-    CHECK(boot.starts_with(std::string("\x01\x00", 2) + "Bootloader version: 1.01\r\nApplication is running...\r\n\x98\x80\x96"));
+    CHECK(boot.starts_with(std::string("\x01\x00", 2) +
+                           "Bootloader version: 1.01\r\nApplication is running...\r\n\x98\x80\x96"));
     CHECK(boot.find("Boot Complete\r\n\r\nLoc Startup: IDU NOT Present\r\n") != std::string::npos);
     CHECK(boot.ends_with("GPS Not Found\r\nTRK>"));
     CHECK_FALSE(dish.search_running());
@@ -113,8 +109,7 @@ TEST_CASE("pty: G2 boot sequence at a high time scale", "[emulator][g2][boot]")
     CHECK(old.true_position().el == Approx(65.0).margin(0.015));
 }
 
-TEST_CASE("pty: HAL 2.05 power-on: NoGPS, search wanders, ngsearch s q stops it", "[emulator][hal205]")
-{
+TEST_CASE("pty: HAL 2.05 power-on: NoGPS, search wanders, ngsearch s q stops it", "[emulator][hal205]") {
     Options options = fast(Variant::travler_hal205);
     options.already_booted = false;
     options.time_scale = 100.0;
@@ -143,8 +138,7 @@ TEST_CASE("pty: HAL 2.05 power-on: NoGPS, search wanders, ngsearch s q stops it"
     CHECK(dish.hazards_received() == 0);
 }
 
-TEST_CASE("pty: CRLF clients and NVS hazards on the HAL 0.0.00", "[emulator][hal000]")
-{
+TEST_CASE("pty: CRLF clients and NVS hazards on the HAL 0.0.00", "[emulator][hal000]") {
     Emulator dish(fast(Variant::travler_hal000));
     PtyClient client(dish.device_path());
     client.send("nvs\r\n");
@@ -155,8 +149,7 @@ TEST_CASE("pty: CRLF clients and NVS hazards on the HAL 0.0.00", "[emulator][hal
     CHECK(dish.received_commands() == std::vector<std::string>{"nvs", "e 127 0"});
 }
 
-TEST_CASE("pty: Carryout 2003 g streams positions and ends with the prompt", "[emulator][carryout2003]")
-{
+TEST_CASE("pty: Carryout 2003 g streams positions and ends with the prompt", "[emulator][carryout2003]") {
     Emulator dish(fast(Variant::carryout2003));
     PtyClient client(dish.device_path());
     client.command("target", "TARGET>");
@@ -166,8 +159,7 @@ TEST_CASE("pty: Carryout 2003 g streams positions and ends with the prompt", "[e
     CHECK(dish.true_position().az == Approx(150.0));
 }
 
-TEST_CASE("pty: Trav'ler Pro client start-up sequence reaches the ODU motor menu", "[emulator][pro]")
-{
+TEST_CASE("pty: Trav'ler Pro client start-up sequence reaches the ODU motor menu", "[emulator][pro]") {
     Emulator dish(fast(Variant::travler_pro));
     PtyClient client(dish.device_path());
     client.send("q\r\rodu\r\rq\r\rmot\r");

@@ -6,11 +6,11 @@
 // for motion.
 #include <catch2/catch.hpp>
 
-#include <cerrno>
-#include <chrono>
 #include <poll.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <cerrno>
+#include <chrono>
 
 #include "birdcage_sim/console.hpp"
 #include "birdcage_sim/emulator.hpp"
@@ -22,49 +22,45 @@ using namespace std::chrono_literals;
 
 namespace {
 
-Options fast(Variant variant, double time_scale = 50.0)
-{
+Options fast(Variant variant, double time_scale = 50.0) {
     Options options;
     options.variant = variant;
     options.time_scale = time_scale;
     return options;
 }
 
-std::string inverted(std::string_view text)
-{
+std::string inverted(std::string_view text) {
     std::string out;
-    for (const char byte : text) out.push_back(static_cast<char>(~static_cast<unsigned char>(byte)));
+    for (const char byte : text)
+        out.push_back(static_cast<char>(~static_cast<unsigned char>(byte)));
     return out;
 }
 
-bool is_subsequence(std::string_view part, std::string_view whole)
-{
+bool is_subsequence(std::string_view part, std::string_view whole) {
     std::size_t at = 0;
     for (const char byte : part) {
         at = whole.find(byte, at);
-        if (at == std::string_view::npos) return false;
+        if (at == std::string_view::npos)
+            return false;
         ++at;
     }
     return true;
 }
 
-bool path_exists(const std::string& path)
-{
-    struct stat info{};
+bool path_exists(const std::string& path) {
+    struct stat info {};
     return ::lstat(path.c_str(), &info) == 0;
 }
 
 // The G2's full NVS dump: a long reply (about 10 kB).
-std::string nvs_dump_reply(PtyClient& client)
-{
+std::string nvs_dump_reply(PtyClient& client) {
     REQUIRE(client.command("nvs", "NVS>") == "nvs\r\nNVS>");
     return client.command("d", "NVS>");
 }
 
 }  // namespace
 
-TEST_CASE("faults: injected garbage appears on the line, seeded, and the console still works", "[faults]")
-{
+TEST_CASE("faults: injected garbage appears on the line, seeded, and the console still works", "[faults]") {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
     dish.inject_garbage(64);
@@ -88,8 +84,7 @@ TEST_CASE("faults: injected garbage appears on the line, seeded, and the console
     CHECK(different_client.read_count(64) != garbage);
 }
 
-TEST_CASE("faults: idle noise streams garbage while the console is quiet, 0 turns it off", "[faults]")
-{
+TEST_CASE("faults: idle noise streams garbage while the console is quiet, 0 turns it off", "[faults]") {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
     dish.set_idle_noise(5000.0);
@@ -104,8 +99,7 @@ TEST_CASE("faults: idle noise streams garbage while the console is quiet, 0 turn
     CHECK(dish.fault_counters().garbage_bytes >= 300);
 }
 
-TEST_CASE("faults: swapped RX pair - every byte is the bitwise NOT, input still parsed", "[faults]")
-{
+TEST_CASE("faults: swapped RX pair - every byte is the bitwise NOT, input still parsed", "[faults]") {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
     REQUIRE(client.command("mot", "MOT>") == "mot\r\nMOT>");
@@ -118,8 +112,7 @@ TEST_CASE("faults: swapped RX pair - every byte is the bitwise NOT, input still 
     CHECK(client.command("a", "MOT>") == normal);
 }
 
-TEST_CASE("faults: swapped TX pair - the dish silently ignores input", "[faults]")
-{
+TEST_CASE("faults: swapped TX pair - the dish silently ignores input", "[faults]") {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
     dish.set_ignore_input(true);
@@ -131,8 +124,7 @@ TEST_CASE("faults: swapped TX pair - the dish silently ignores input", "[faults]
     CHECK(client.command("", "TRK>") == "\r\nTRK>");  // still at the root: `mot` never arrived
 }
 
-TEST_CASE("faults: dropped bytes - rate about p, seeded so the losses repeat exactly", "[faults]")
-{
+TEST_CASE("faults: dropped bytes - rate about p, seeded so the losses repeat exactly", "[faults]") {
     Emulator reference(fast(Variant::carryout_g2));
     PtyClient reference_client(reference.device_path());
     const std::string full = nvs_dump_reply(reference_client);
@@ -164,8 +156,7 @@ TEST_CASE("faults: dropped bytes - rate about p, seeded so the losses repeat exa
     CHECK(lossy_dump(7, dropped_other_seed) != got);
 }
 
-TEST_CASE("faults: output paced at the baud rate - a long reply takes bytes x 10 / baud", "[faults]")
-{
+TEST_CASE("faults: output paced at the baud rate - a long reply takes bytes x 10 / baud", "[faults]") {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
     constexpr int baud = 19200;
@@ -181,11 +172,10 @@ TEST_CASE("faults: output paced at the baud rate - a long reply takes bytes x 10
     dish.set_output_pacing(0);
     const auto paced_before = dish.fault_counters().paced_bytes;
     CHECK(client.command("?", "Raw stepper\r\nTRK>") == help);
-    CHECK(dish.fault_counters().paced_bytes == paced_before);   // pacing off: nothing held back
+    CHECK(dish.fault_counters().paced_bytes == paced_before);  // pacing off: nothing held back
 }
 
-TEST_CASE("faults: output stall - nothing for that long, then the buffered input is answered", "[faults]")
-{
+TEST_CASE("faults: output stall - nothing for that long, then the buffered input is answered", "[faults]") {
     Emulator dish(fast(Variant::carryout_g2));  // 10 simulated s = 200 ms real
     PtyClient client(dish.device_path());
     REQUIRE(client.command("mot", "MOT>") == "mot\r\nMOT>");
@@ -196,17 +186,18 @@ TEST_CASE("faults: output stall - nothing for that long, then the buffered input
     dish.stall_output(10.0);
     client.send("a\r");
     std::string reply;
-    for (int reads = 0; reply.empty() && reads < 1000; ++reads) reply = client.read_for(5ms);
+    for (int reads = 0; reply.empty() && reads < 1000; ++reads)
+        reply = client.read_for(5ms);
     REQUIRE_FALSE(reply.empty());
     CHECK(dish.sim_time() >= stalled_at + 10.0);
-    if (reply.find("MOT>") == std::string::npos) reply += client.read_until("MOT>", 5s);
+    if (reply.find("MOT>") == std::string::npos)
+        reply += client.read_until("MOT>", 5s);
     // Motion went on during the stall: the late answer shows the finished move.
     CHECK(reply == "a\r\n    Angle[0] = 210.00\r\n    Angle[1] = 45.00\r\nMOT>");
     CHECK(dish.faults_injected() == 1);
 }
 
-TEST_CASE("faults: power cycle mid-move stops the move dead, boots, restarts the search (console)", "[faults][boot]")
-{
+TEST_CASE("faults: power cycle mid-move stops the move dead, boots, restarts the search (console)", "[faults][boot]") {
     Options options;
     options.variant = Variant::travler_hal205;
     Console console(options);
@@ -232,8 +223,8 @@ TEST_CASE("faults: power cycle mid-move stops the move dead, boots, restarts the
     CHECK(console.take_output() == "\r\nTRK>");  // menu back at the root
 }
 
-TEST_CASE("faults: G2 power cycle mid-move - boot lines on the pty, root menu, search per NVS 20", "[faults][g2][boot]")
-{
+TEST_CASE("faults: G2 power cycle mid-move - boot lines on the pty, root menu, search per NVS 20",
+          "[faults][g2][boot]") {
     Options options = fast(Variant::carryout_g2);
     options.search_running = true;  // NVS 20 FALSE: the tracker searches after boot
     Emulator dish(options);
@@ -255,8 +246,7 @@ TEST_CASE("faults: G2 power cycle mid-move - boot lines on the pty, root menu, s
     CHECK(dish.faults_injected() == 1);
 }
 
-TEST_CASE("faults: hang-up of the pty, and its return at the same link path", "[faults]")
-{
+TEST_CASE("faults: hang-up of the pty, and its return at the same link path", "[faults]") {
     Options options = fast(Variant::carryout_g2);
     options.link_path = "/tmp/birdcage-sim-faults-" + std::to_string(::getpid());
     {
@@ -295,8 +285,7 @@ TEST_CASE("faults: hang-up of the pty, and its return at the same link path", "[
     CHECK_FALSE(path_exists(options.link_path));
 }
 
-TEST_CASE("faults: hang-up without a link - the /dev/pts node goes, reconnect gives a new one", "[faults]")
-{
+TEST_CASE("faults: hang-up without a link - the /dev/pts node goes, reconnect gives a new one", "[faults]") {
     Emulator dish(fast(Variant::carryout_g2));
     const std::string before = dish.device_path();
     dish.hang_up();
@@ -309,8 +298,7 @@ TEST_CASE("faults: hang-up without a link - the /dev/pts node goes, reconnect gi
     CHECK(client.command("", "TRK>") == "\r\nTRK>");
 }
 
-TEST_CASE("faults: AZ motor stall - message, axis short of its target, EL stall ends a g", "[faults][g2]")
-{
+TEST_CASE("faults: AZ motor stall - message, axis short of its target, EL stall ends a g", "[faults][g2]") {
     Options options = fast(Variant::carryout_g2);
     options.g2_console = G2Console::reconstructed;  // `g` is the reconstruction's (the captured MOT> has none)
     Emulator dish(options);
@@ -340,8 +328,7 @@ TEST_CASE("faults: AZ motor stall - message, axis short of its target, EL stall 
     CHECK(dish.faults_injected() == 2);
 }
 
-TEST_CASE("faults: motor stall in the console engine - exact bytes, queued moves dropped", "[faults][hal205]")
-{
+TEST_CASE("faults: motor stall in the console engine - exact bytes, queued moves dropped", "[faults][hal205]") {
     Options options;
     options.variant = Variant::travler_hal205;
     Console console(options);
@@ -361,8 +348,7 @@ TEST_CASE("faults: motor stall in the console engine - exact bytes, queued moves
     CHECK(console.motor_stalls() == 1);
 }
 
-TEST_CASE("faults: ADC scan deadlock on the pty - only a power cycle recovers", "[faults][g2][hazard]")
-{
+TEST_CASE("faults: ADC scan deadlock on the pty - only a power cycle recovers", "[faults][g2][hazard]") {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
     REQUIRE(client.command("adc", "ADC>") == "adc\r\nADC>");
@@ -379,8 +365,8 @@ TEST_CASE("faults: ADC scan deadlock on the pty - only a power cycle recovers", 
     CHECK(client.command("", "TRK>") == "\r\nTRK>");
 }
 
-TEST_CASE("faults: G2 root q deadlock - Terminating shell, dead console, power cycle recovers", "[faults][g2][hazard]")
-{
+TEST_CASE("faults: G2 root q deadlock - Terminating shell, dead console, power cycle recovers",
+          "[faults][g2][hazard]") {
     Emulator dish(fast(Variant::carryout_g2));
     PtyClient client(dish.device_path());
     CHECK(client.command("q", "\r\n") == "q\r\n");
@@ -394,8 +380,7 @@ TEST_CASE("faults: G2 root q deadlock - Terminating shell, dead console, power c
     CHECK(client.command("mot", "MOT>") == "mot\r\nMOT>");
 }
 
-TEST_CASE("faults: line faults from Options at construction", "[faults]")
-{
+TEST_CASE("faults: line faults from Options at construction", "[faults]") {
     Options options = fast(Variant::carryout_g2);
     options.line_faults.inverted_polarity = true;
     Emulator dish(options);

@@ -54,7 +54,8 @@ TEST_CASE("sky: 18 V hears the other polarisation", "[sim][sky]") {
 
 TEST_CASE("sky: reads are deterministic by seed, and averaging n reads shrinks the noise ~1/sqrt(n)", "[sim][sky]") {
     SkyModel a(7), b(7);
-    for (int i = 0; i < 50; ++i) CHECK(a.read(150.0, 30.0, LnbSupply::odu_13v) == b.read(150.0, 30.0, LnbSupply::odu_13v));
+    for (int i = 0; i < 50; ++i)
+        CHECK(a.read(150.0, 30.0, LnbSupply::odu_13v) == b.read(150.0, 30.0, LnbSupply::odu_13v));
 
     SkyModel sky(3);
     const double truth = sky.expected_rssi(150.0, 30.0, LnbSupply::odu_13v);
@@ -63,12 +64,13 @@ TEST_CASE("sky: reads are deterministic by seed, and averaging n reads shrinks t
         const int trials = 400;
         for (int t = 0; t < trials; ++t) {
             double sum = 0;
-            for (int i = 0; i < n; ++i) sum += sky.read(150.0, 30.0, LnbSupply::odu_13v);
+            for (int i = 0; i < n; ++i)
+                sum += sky.read(150.0, 30.0, LnbSupply::odu_13v);
             sum_sq += std::pow(sum / n - truth, 2);
         }
         return std::sqrt(sum_sq / trials);
     };
     const double one = spread(1), hundred = spread(100);
     CHECK(one == Approx(8.0).epsilon(0.15));
-    CHECK(hundred == Approx(0.8).margin(0.3));   // 8 / sqrt(100), plus the rounding to whole counts
+    CHECK(hundred == Approx(0.8).margin(0.3));  // 8 / sqrt(100), plus the rounding to whole counts
 }

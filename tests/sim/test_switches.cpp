@@ -15,15 +15,13 @@ using namespace birdcage::sim;
 
 namespace {
 
-Options options_for(Variant variant)
-{
+Options options_for(Variant variant) {
     Options options;
     options.variant = variant;
     return options;
 }
 
-std::string send(Console& console, std::string_view bytes)
-{
+std::string send(Console& console, std::string_view bytes) {
     console.feed(bytes);
     return console.take_output();
 }
@@ -34,38 +32,37 @@ struct Chunk {
 };
 
 // Output chunks with the simulated time they appeared, in steps of `step`, until `until`.
-std::vector<Chunk> run_for(Console& console, double until, double step = 0.001)
-{
+std::vector<Chunk> run_for(Console& console, double until, double step = 0.001) {
     std::vector<Chunk> chunks;
     while (console.time() < until - 1e-9) {
         console.advance(step);
         std::string bytes = console.take_output();
-        if (!bytes.empty()) chunks.push_back({console.time(), std::move(bytes)});
+        if (!bytes.empty())
+            chunks.push_back({console.time(), std::move(bytes)});
     }
     return chunks;
 }
 
-std::string joined(const std::vector<Chunk>& chunks)
-{
+std::string joined(const std::vector<Chunk>& chunks) {
     std::string all;
-    for (const Chunk& chunk : chunks) all += chunk.bytes;
+    for (const Chunk& chunk : chunks)
+        all += chunk.bytes;
     return all;
 }
 
 // Simulated time at which `text` had completely appeared; negative if never.
-double time_of(const std::vector<Chunk>& chunks, std::string_view text)
-{
+double time_of(const std::vector<Chunk>& chunks, std::string_view text) {
     std::string all;
     for (const Chunk& chunk : chunks) {
         all += chunk.bytes;
-        if (all.find(text) != std::string::npos) return chunk.t;
+        if (all.find(text) != std::string::npos)
+            return chunk.t;
     }
     return -1.0;
 }
 
 // Advance until `text` has appeared (at most `limit` simulated seconds); returns everything.
-std::string until_seen(Console& console, std::string_view text, double limit = 600.0)
-{
+std::string until_seen(Console& console, std::string_view text, double limit = 600.0) {
     std::string all;
     const double end = console.time() + limit;
     while (all.find(text) == std::string::npos && console.time() < end) {
@@ -77,8 +74,7 @@ std::string until_seen(Console& console, std::string_view text, double limit = 6
 
 }  // namespace
 
-TEST_CASE("help layout: available is the captured G2's, described the reconstructed G2's", "[console][switch][help]")
-{
+TEST_CASE("help layout: available is the captured G2's, described the reconstructed G2's", "[console][switch][help]") {
     Console g2(options_for(Variant::carryout_g2));
     const std::string captured = send(g2, "?\r");
     CHECK(captured.starts_with("?\r\nAvailable commands:\r\n   a3981         "));
@@ -94,8 +90,7 @@ TEST_CASE("help layout: available is the captured G2's, described the reconstruc
     CHECK(help.ends_with("Enter <q> - Quit this menu\r\nhelp [<command>]\r\nTRK>"));
 }
 
-TEST_CASE("help layout: every alternative lists the same menu words", "[console][switch][help]")
-{
+TEST_CASE("help layout: every alternative lists the same menu words", "[console][switch][help]") {
     const std::vector<std::string> hal000_words = {"mot", "nvs", "os", "stow", "reboot", "q", "?"};
     struct Case {
         HelpLayout layout;
@@ -111,7 +106,8 @@ TEST_CASE("help layout: every alternative lists the same menu words", "[console]
          "mot    : Motor\r\nnvs    : Non-volatile storage\r\nos     : OS\r\nstow   : Stow\r\nreboot : Reboot\r\n"
          "q      : Quit this menu\r\n?      : Help\r\n"},
         {HelpLayout::tab_table, true,
-         "MOT\tMotor\r\nNVS\tNon-volatile storage\r\nOS\tOS\r\nSTOW\tStow\r\nREBOOT\tReboot\r\nQ\tQuit this menu\r\n?\tHelp\r\n"},
+         "MOT\tMotor\r\nNVS\tNon-volatile storage\r\nOS\tOS\r\nSTOW\tStow\r\nREBOOT\tReboot\r\nQ\tQuit this "
+         "menu\r\n?\tHelp\r\n"},
     };
     for (const Case& c : cases) {
         Options options = options_for(Variant::travler_hal000);
@@ -130,8 +126,7 @@ TEST_CASE("help layout: every alternative lists the same menu words", "[console]
     }
 }
 
-TEST_CASE("help layout: a word list hides menu entries the switches disable", "[console][switch][help]")
-{
+TEST_CASE("help layout: a word list hides menu entries the switches disable", "[console][switch][help]") {
     Options options = options_for(Variant::travler_hal205);
     options.help_layout = HelpLayout::one_line;
     Console without(options);
@@ -141,8 +136,7 @@ TEST_CASE("help layout: a word list hides menu entries the switches disable", "[
     CHECK(send(with, "?\r") == "?\r\nmotor mot ngsearch nvs os stow reboot q ?\r\nTRK>");
 }
 
-TEST_CASE("prompt followed by a space (switch, default none, §6.1)", "[console][switch]")
-{
+TEST_CASE("prompt followed by a space (switch, default none, §6.1)", "[console][switch]") {
     Console plain(options_for(Variant::carryout_g2));
     CHECK(send(plain, "\r") == "\r\nTRK>");
     Options options = options_for(Variant::carryout_g2);
@@ -157,8 +151,7 @@ TEST_CASE("prompt followed by a space (switch, default none, §6.1)", "[console]
     CHECK(send(travler, "\r") == "\r\n> ");
 }
 
-TEST_CASE("line endings LF CR and CR alone (switch)", "[console][switch]")
-{
+TEST_CASE("line endings LF CR and CR alone (switch)", "[console][switch]") {
     Options options = options_for(Variant::carryout_g2);
     options.line_ending = LineEnding::lfcr;
     Console lfcr(options);
@@ -169,8 +162,8 @@ TEST_CASE("line endings LF CR and CR alone (switch)", "[console][switch]")
     CHECK(send(cr, "mot\r") == "mot\rMOT>");
 }
 
-TEST_CASE("boot: input is accepted right after the last boot line (default), dropped by switch", "[console][switch][boot]")
-{
+TEST_CASE("boot: input is accepted right after the last boot line (default), dropped by switch",
+          "[console][switch][boot]") {
     Options options = options_for(Variant::travler_hal000);
     options.already_booted = false;
     Console console(options);
@@ -190,15 +183,14 @@ TEST_CASE("boot: input is accepted right after the last boot line (default), dro
     CHECK(deaf.commands() == std::vector<std::string>{"q", "", ""});  // received, not acted on
 }
 
-TEST_CASE("boot: the Trav'ler's power-up calibration moves, one reading per switch value", "[console][switch][boot]")
-{
+TEST_CASE("boot: the Trav'ler's power-up calibration moves, one reading per switch value", "[console][switch][boot]") {
     struct Reading {
         TravlerBootMoves moves;
-        double lowest_az, end_az, end_el;   // mechanical AZ reached on the way, and where the boot leaves the dish
+        double lowest_az, end_az, end_el;  // mechanical AZ reached on the way, and where the boot leaves the dish
     };
-    for (const Reading& r : {Reading{TravlerBootMoves::park, 0.0, 0.0, 45.0},
-                             Reading{TravlerBootMoves::home_return, 0.0, 120.0, 30.0},
-                             Reading{TravlerBootMoves::none, 120.0, 120.0, 30.0}}) {
+    for (const Reading& r :
+         {Reading{TravlerBootMoves::park, 0.0, 0.0, 45.0}, Reading{TravlerBootMoves::home_return, 0.0, 120.0, 30.0},
+          Reading{TravlerBootMoves::none, 120.0, 120.0, 30.0}}) {
         INFO(travler_boot_moves_name(r.moves));
         for (Variant variant : {Variant::travler_hal000, Variant::travler_hal205}) {
             Options options = options_for(variant);
@@ -219,16 +211,18 @@ TEST_CASE("boot: the Trav'ler's power-up calibration moves, one reading per swit
             CHECK(console.mechanical_az() == Approx(r.end_az).margin(0.01));
             CHECK(console.position().el == Approx(r.end_el).margin(0.01));
             // The 2 s before any move is the same in every reading; a reading without moves is ready then.
-            if (r.moves == TravlerBootMoves::none) CHECK(console.time() == Approx(2.0).margin(0.02));
-            else CHECK(console.time() > 5.0);
+            if (r.moves == TravlerBootMoves::none)
+                CHECK(console.time() == Approx(2.0).margin(0.02));
+            else
+                CHECK(console.time() > 5.0);
         }
     }
     CHECK(parse_travler_boot_moves("home-return") == TravlerBootMoves::home_return);
     CHECK_FALSE(parse_travler_boot_moves("calibrate"));
 }
 
-TEST_CASE("boot: the captured G2 keeps a CR typed after Boot Complete and answers it after TRK>", "[console][switch][boot][g2]")
-{
+TEST_CASE("boot: the captured G2 keeps a CR typed after Boot Complete and answers it after TRK>",
+          "[console][switch][boot][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.already_booted = false;
     options.g2_boot_seconds = 4.0;
@@ -241,8 +235,8 @@ TEST_CASE("boot: the captured G2 keeps a CR typed after Boot Complete and answer
     CHECK(time_of(rest, "GPS Not Found") == Approx(4.0).margin(0.03));
 }
 
-TEST_CASE("boot: G2 late line after Boot Complete, a CR typed in between is answered after it (reconstructed)", "[console][switch][boot][g2]")
-{
+TEST_CASE("boot: G2 late line after Boot Complete, a CR typed in between is answered after it (reconstructed)",
+          "[console][switch][boot][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.g2_console = G2Console::reconstructed;
     options.already_booted = false;
@@ -268,8 +262,7 @@ TEST_CASE("boot: G2 late line after Boot Complete, a CR typed in between is answ
     CHECK(time_of(tail, "Loc Startup") == Approx(t0 + 0.05).margin(0.002));
 }
 
-TEST_CASE("boot: input typed before the completion line is lost", "[console][switch][boot][g2]")
-{
+TEST_CASE("boot: input typed before the completion line is lost", "[console][switch][boot][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.already_booted = false;
     Console console(options);
@@ -281,8 +274,7 @@ TEST_CASE("boot: input typed before the completion line is lost", "[console][swi
     CHECK(console.take_output().empty());  // the early CR was never answered
 }
 
-TEST_CASE("boot: line gap switch spaces the boot lines in simulated time", "[console][switch][boot][g2]")
-{
+TEST_CASE("boot: line gap switch spaces the boot lines in simulated time", "[console][switch][boot][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.already_booted = false;
     options.boot_line_gap = 0.3;
@@ -295,8 +287,7 @@ TEST_CASE("boot: line gap switch spaces the boot lines in simulated time", "[con
     CHECK(third - second == Approx(0.3).margin(0.002));
 }
 
-TEST_CASE("line rate: output leaves at 10 bits per byte of the variant's baud (switch)", "[console][switch]")
-{
+TEST_CASE("line rate: output leaves at 10 bits per byte of the variant's baud (switch)", "[console][switch]") {
     Options options = options_for(Variant::carryout_g2);
     options.pace_at_line_rate = true;
     Console console(options);
@@ -307,14 +298,14 @@ TEST_CASE("line rate: output leaves at 10 bits per byte of the variant's baud (s
     // 115200 baud: 11520 bytes per simulated second.
     const double expected = static_cast<double>(all.size()) / 11520.0;
     CHECK(chunks.back().t == Approx(expected).margin(0.001));
-    for (const Chunk& chunk : chunks) CHECK(chunk.bytes.size() <= 7);  // at most 5.76 bytes per 0.5 ms + carry
+    for (const Chunk& chunk : chunks)
+        CHECK(chunk.bytes.size() <= 7);  // at most 5.76 bytes per 0.5 ms + carry
 
     Console unpaced(options_for(Variant::carryout_g2));
     CHECK(send(unpaced, "os\rid\r").size() == all.size());  // same bytes, all at once
 }
 
-TEST_CASE("line rate: the boot log of a 57600-baud Trav'ler is paced as well", "[console][switch][boot]")
-{
+TEST_CASE("line rate: the boot log of a 57600-baud Trav'ler is paced as well", "[console][switch][boot]") {
     Options options = options_for(Variant::travler_hal205);
     options.already_booted = false;
     options.pace_at_line_rate = true;
@@ -329,8 +320,7 @@ TEST_CASE("line rate: the boot log of a 57600-baud Trav'ler is paced as well", "
     CHECK(console.take_output() == "\r\n");
 }
 
-TEST_CASE("idle line: an unsolicited line at a fixed period once booted (switch, default none)", "[console][switch]")
-{
+TEST_CASE("idle line: an unsolicited line at a fixed period once booted (switch, default none)", "[console][switch]") {
     Console quiet(options_for(Variant::carryout_g2));
     CHECK(joined(run_for(quiet, 30.0, 0.01)).empty());
 
@@ -347,8 +337,7 @@ TEST_CASE("idle line: an unsolicited line at a fixed period once booted (switch,
     CHECK(send(console, "\r") == "\r\nTRK>");
 }
 
-TEST_CASE("position replies: decimals, indentation, Trav'ler fields per line (switches)", "[console][switch]")
-{
+TEST_CASE("position replies: decimals, indentation, Trav'ler fields per line (switches)", "[console][switch]") {
     Options options = options_for(Variant::travler_hal000);
     options.position_decimals = 1;
     options.travler_position_layout = TravlerPositionLayout::line_per_axis;
@@ -371,8 +360,7 @@ TEST_CASE("position replies: decimals, indentation, Trav'ler fields per line (sw
     CHECK(send(unindented, "a\r") == "a\r\nAngle[0] = 180.00\r\nAngle[1] = 45.00\r\nMOT>");
 }
 
-TEST_CASE("home report: G2 wrap limits by default, the G2+ status line by switch", "[console][switch][g2]")
-{
+TEST_CASE("home report: G2 wrap limits by default, the G2+ status line by switch", "[console][switch][g2]") {
     Options options = options_for(Variant::carryout_g2);
     options.g2_homed = false;
     Console g2(options);
@@ -390,7 +378,8 @@ TEST_CASE("home report: G2 wrap limits by default, the G2+ status line by switch
     CHECK(until_seen(plus, "MOT>", 60.0).ends_with("\r\nAntenna Facing Front\r\nAZ - Angle: 1 Wrap: 0\r\nMOT>"));
     plus.feed("h 1\r");
     CHECK(until_seen(plus, "MOT>", 60.0) ==
-          "h 1\r\nMotorHome:1 timeout:2000\r\nHome TwelInch El   Velocity: 4500\r\nEL Stall Timeout\r\nEl Home Angle: 6500\r\nMOT>");
+          "h 1\r\nMotorHome:1 timeout:2000\r\nHome TwelInch El   Velocity: 4500\r\nEL Stall Timeout\r\nEl Home Angle: "
+          "6500\r\nMOT>");
 
     // The reconstructed console's one-line reports.
     options.g2_console = G2Console::reconstructed;
@@ -401,8 +390,8 @@ TEST_CASE("home report: G2 wrap limits by default, the G2+ status line by switch
     CHECK(until_seen(reconstructed, "MOT>", 60.0) == "h *\r\nwrap_min:-42333 wrap_max:2333\r\nMOT>");
 }
 
-TEST_CASE("g abort on input: per-variant default (2003 Carryout no, §8.5), overridable", "[console][switch][carryout2003]")
-{
+TEST_CASE("g abort on input: per-variant default (2003 Carryout no, §8.5), overridable",
+          "[console][switch][carryout2003]") {
     Console carryout(options_for(Variant::carryout2003));
     send(carryout, "target\rg 300 60\r");
     carryout.advance(0.5);
@@ -430,8 +419,7 @@ TEST_CASE("g abort on input: per-variant default (2003 Carryout no, §8.5), over
     CHECK(kept.position().az == Approx(200.0));
 }
 
-TEST_CASE("2003 Carryout: the live line period is a switch", "[console][switch][carryout2003]")
-{
+TEST_CASE("2003 Carryout: the live line period is a switch", "[console][switch][carryout2003]") {
     Options options = options_for(Variant::carryout2003);
     options.carryout_live_line_period = 1.0;
     Console console(options);
@@ -440,7 +428,8 @@ TEST_CASE("2003 Carryout: the live line period is a switch", "[console][switch][
     const auto chunks = run_for(console, 3.05, 0.01);
     std::vector<double> times;
     for (const Chunk& chunk : chunks)
-        if (chunk.bytes.find("el = ") != std::string::npos) times.push_back(chunk.t);
+        if (chunk.bytes.find("el = ") != std::string::npos)
+            times.push_back(chunk.t);
     REQUIRE(times.size() >= 3);
     CHECK(times[1] - times[0] == Approx(1.0).margin(0.011));
     CHECK(times[2] - times[1] == Approx(1.0).margin(0.011));

@@ -7,43 +7,42 @@
 // not move the dish.
 #include <catch2/catch.hpp>
 
-#include <array>
-#include <chrono>
-#include <cstdio>
-#include <cmath>
 #include <fcntl.h>
-#include <filesystem>
-#include <fstream>
 #include <poll.h>
-#include <string>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
 #include <vector>
 
-#include "console/port_lock.hpp"
 #include "birdcage_sim/dialect.hpp"
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "console/port_lock.hpp"
 
 namespace sim = birdcage::sim;
 
 namespace {
 
 // The command's stdout; its exit status in `status`.
-std::string run_with_status(const std::string& command, int& status)
-{
+std::string run_with_status(const std::string& command, int& status) {
     std::string output;
     FILE* pipe = ::popen(command.c_str(), "r");
     REQUIRE(pipe != nullptr);
     std::array<char, 4096> buffer{};
-    while (const std::size_t count = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), count);
+    while (const std::size_t count = std::fread(buffer.data(), 1, buffer.size(), pipe))
+        output.append(buffer.data(), count);
     const int raw = ::pclose(pipe);
     status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
     return output;
 }
 
-std::string run(const std::string& command)
-{
+std::string run(const std::string& command) {
     int status = 0;
     std::string output = run_with_status(command, status);
     CHECK(status == 0);
@@ -52,8 +51,7 @@ std::string run(const std::string& command)
 
 // Types console lines into the dish as a user at a terminal would, each once the previous one's
 // reply has gone quiet: to leave the console inside a submenu before the probe arrives.
-void type_into(sim::Emulator& dish, const std::vector<std::string>& lines)
-{
+void type_into(sim::Emulator& dish, const std::vector<std::string>& lines) {
     const int fd = ::open(dish.device_path().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
     REQUIRE(fd >= 0);
     for (const std::string& line : lines) {
@@ -73,19 +71,19 @@ void type_into(sim::Emulator& dish, const std::vector<std::string>& lines)
 }
 
 // One JSON string field of the report (the first), or "<absent>".
-std::string field(const std::string& report, const std::string& name)
-{
+std::string field(const std::string& report, const std::string& name) {
     const std::string key = "\"" + name + "\": ";
     const std::size_t at = report.find(key);
-    if (at == std::string::npos) return "<absent>";
+    if (at == std::string::npos)
+        return "<absent>";
     const std::size_t start = at + key.size();
-    if (report.compare(start, 4, "null") == 0) return "null";
+    if (report.compare(start, 4, "null") == 0)
+        return "null";
     const std::size_t end = report.find('"', start + 1);
     return report.substr(start + 1, end - start - 1);
 }
 
-sim::Emulator make_g2()
-{
+sim::Emulator make_g2() {
     sim::Options options;
     options.variant = sim::Variant::carryout_g2;
     options.time_scale = 20.0;
@@ -94,21 +92,30 @@ sim::Emulator make_g2()
 
 }  // namespace
 
-TEST_CASE("birdcage-probe maps every G2 submenu with its prompt and sends no hazard")
-{
+TEST_CASE("birdcage-probe maps every G2 submenu with its prompt and sends no hazard") {
     sim::Options options;
     options.variant = sim::Variant::carryout_g2;
     options.time_scale = 20.0;
     sim::Emulator dish(options);
-    const std::string report = run(std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --variant g2");
+    const std::string report =
+        run(std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --variant g2");
 
     CHECK_THAT(report, Catch::Contains("\"baud\": 115200"));
     CHECK_THAT(report, Catch::Contains("\"root_prompt\": \"TRK>\""));
     CHECK_THAT(report, Catch::Contains("\"error_string\": \"Invalid command\""));  // the captured G2's
     const std::array<std::pair<const char*, const char*>, 12> submenus{{
-        {"a3981", "A3981>"}, {"adc", "ADC>"}, {"dipswitch", "DIPSWITCH>"}, {"dvb", "DVB>"},
-        {"eeprom", "EE>"}, {"gpio", "GPIO>"}, {"latlon", "LATLON>"}, {"mot", "MOT>"},
-        {"nvs", "NVS>"}, {"os", "OS>"}, {"peak", "PEAK>"}, {"step", "STEP>"},
+        {"a3981", "A3981>"},
+        {"adc", "ADC>"},
+        {"dipswitch", "DIPSWITCH>"},
+        {"dvb", "DVB>"},
+        {"eeprom", "EE>"},
+        {"gpio", "GPIO>"},
+        {"latlon", "LATLON>"},
+        {"mot", "MOT>"},
+        {"nvs", "NVS>"},
+        {"os", "OS>"},
+        {"peak", "PEAK>"},
+        {"step", "STEP>"},
     }};
     for (const auto& [name, prompt] : submenus) {
         INFO(name);
@@ -117,7 +124,8 @@ TEST_CASE("birdcage-probe maps every G2 submenu with its prompt and sends no haz
     // The help trap: `help [<command>]` is usage, not a command and not a prompt.
     CHECK_THAT(report, !Catch::Contains("\"name\": \"help\""));
     // The captured root lists its 12 submenus only: no `reboot` or `stow` there.
-    const std::string root_help = report.substr(report.find("\"root_help\""), report.find("\"menus\"") - report.find("\"root_help\""));
+    const std::string root_help =
+        report.substr(report.find("\"root_help\""), report.find("\"menus\"") - report.find("\"root_help\""));
     CHECK_THAT(root_help, !Catch::Contains("\"name\": \"reboot\""));
     CHECK_THAT(root_help, !Catch::Contains("\"name\": \"stow\""));
     CHECK_THAT(report, Catch::Contains("\"variant\": {\"name\": \"g2\""));
@@ -130,7 +138,7 @@ namespace {
 
 struct StartingPoint {
     sim::Variant variant;
-    const char* probe_variant;            // the report's variant, or "" where the root is also the Pro's inner console
+    const char* probe_variant;  // the report's variant, or "" where the root is also the Pro's inner console
     std::vector<std::vector<std::string>> typed;  // the lines that leave the console in a submenu
     const char* root_prompt;
 };
@@ -138,14 +146,13 @@ struct StartingPoint {
 // The probe arrives where a user or rotctld left the console: it leaves the submenu with `q`,
 // maps the root, names the variant, and the dish receives no word of the hazard rule.
 void probe_from(const sim::Options& options, const std::vector<std::string>& typed, const char* root_prompt,
-                const char* variant_name, bool walk_returns = true)
-{
+                const char* variant_name, bool walk_returns = true) {
     sim::Emulator dish(options);
     type_into(dish, typed);
     const std::size_t typed_lines = dish.received_commands().size();
     int status = -1;
-    const std::string report =
-        run_with_status(std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --baud 115200 2>/dev/null", status);
+    const std::string report = run_with_status(
+        std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --baud 115200 2>/dev/null", status);
     INFO("typed " << typed.size() << " line(s), last: " << (typed.empty() ? "" : typed.back()) << "\n" << report);
     CHECK(status == 0);
     CHECK(field(report, "root_prompt") == root_prompt);
@@ -155,7 +162,8 @@ void probe_from(const sim::Options& options, const std::vector<std::string>& typ
     } else {
         CHECK_THAT(field(report, "stopped"), Catch::Contains("did not return"));
     }
-    if (*variant_name != '\0') CHECK_THAT(report, Catch::Contains(std::string("\"variant\": {\"name\": \"") + variant_name + "\""));
+    if (*variant_name != '\0')
+        CHECK_THAT(report, Catch::Contains(std::string("\"variant\": {\"name\": \"") + variant_name + "\""));
     const auto received = dish.received_commands();
     const auto hazards = dish.hazard_commands();
     INFO("hazards: " << hazards.size() << (hazards.empty() ? "" : " first: " + hazards.front()));
@@ -165,14 +173,14 @@ void probe_from(const sim::Options& options, const std::vector<std::string>& typ
     if (!typed.empty()) {
         std::size_t first = typed_lines;
         // The synchroniser's bare line endings, and its `?` when a poke drew no prompt in time.
-        while (first < received.size() && (received[first].empty() || received[first] == "?")) ++first;
+        while (first < received.size() && (received[first].empty() || received[first] == "?"))
+            ++first;
         REQUIRE(first < received.size());
         CHECK(received[first] == "q");
     }
 }
 
-sim::Options own(sim::Variant variant)
-{
+sim::Options own(sim::Variant variant) {
     sim::Options options;
     options.variant = variant;
     options.time_scale = 20.0;
@@ -183,29 +191,29 @@ sim::Options own(sim::Variant variant)
 
 // One test case per few starting points: ctest runs them side by side (each mostly waits on the
 // line).
-TEST_CASE("birdcage-probe at G2 submenu prompts (1/3): leaves with q and maps the root with no hazard", "[submenus]")
-{
-    for (const char* menu : {"a3981", "adc", "dipswitch", "dvb"}) probe_from(own(sim::Variant::carryout_g2), {menu}, "TRK>", "g2");
+TEST_CASE("birdcage-probe at G2 submenu prompts (1/3): leaves with q and maps the root with no hazard", "[submenus]") {
+    for (const char* menu : {"a3981", "adc", "dipswitch", "dvb"})
+        probe_from(own(sim::Variant::carryout_g2), {menu}, "TRK>", "g2");
 }
 
-TEST_CASE("birdcage-probe at G2 submenu prompts (2/3): leaves with q and maps the root with no hazard", "[submenus]")
-{
-    for (const char* menu : {"eeprom", "gpio", "latlon", "mot"}) probe_from(own(sim::Variant::carryout_g2), {menu}, "TRK>", "g2");
+TEST_CASE("birdcage-probe at G2 submenu prompts (2/3): leaves with q and maps the root with no hazard", "[submenus]") {
+    for (const char* menu : {"eeprom", "gpio", "latlon", "mot"})
+        probe_from(own(sim::Variant::carryout_g2), {menu}, "TRK>", "g2");
 }
 
-TEST_CASE("birdcage-probe at G2 submenu prompts (3/3): leaves with q and maps the root with no hazard", "[submenus]")
-{
-    for (const char* menu : {"nvs", "os", "peak", "step"}) probe_from(own(sim::Variant::carryout_g2), {menu}, "TRK>", "g2");
+TEST_CASE("birdcage-probe at G2 submenu prompts (3/3): leaves with q and maps the root with no hazard", "[submenus]") {
+    for (const char* menu : {"nvs", "os", "peak", "step"})
+        probe_from(own(sim::Variant::carryout_g2), {menu}, "TRK>", "g2");
 }
 
-TEST_CASE("birdcage-probe at every Trav'ler HAL submenu prompt sends no hazard", "[submenus]")
-{
-    for (const char* menu : {"mot", "nvs", "os"}) probe_from(own(sim::Variant::travler_hal000), {menu}, "TRK>", "hal000");
-    for (const char* menu : {"motor", "ngsearch", "nvs", "os"}) probe_from(own(sim::Variant::travler_hal205), {menu}, "TRK>", "hal205");
+TEST_CASE("birdcage-probe at every Trav'ler HAL submenu prompt sends no hazard", "[submenus]") {
+    for (const char* menu : {"mot", "nvs", "os"})
+        probe_from(own(sim::Variant::travler_hal000), {menu}, "TRK>", "hal000");
+    for (const char* menu : {"motor", "ngsearch", "nvs", "os"})
+        probe_from(own(sim::Variant::travler_hal205), {menu}, "TRK>", "hal205");
 }
 
-TEST_CASE("birdcage-probe at every Carryout 2003 and Trav'ler Pro submenu prompt sends no hazard", "[submenus]")
-{
+TEST_CASE("birdcage-probe at every Carryout 2003 and Trav'ler Pro submenu prompt sends no hazard", "[submenus]") {
     for (const char* menu : {"target", "motor", "dvb", "os", "nvs"})
         probe_from(own(sim::Variant::carryout2003), {menu}, "TRK>", "carryout2003");
     // The Pro at its IDU root: it walks into the ODU console and, where `q` there does not lead
@@ -213,14 +221,14 @@ TEST_CASE("birdcage-probe at every Carryout 2003 and Trav'ler Pro submenu prompt
     probe_from(own(sim::Variant::travler_pro), {}, "IDU>", "pro", false);
     // Inside its ODU console, whose root looks like HAL 0.0.00's: the report names hal000 and
     // "or_inside": "pro".
-    for (const char* menu : {"mot", "nvs", "os"}) probe_from(own(sim::Variant::travler_pro), {"odu", menu}, "TRK>", "hal000");
+    for (const char* menu : {"mot", "nvs", "os"})
+        probe_from(own(sim::Variant::travler_pro), {"odu", menu}, "TRK>", "hal000");
 }
 
 namespace {
 
 // A generated console (the dialect generator's, sim/README.md "Dialects") left in its motor menu.
-void probe_dialects(sim::Variant variant, const char* menu)
-{
+void probe_dialects(sim::Variant variant, const char* menu) {
     for (const std::uint32_t seed : {3u, 7u, 11u}) {
         sim::Options options = sim::draw_dialect(variant, seed).options;
         options.time_scale = 20.0;
@@ -243,8 +251,9 @@ void probe_dialects(sim::Variant variant, const char* menu)
             // (or, where the evidence is thin, left unnamed; never a wrong one).
             CHECK(status == 0);
             CHECK_THAT(field(report, "root_prompt"), Catch::Contains("TRK>"));  // as shown, decorations included
-            CHECK_THAT(report, Catch::Contains(std::string("\"variant\": {\"name\": \"") + sim::variant_name(variant) + "\"") ||
-                                   Catch::Contains("\"variant\": {\"name\": null"));
+            CHECK_THAT(report,
+                       Catch::Contains(std::string("\"variant\": {\"name\": \"") + sim::variant_name(variant) + "\"") ||
+                           Catch::Contains("\"variant\": {\"name\": null"));
         } else {
             // `>` everywhere: the probe cannot tell the menu from the root and says so.
             CHECK(status == 1);
@@ -255,24 +264,22 @@ void probe_dialects(sim::Variant variant, const char* menu)
 
 }  // namespace
 
-TEST_CASE("birdcage-probe on generated G2 consoles left in MOT> sends no hazard", "[submenus][dialects]")
-{
+TEST_CASE("birdcage-probe on generated G2 consoles left in MOT> sends no hazard", "[submenus][dialects]") {
     probe_dialects(sim::Variant::carryout_g2, "mot");
 }
 
-TEST_CASE("birdcage-probe on generated Trav'ler consoles left in their motor menu sends no hazard", "[submenus][dialects]")
-{
+TEST_CASE("birdcage-probe on generated Trav'ler consoles left in their motor menu sends no hazard",
+          "[submenus][dialects]") {
     probe_dialects(sim::Variant::travler_hal000, "mot");
     probe_dialects(sim::Variant::travler_hal205, "motor");
 }
 
-TEST_CASE("birdcage-probe on generated Carryout 2003 consoles left in TARGET> sends no hazard", "[submenus][dialects]")
-{
+TEST_CASE("birdcage-probe on generated Carryout 2003 consoles left in TARGET> sends no hazard",
+          "[submenus][dialects]") {
     probe_dialects(sim::Variant::carryout2003, "target");
 }
 
-TEST_CASE("birdcage-probe refuses a port another process holds or a live lock file names", "[busy]")
-{
+TEST_CASE("birdcage-probe refuses a port another process holds or a live lock file names", "[busy]") {
     sim::Emulator dish = make_g2();
     const std::string probe = std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --baud 115200";
 
@@ -303,11 +310,13 @@ TEST_CASE("birdcage-probe refuses a port another process holds or a live lock fi
         CHECK_THAT(busy, Catch::Contains("is locked by PID"));
 
         const pid_t gone = ::fork();
-        if (gone == 0) ::_exit(0);
+        if (gone == 0)
+            ::_exit(0);
         ::waitpid(gone, nullptr, 0);
         std::snprintf(text, sizeof text, "%10d\n", static_cast<int>(gone));
         std::ofstream(lock, std::ios::trunc) << text;
-        const std::string report = run_with_status("BIRDCAGE_LOCK_DIR=" + dir.string() + " " + probe + " 2>/dev/null", status);
+        const std::string report =
+            run_with_status("BIRDCAGE_LOCK_DIR=" + dir.string() + " " + probe + " 2>/dev/null", status);
         CHECK(status == 0);
         CHECK(field(report, "root_prompt") == "TRK>");
         CHECK_FALSE(std::filesystem::exists(lock));  // released at exit
@@ -316,10 +325,10 @@ TEST_CASE("birdcage-probe refuses a port another process holds or a live lock fi
     CHECK(dish.hazards_received() == 0);
 }
 
-TEST_CASE("birdcage-probe record tees a piped session into a transcript and refuses root q")
-{
+TEST_CASE("birdcage-probe record tees a piped session into a transcript and refuses root q") {
     sim::Emulator dish = make_g2();
-    const auto path = std::filesystem::temp_directory_path() / ("birdcage-record-" + std::to_string(::getpid()) + ".log");
+    const auto path =
+        std::filesystem::temp_directory_path() / ("birdcage-record-" + std::to_string(::getpid()) + ".log");
     run("printf 'mot\\na\\nq\\nq\\n' | " + std::string(BIRDCAGE_PROBE_PATH) + " record --variant g2 --port " +
         dish.device_path() + " --output " + path.string() + " 2>/dev/null");
 
@@ -336,14 +345,14 @@ TEST_CASE("birdcage-probe record tees a piped session into a transcript and refu
     CHECK(dish.shell_alive());
 }
 
-TEST_CASE("birdcage-probe without --variant waits for a booting G2 through the console synchroniser")
-{
+TEST_CASE("birdcage-probe without --variant waits for a booting G2 through the console synchroniser") {
     sim::Options options;
     options.variant = sim::Variant::carryout_g2;
     options.time_scale = 10.0;
     options.already_booted = false;
     sim::Emulator dish(options);
-    const std::string report = run(std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --baud 115200");
+    const std::string report =
+        run(std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --baud 115200");
 
     // The root prompt is the one confirmed after the boot, not a stale line read mid-boot.
     CHECK_THAT(report, Catch::Contains("\"root_prompt\": \"TRK>\""));
@@ -355,8 +364,7 @@ TEST_CASE("birdcage-probe without --variant waits for a booting G2 through the c
 namespace {
 
 // The "deep" object's entry for one menu, up to the next menu.
-std::string deep_menu(const std::string& report, const std::string& menu)
-{
+std::string deep_menu(const std::string& report, const std::string& menu) {
     const std::size_t deep = report.find("\"deep\": {");
     REQUIRE(deep != std::string::npos);
     const std::size_t start = report.find("{\"menu\": \"" + menu + "\"", deep);
@@ -367,8 +375,7 @@ std::string deep_menu(const std::string& report, const std::string& menu)
 
 }  // namespace
 
-TEST_CASE("birdcage-probe --deep finds the commands a G2 accepts but does not list, and never moves it")
-{
+TEST_CASE("birdcage-probe --deep finds the commands a G2 accepts but does not list, and never moves it") {
     sim::Options options;
     options.variant = sim::Variant::carryout_g2;
     options.time_scale = 20.0;
@@ -413,8 +420,7 @@ TEST_CASE("birdcage-probe --deep finds the commands a G2 accepts but does not li
     CHECK(dish.shell_alive());
 }
 
-TEST_CASE("birdcage-probe --deep accepts nothing unlisted where the emulator hides nothing")
-{
+TEST_CASE("birdcage-probe --deep accepts nothing unlisted where the emulator hides nothing") {
     // The reconstructed console with unlisted_commands off: `l` is an unknown command.
     sim::Options options;
     options.variant = sim::Variant::carryout_g2;
@@ -429,23 +435,23 @@ TEST_CASE("birdcage-probe --deep accepts nothing unlisted where the emulator hid
     CHECK(dish.hazards_received() == 0);
 }
 
-TEST_CASE("birdcage-probe --deep never sends a hazard or an argument, whatever the word list says")
-{
+TEST_CASE("birdcage-probe --deep never sends a hazard or an argument, whatever the word list says") {
     sim::Options options;
     options.variant = sim::Variant::carryout_g2;
     options.time_scale = 20.0;
     options.g2_console = sim::G2Console::reconstructed;  // `stow`/`reboot` at the root, `l` unlisted
     options.unlisted_commands = true;
     sim::Emulator dish(options);
-    const auto path = std::filesystem::temp_directory_path() / ("birdcage-words-" + std::to_string(::getpid()) + ".txt");
+    const auto path =
+        std::filesystem::temp_directory_path() / ("birdcage-words-" + std::to_string(::getpid()) + ".txt");
     {
         std::ofstream words(path);
         words << "# hazards and arguments first\nstow\nreboot\ndef\ninv\nscan\nq\nQ\ng 10 20\na 0 90\nl\n";
     }
     // Without --variant the guard judges with the G2's rules; the root walk itself sends no hazard.
-    const std::string report = run(std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() +
-                                   " --baud 115200 --deep --wordlist " + path.string() +
-                                   " --submenu root --submenu mot --submenu eeprom 2>/dev/null");
+    const std::string report =
+        run(std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --baud 115200 --deep --wordlist " +
+            path.string() + " --submenu root --submenu mot --submenu eeprom 2>/dev/null");
     std::filesystem::remove(path);
 
     // Words the hazard rule names in any menu of any variant are reported, not sent.

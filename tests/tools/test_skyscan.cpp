@@ -22,7 +22,8 @@ TEST_CASE("ranges: from:to:step, inclusive, malformed ones refused") {
 TEST_CASE("serpentine: elevation up in even columns, down in odd ones, every point once") {
     const auto plan = serpentine(*parse_range("10:12:1"), *parse_range("20:22:1"));
     REQUIRE(plan.size() == 9);
-    const double expected[9][2] = {{10, 20}, {10, 21}, {10, 22}, {11, 22}, {11, 21}, {11, 20}, {12, 20}, {12, 21}, {12, 22}};
+    const double expected[9][2] = {{10, 20}, {10, 21}, {10, 22}, {11, 22}, {11, 21},
+                                   {11, 20}, {12, 20}, {12, 21}, {12, 22}};
     for (std::size_t i = 0; i < plan.size(); ++i) {
         CHECK(plan[i].az == expected[i][0]);
         CHECK(plan[i].el == expected[i][1]);
@@ -57,7 +58,7 @@ TEST_CASE("resume: an interrupted last row is dropped and scanned again, nothing
     const auto plan = serpentine(*parse_range("10:11:1"), *parse_range("20:22:1"));
     const auto rest = remaining(plan, done);
     REQUIRE(rest.size() == 4);
-    CHECK(rest.front().el == 22.0);   // the cut-off row
+    CHECK(rest.front().el == 22.0);  // the cut-off row
     CHECK(rest.back().az == 11.0);
     CHECK(rest.back().el == 20.0);
     // Float text of the same point matches (0.01 degree lattice).

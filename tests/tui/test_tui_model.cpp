@@ -10,12 +10,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
-#include <unistd.h>
 
 using namespace std::chrono_literals;
 namespace tui = birdcage::tui;
@@ -27,7 +27,7 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("the client reads a G2's position, status, info, caps and levels through rotctld") {
     e2e::Rig rig(e2e::dish_options(Variant::carryout_g2, 100.0, 30.0, 20.0), 90105, {"-C", "time_scale=20"});
@@ -64,11 +64,11 @@ TEST_CASE("the client reads a G2's position, status, info, caps and levels throu
 
     std::string info;
     CHECK(client.get_info(info) == 0);
-    CHECK(info.find("[g2,") != std::string::npos);   // the variant in force
+    CHECK(info.find("[g2,") != std::string::npos);  // the variant in force
 
     std::string flags = "?";
     CHECK(client.get_status(flags) == 0);
-    CHECK(flags.empty());   // at rest
+    CHECK(flags.empty());  // at rest
     CHECK(tui::squeeze_flags(flags) == "idle");
     CHECK(tui::squeeze_flags("BUSY MOVING BUSY MOVING ") == "BUSY MOVING");
     tui::Limits limits;
@@ -90,7 +90,7 @@ TEST_CASE("a Trav'ler lists the levels but has no RSSI, and the station says so"
     tui::RotatorCaps caps;
     CHECK(client.get_caps(caps) == 0);
     CHECK(caps.model.find("Trav") != std::string::npos);
-    CHECK_FALSE(caps.can_reset);   // it has no homing: the info screen must not offer home(R)
+    CHECK_FALSE(caps.can_reset);  // it has no homing: the info screen must not offer home(R)
     client.disconnect();
 
     // The signal screen: the levels are listed (the models share them), the reading says why not.
@@ -130,10 +130,10 @@ TEST_CASE("the station moves the dish, and notices rotctld going away") {
     station.watch_signal(true);
     REQUIRE(e2e::wait_until([&] { return station.snapshot().rssi && station.snapshot().lnb; }, 20s));
 
-    rig.reset();   // rotctld exits
+    rig.reset();  // rotctld exits
     CHECK(e2e::wait_until([&] { return station.snapshot().link == tui::LinkState::reconnecting; }, 10s));
     const tui::Snapshot gone = station.snapshot();
-    CHECK_FALSE(gone.position);   // not shown as if current
+    CHECK_FALSE(gone.position);  // not shown as if current
     // Nothing of the dead link stays on any screen: no RSSI, LNB or trend, no last "ok".
     CHECK_FALSE(gone.rssi);
     CHECK_FALSE(gone.lnb);
@@ -154,13 +154,17 @@ TEST_CASE("a jog starts from where the dish is now, not from a target another cl
     station.submit({tui::Command::Kind::move, 174.0, 44.0, {}});
     REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 174.0, 44.0, 0.2); }, 60s));
 
-    e2e::RotctldConnection other(rig.port());   // another client moves the dish
+    e2e::RotctldConnection other(rig.port());  // another client moves the dish
     REQUIRE(other.ask("P 120 30", 1) == "RPRT 0\n");
     REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, 30.0, 0.2); }, 60s));
 
     station.submit({tui::Command::Kind::jog, 1.0, 0.0, {}});
-    REQUIRE(e2e::wait_until([&] { return station.snapshot().last_result.rfind("P ", 0) == 0 &&
-                                         station.snapshot().last_result.find("121.") != std::string::npos; }, 10s));
+    REQUIRE(e2e::wait_until(
+        [&] {
+            return station.snapshot().last_result.rfind("P ", 0) == 0 &&
+                   station.snapshot().last_result.find("121.") != std::string::npos;
+        },
+        10s));
     const auto target = station.snapshot().target;
     REQUIRE(target);
     CHECK(target->first == Approx(121.0).margin(0.2));

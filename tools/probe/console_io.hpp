@@ -57,10 +57,9 @@ class Guard {
 public:
     // variant: what --variant names; nullopt = every variant's rules (the strictest). requests:
     // what the person behind it asks for (the probe: nothing; record: the moves a user types).
-    Guard(std::optional<birdcage::VariantId> variant, bool force, birdcage::HazardRequests requests = birdcage::request_nothing)
-        : variant_(variant), force_(force), requests_(requests)
-    {
-    }
+    Guard(std::optional<birdcage::VariantId> variant, bool force,
+          birdcage::HazardRequests requests = birdcage::request_nothing)
+        : variant_(variant), force_(force), requests_(requests) {}
     // Empty when the command may go out; otherwise why not.
     std::string refusal(std::string_view command, std::string_view menu) const;
 

@@ -13,8 +13,7 @@
 
 namespace probe {
 
-inline std::string json_string(std::string_view text)
-{
+inline std::string json_string(std::string_view text) {
     std::string out = "\"";
     for (const char c : text) {
         const auto byte = static_cast<unsigned char>(c);
@@ -32,15 +31,14 @@ inline std::string json_string(std::string_view text)
     return out + "\"";
 }
 
-inline std::string json_strings(const std::vector<std::string>& items)
-{
+inline std::string json_strings(const std::vector<std::string>& items) {
     std::string out = "[";
-    for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + json_string(items[i]);
+    for (std::size_t i = 0; i < items.size(); ++i)
+        out += (i ? ", " : "") + json_string(items[i]);
     return out + "]";
 }
 
-inline std::string json_help(const std::vector<HelpEntry>& entries, const std::string& indent)
-{
+inline std::string json_help(const std::vector<HelpEntry>& entries, const std::string& indent) {
     std::string out = "[";
     for (std::size_t i = 0; i < entries.size(); ++i)
         out += (i ? "," : "") + std::string("\n") + indent + "  {\"name\": " + json_string(entries[i].name) +

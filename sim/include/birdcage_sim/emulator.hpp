@@ -28,10 +28,10 @@ const char* variant_name(Variant);
 // TRK>", §6.1). LF CR is a common embedded-shell habit; CR alone breaks travler_init.py's
 // readline (§3.6) and is offered only to try that.
 enum class LineEnding { crlf, lf, lfcr, cr };
-enum class AzReport { displayed, mechanical };  // §14 G2.4 (and §3.3: `a` may show the wrap)
-enum class OutOfRange { clamp, reject };     // §14 HAL0.4, G2.6; §3.4 "unreliable below 15"
-enum class MoveAck { immediate, after_motion };  // §14 G2.3
-enum class PromptStyle { named, bare };      // Trav'ler/Carryout 2003 prompts, §14 HAL0.1, CO.2
+enum class AzReport { displayed, mechanical };     // §14 G2.4 (and §3.3: `a` may show the wrap)
+enum class OutOfRange { clamp, reject };           // §14 HAL0.4, G2.6; §3.4 "unreliable below 15"
+enum class MoveAck { immediate, after_motion };    // §14 G2.3
+enum class PromptStyle { named, bare };            // Trav'ler/Carryout 2003 prompts, §14 HAL0.1, CO.2
 enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete line, §4.2
 // What a Trav'ler (HAL 0.0.00, 2.05, Pro) does with its motors at power-up, before its ready line
 // (§3.2, §5.2, §14 HAL0.9). The sources say only that it calibrates, "finding its position and wrap
@@ -57,22 +57,22 @@ const char* travler_boot_moves_name(TravlerBootMoves);
 //                way round (§2 "reverses to reach the target from the other side", §3.5 "with wrap
 //                position at 0 the dish stops and reverses mid-track", §6.3 `w`/`sw`).
 enum class AzMapping { nearest, literal, wrap_manager };
-std::optional<AzMapping> parse_az_mapping(std::string_view name);   // "nearest", "literal", "wrap_manager"
+std::optional<AzMapping> parse_az_mapping(std::string_view name);  // "nearest", "literal", "wrap_manager"
 // `?` listing layout. Only the G2's is captured (`available`, sim/transcripts/captured/); the
 // reconstructed G2 console printed `Enter <cmd> - Description` per line plus the usage line
 // `help [<command>]` (the predecessor's summary, §6.3). No source shows a Trav'ler or 2003 Carryout listing
 // verbatim (§3.3, §8.3 say only that `?` lists the commands), so the others are the shapes a
 // firmware console plausibly prints, each filled from the same menu table.
 enum class HelpLayout {
-    available,    // the captured G2's: `Available commands:`, then `   <word padded to 14><description>`
-    described,    // `Enter <a> - Angle ...` per command, `Enter <q> - ...`, `help [<command>]`
-    words,        // bare command words, one per line
-    one_line,     // all words on one line, space-separated
-    comma_line,   // all words on one line, `, `-separated
-    colon_table,  // `a            : Angle ...` (word padded to the longest)
-    tab_table,    // `a<TAB>Angle ...`
+    available,      // the captured G2's: `Available commands:`, then `   <word padded to 14><description>`
+    described,      // `Enter <a> - Angle ...` per command, `Enter <q> - ...`, `help [<command>]`
+    words,          // bare command words, one per line
+    one_line,       // all words on one line, space-separated
+    comma_line,     // all words on one line, `, `-separated
+    colon_table,    // `a            : Angle ...` (word padded to the longest)
+    tab_table,      // `a<TAB>Angle ...`
     labelled_line,  // `Commands: a g q ?`: a label, then all words on one line (INVENTED label)
-    generated,    // drawn by the dialect generator: Options::help_grammar (sim/README.md, "Dialects")
+    generated,      // drawn by the dialect generator: Options::help_grammar (sim/README.md, "Dialects")
 };
 
 // The shape of a `?` listing, from the dialect generator's grammar (sim/README.md, "Dialects").
@@ -89,22 +89,22 @@ struct HelpGrammar {
     std::vector<std::string> title_lines;   // printed before the entries ("" = an empty line)
     std::vector<std::string> footer_lines;  // printed after them
     HelpArrangement arrangement = HelpArrangement::rows;
-    std::string label;                 // packed: before the first word (e.g. "Commands: ")
-    std::string word_open, word_close; // brackets around each word
-    std::string row_prefix;            // rows: before each entry (e.g. "  ", "- ")
-    std::string numbering;             // rows: "" or a pattern with '#' for the number ("#. ", "[#] ")
+    std::string label;                  // packed: before the first word (e.g. "Commands: ")
+    std::string word_open, word_close;  // brackets around each word
+    std::string row_prefix;             // rows: before each entry (e.g. "  ", "- ")
+    std::string numbering;              // rows: "" or a pattern with '#' for the number ("#. ", "[#] ")
     TextCase word_case = TextCase::as_is;
-    bool descriptions = true;          // rows: the command's description after the word
-    std::string separator = " - ";     // rows: between word and description
-    bool pad_words = false;            // rows: descriptions aligned in one column
+    bool descriptions = true;       // rows: the command's description after the word
+    std::string separator = " - ";  // rows: between word and description
+    bool pad_words = false;         // rows: descriptions aligned in one column
     TextCase description_case = TextCase::as_is;
-    std::string packed_separator = " ";  // packed: between words
-    std::size_t columns = 4;           // columns: words per line
-    std::size_t column_width = 12;     // columns: each cell padded to this width
-    std::size_t wrap_width = 0;        // 0: no wrapping; else longer lines continue on the next
-    std::size_t continuation_indent = 0;  // spaces before a continuation line
+    std::string packed_separator = " ";        // packed: between words
+    std::size_t columns = 4;                   // columns: words per line
+    std::size_t column_width = 12;             // columns: each cell padded to this width
+    std::size_t wrap_width = 0;                // 0: no wrapping; else longer lines continue on the next
+    std::size_t continuation_indent = 0;       // spaces before a continuation line
     bool list_quit = true, list_help = false;  // `q` and `?` among the entries
-    bool sorted = false;               // words in alphabetical order instead of table order
+    bool sorted = false;                       // words in alphabetical order instead of table order
 };
 
 // A line (or only a silence) the dialect generator adds to the boot log. Boot logs are the
@@ -113,8 +113,8 @@ struct ExtraBootLine {
     // Inserted before the documented line with this index (0 = before the first; the number of
     // documented lines = after the last, i.e. after the completion marker, where input is kept).
     std::size_t before_documented = 0;
-    std::string text;            // empty: only the silence
-    double silence_before = 0.0; // simulated seconds of quiet before the line
+    std::string text;             // empty: only the silence
+    double silence_before = 0.0;  // simulated seconds of quiet before the line
 };
 // What `h` prints when the AZ axis has homed (§14 G2.8). The G2 02.02.48's wrap line is known
 // from its homing output (§6.3); mjlangan's G2+ client waits for `AZ - Angle: 1 Wrap: 0` (§7.1,
@@ -131,29 +131,29 @@ enum class ReplayMode { off, strict, lenient };
 // are wire properties and run in real time, not scaled by Options::time_scale. Settable at
 // construction and live through the Emulator setters.
 struct LineFaults {
-    double idle_noise_bps = 0.0;    // random bytes per real second while the line is idle
-    bool inverted_polarity = false; // every byte the dish sends is bit-inverted (swapped RX pair)
-    bool ignore_input = false;      // the dish never sees client bytes (swapped TX pair)
-    double drop_probability = 0.0;  // each byte the dish sends is lost with this probability
-    int pace_baud = 0;              // 0: as fast as the pty takes it; else 10 bits per byte
+    double idle_noise_bps = 0.0;     // random bytes per real second while the line is idle
+    bool inverted_polarity = false;  // every byte the dish sends is bit-inverted (swapped RX pair)
+    bool ignore_input = false;       // the dish never sees client bytes (swapped TX pair)
+    double drop_probability = 0.0;   // each byte the dish sends is lost with this probability
+    int pace_baud = 0;               // 0: as fast as the pty takes it; else 10 bits per byte
 };
 
 // Bookkeeping of what the injected faults did.
 struct FaultCounters {
-    std::uint64_t garbage_bytes = 0;  // noise written to the line (inject_garbage + idle noise)
-    std::uint64_t dropped_bytes = 0;  // dish bytes lost to set_drop_probability
-    std::uint64_t ignored_bytes = 0;  // client bytes lost to set_ignore_input or a hang-up
+    std::uint64_t garbage_bytes = 0;    // noise written to the line (inject_garbage + idle noise)
+    std::uint64_t dropped_bytes = 0;    // dish bytes lost to set_drop_probability
+    std::uint64_t ignored_bytes = 0;    // client bytes lost to set_ignore_input or a hang-up
     std::uint64_t discarded_bytes = 0;  // dish bytes printed while the adapter was unplugged
-    unsigned motor_stalls = 0;        // injected motor stalls that have happened
-    std::uint64_t paced_bytes = 0;    // bytes written at set_output_pacing's rate
+    unsigned motor_stalls = 0;          // injected motor stalls that have happened
+    std::uint64_t paced_bytes = 0;      // bytes written at set_output_pacing's rate
 };
 
 // Overrides of the variant's motor parameters (unset: the variant's value). Simulated time.
 struct MotorDynamics {
-    double startup_delay = 0.0;            // seconds from a move command to the first motion
-    std::optional<double> az_velocity;     // deg/s
-    std::optional<double> el_velocity;     // deg/s
-    std::optional<double> accel;           // deg/s^2, both axes
+    double startup_delay = 0.0;         // seconds from a move command to the first motion
+    std::optional<double> az_velocity;  // deg/s
+    std::optional<double> el_velocity;  // deg/s
+    std::optional<double> accel;        // deg/s^2, both axes
 };
 
 // Which G2 console the emulator plays (docs/firmware.md §6, sim/README.md "The G2 console"):
@@ -175,17 +175,17 @@ enum class G2RootQ {
 
 struct Options {
     Variant variant = Variant::carryout_g2;
-    double time_scale = 1.0;      // simulated seconds per real second
-    bool already_booted = true;   // false: boot log first (scaled time), then post-boot behaviour
-    bool search_running = false;  // with already_booted: the TV-satellite search is running
+    double time_scale = 1.0;                   // simulated seconds per real second
+    bool already_booted = true;                // false: boot log first (scaled time), then post-boot behaviour
+    bool search_running = false;               // with already_booted: the TV-satellite search is running
     double start_az = 180.0, start_el = 45.0;  // true position at start (mapped into the wrap window)
-    std::string link_path;        // if non-empty: symlink to the pty slave, removed on destruction
-    std::uint32_t seed = 1;       // RSSI noise, search wander, fault injection (garbage, drops)
-    LineFaults line_faults;       // initial line faults (see Emulator fault injection)
+    std::string link_path;                     // if non-empty: symlink to the pty slave, removed on destruction
+    std::uint32_t seed = 1;                    // RSSI noise, search wander, fault injection (garbage, drops)
+    LineFaults line_faults;                    // initial line faults (see Emulator fault injection)
 
     // --- unknown-behaviour switches -----------------------------------------------------
     // Every switch below is listed in sim/README.md with its CLI flag, evidence and alternatives.
-    bool echo = true;             // §6.1 (G2: strong evidence), §3.1 / §14 (others: hints only)
+    bool echo = true;  // §6.1 (G2: strong evidence), §3.1 / §14 (others: hints only)
     LineEnding line_ending = LineEnding::crlf;
     // Unset: the captured G2's `Invalid command` on the captured G2 (§6.3), elsewhere `Unknown
     // command` (§14 HAL0.4: undocumented, INVENTED). Empty = print nothing.
@@ -229,9 +229,9 @@ struct Options {
     // §14 HAL0.1: a space after `>`? Davidson's G2 transcript shows typed text right after the
     // prompt (`TRK>nvs`, §6.1): no space.
     bool prompt_space = false;
-    BootMarker hal205_boot_marker = BootMarker::no_gps;  // §4.2
+    BootMarker hal205_boot_marker = BootMarker::no_gps;            // §4.2
     TravlerBootMoves travler_boot_moves = TravlerBootMoves::park;  // §3.2, §14 HAL0.9
-    bool hal205_accepts_mot = false;  // §14 HAL2.05.4: does `mot` work besides `motor`?
+    bool hal205_accepts_mot = false;                               // §14 HAL2.05.4: does `mot` work besides `motor`?
     // §14 Pro.2: does `q` at the ODU root return to the IDU console? The Pro client sends
     // `odu`, `q`, CR, `mot` (§5.6), which only works if it does not.
     bool pro_q_at_odu_root_returns_to_idu = false;
@@ -343,21 +343,21 @@ public:
 
     // link_path if given, else /dev/pts/N (a new N after reconnect(), hence by value).
     std::string device_path() const;
-    Pose true_position() const;              // displayed az in [0,360), el
-    double true_mechanical_az() const;       // az including cable-wrap turns
+    Pose true_position() const;         // displayed az in [0,360), el
+    double true_mechanical_az() const;  // az including cable-wrap turns
     bool moving() const;
     bool search_running() const;
-    std::vector<Sample> history() const;     // true position over simulated time
+    std::vector<Sample> history() const;  // true position over simulated time
     // Command lines the core's hazard rule names (docs/firmware.md §15) sent outside a move request,
     // and the state-dependent hazards (moves on unhomed axes, the Pro above 75°); at most one per line.
     unsigned hazards_received() const;
-    std::vector<std::string> hazard_commands() const;   // the line of each, in order
+    std::vector<std::string> hazard_commands() const;    // the line of each, in order
     std::vector<std::string> received_commands() const;  // every complete line, in order (empty lines included)
     double sim_time() const;
     // Reboot, also mid-move: motion stops dead, boot log (and boot moves), the search restarts
     // where the variant's does, menu at root, deadlocks cleared. Counts as an injected fault.
     void power_cycle();
-    bool shell_alive() const;                // false after a G2 root `q` or an ADC `scan` deadlock
+    bool shell_alive() const;  // false after a G2 root `q` or an ADC `scan` deadlock
 
     // --- fault injection (docs/reliability.md), all thread-safe -------------------------------------
     // Random bytes (seeded by Options::seed) queued on the line now, behind dish output already
@@ -396,13 +396,13 @@ public:
     // inject_motor_stall calls.
     unsigned faults_injected() const;
     FaultCounters fault_counters() const;
-    LineFaults line_faults() const;          // the current continuous faults
+    LineFaults line_faults() const;  // the current continuous faults
 
     // Replay only. The diff at the first unexpected command (strict mode), escaped, with the
     // transcript line number; nullopt while the session follows the transcript.
     std::optional<std::string> replay_failure() const;
-    bool replay_complete() const;            // every transcript chunk was matched or sent
-    bool replay_fell_back() const;           // lenient mode handed over to the model console
+    bool replay_complete() const;   // every transcript chunk was matched or sent
+    bool replay_fell_back() const;  // lenient mode handed over to the model console
 
 private:
     struct Impl;

@@ -18,7 +18,7 @@ struct AxisParams {
     double max_accel;     // deg/s^2
     double min;           // mechanical travel, deg (targets are clamped into it)
     double max;
-    int steps_per_rev;    // 0 = continuous; otherwise targets snap to whole steps (docs/firmware.md §6.4)
+    int steps_per_rev;  // 0 = continuous; otherwise targets snap to whole steps (docs/firmware.md §6.4)
     // Seconds between a move command to an axis at rest and its first motion (relay, driver
     // wake-up, firmware latency). docs/firmware.md gives only whole-move timings, so a motor that
     // starts late and then runs faster fits them as well as one that starts at once.
@@ -48,8 +48,8 @@ class Axis {
 public:
     Axis(AxisParams params, double position);
 
-    void move_to(double target);  // clamps into travel and quantises; may be called while moving
-    void stop();                  // decelerate at max_accel and stay where the ramp ends
+    void move_to(double target);         // clamps into travel and quantises; may be called while moving
+    void stop();                         // decelerate at max_accel and stay where the ramp ends
     void set_position(double position);  // re-zero without motion (homing calibration)
     // Returns the part of dt left over after the axis came to rest on its target.
     double advance(double dt);
@@ -79,11 +79,10 @@ enum AxisIndex : std::size_t { axis_az = 0, axis_el = 1, axis_skew = 2 };
 // in the order requested (docs/firmware.md §2, §3.4). Skew (Trav'ler) runs independently.
 class MotorModel {
 public:
-    MotorModel(AxisParams az, AxisParams el, AxisParams skew, double az_pos, double el_pos,
-               double skew_pos = 0.0);
+    MotorModel(AxisParams az, AxisParams el, AxisParams skew, double az_pos, double el_pos, double skew_pos = 0.0);
 
     void enqueue(std::size_t axis, double target);
-    void stop_all();   // abort: drop queued moves and ramp every axis down
+    void stop_all();  // abort: drop queued moves and ramp every axis down
     void advance(double dt);
 
     const Axis& axis(std::size_t index) const { return axes_[index]; }

@@ -18,8 +18,8 @@ enum class LnbSupply { odu_13v, stb_18v };
 
 struct Satellite {
     std::string name;
-    double az = 0.0, el = 0.0;    // look angles at the scan's site
-    double amplitude_13v = 0.0;   // counts above the floor at the beam centre
+    double az = 0.0, el = 0.0;   // look angles at the scan's site
+    double amplitude_13v = 0.0;  // counts above the floor at the beam centre
     double amplitude_18v = 0.0;
 };
 

@@ -40,7 +40,7 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-Transcript parse_transcript(std::string_view text);  // throws TranscriptError
+Transcript parse_transcript(std::string_view text);   // throws TranscriptError
 Transcript load_transcript(const std::string& path);  // throws TranscriptError (also for I/O)
 
 // `\r`, `\n`, `\t`, `\\`, `\xNN` for every other byte outside printable ASCII. A leading or

@@ -47,7 +47,8 @@ double sharpest_turn_deg(const std::vector<AzEl>& track, double min_step_deg) {
             previous_point = point;
             continue;
         }
-        const Vec step{point[0] - (*previous_point)[0], point[1] - (*previous_point)[1], point[2] - (*previous_point)[2]};
+        const Vec step{point[0] - (*previous_point)[0], point[1] - (*previous_point)[1],
+                       point[2] - (*previous_point)[2]};
         const double length = std::sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2]);
         if (length < min_chord) {
             continue;  // measured from the last point kept, so slow steps still add up

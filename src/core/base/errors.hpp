@@ -22,7 +22,7 @@ enum class Errc {
     disconnected,      // the port hung up (pty closed, USB adapter unplugged)
 };
 
-const char* to_string(Errc code);   // words for people; may be reworded
+const char* to_string(Errc code);  // words for people; may be reworded
 // The enumerator's own name (`not_homed`), for machine-read output such as the transcript golden
 // files: it changes only when the enumerator does.
 const char* errc_name(Errc code);

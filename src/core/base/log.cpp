@@ -9,10 +9,14 @@ namespace birdcage {
 
 const char* to_string(LogLevel level) {
     switch (level) {
-    case LogLevel::error: return "error";
-    case LogLevel::warning: return "warning";
-    case LogLevel::verbose: return "verbose";
-    case LogLevel::trace: return "trace";
+        case LogLevel::error:
+            return "error";
+        case LogLevel::warning:
+            return "warning";
+        case LogLevel::verbose:
+            return "verbose";
+        case LogLevel::trace:
+            return "trace";
     }
     return "?";
 }
@@ -25,18 +29,26 @@ std::string escape_bytes(std::string_view bytes) {
     for (char c : bytes) {
         const auto byte = static_cast<unsigned char>(c);
         switch (c) {
-        case '\r': out += "\\r"; break;
-        case '\n': out += "\\n"; break;
-        case '\t': out += "\\t"; break;
-        case '\\': out += "\\\\"; break;
-        default:
-            if (byte >= 0x20 && byte < 0x7f) {
-                out += c;
-            } else {
-                out += "\\x";
-                out += hex[byte >> 4];
-                out += hex[byte & 0x0f];
-            }
+            case '\r':
+                out += "\\r";
+                break;
+            case '\n':
+                out += "\\n";
+                break;
+            case '\t':
+                out += "\\t";
+                break;
+            case '\\':
+                out += "\\\\";
+                break;
+            default:
+                if (byte >= 0x20 && byte < 0x7f) {
+                    out += c;
+                } else {
+                    out += "\\x";
+                    out += hex[byte >> 4];
+                    out += hex[byte & 0x0f];
+                }
         }
     }
     return out;

@@ -32,7 +32,7 @@ struct LegMotion {
     Clock::time_point sent_at{};
     AxisReading latest;
     std::optional<AxisReading> previous, first_moving;
-    double pace = 1.0;   // until its readings time it: the axis' pace on legs this long (AxisPaces)
+    double pace = 1.0;  // until its readings time it: the axis' pace on legs this long (AxisPaces)
     // Seconds from the command to the first motion: the axis' start-up delay (StartupDelays), plus
     // what the firmware still ran before it (`a` queues behind a moving motor, docs/firmware.md §2).
     double startup_s = 0.0;

@@ -78,13 +78,20 @@ using ConsoleEventSink = std::function<void(const ConsoleEvent&)>;
 // The kind's enumerator name ("live_position"): stable, for output that machines compare.
 constexpr std::string_view console_event_name(ConsoleEvent::Kind kind) {
     switch (kind) {
-    case ConsoleEvent::Kind::position: return "position";
-    case ConsoleEvent::Kind::live_position: return "live_position";
-    case ConsoleEvent::Kind::move_ack: return "move_ack";
-    case ConsoleEvent::Kind::fault: return "fault";
-    case ConsoleEvent::Kind::unhomed: return "unhomed";
-    case ConsoleEvent::Kind::unrecognised: return "unrecognised";
-    case ConsoleEvent::Kind::reached: return "reached";
+        case ConsoleEvent::Kind::position:
+            return "position";
+        case ConsoleEvent::Kind::live_position:
+            return "live_position";
+        case ConsoleEvent::Kind::move_ack:
+            return "move_ack";
+        case ConsoleEvent::Kind::fault:
+            return "fault";
+        case ConsoleEvent::Kind::unhomed:
+            return "unhomed";
+        case ConsoleEvent::Kind::unrecognised:
+            return "unrecognised";
+        case ConsoleEvent::Kind::reached:
+            return "reached";
     }
     return "unknown";
 }

@@ -28,8 +28,8 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr auto help_timeout = 3000ms;
-constexpr auto resync_budget = 5000ms;     // after a `q`: the console is up, only the menu changed
-constexpr int max_levels = 4;              // deepest menu nesting seen: Pro IDU > ODU > mot
+constexpr auto resync_budget = 5000ms;  // after a `q`: the console is up, only the menu changed
+constexpr int max_levels = 4;           // deepest menu nesting seen: Pro IDU > ODU > mot
 constexpr char force_hint[] =
     "force one with -C variant=<hal000|hal205|pro|carryout2003|g2> or use that variant's own model";
 
@@ -42,7 +42,9 @@ std::string trimmed(std::string_view text) {
     return std::string(text.substr(first, last - first + 1));
 }
 
-std::string variant_name(VariantId id) { return std::string(profile(id).short_name); }
+std::string variant_name(VariantId id) {
+    return std::string(profile(id).short_name);
+}
 
 std::string summary(const std::vector<VariantScore>& ranking) {
     std::string text;
@@ -70,10 +72,14 @@ std::string listing_text(const HelpListing& help) {
 
 std::string answer_name(ProbeAnswer answer) {
     switch (answer) {
-    case ProbeAnswer::any: return "anything";
-    case ProbeAnswer::nothing: return "no position";
-    case ProbeAnswer::travler_position: return "a Trav'ler position (AZ = ...)";
-    case ProbeAnswer::g2_position: return "a G2 position (Angle[0] = ...)";
+        case ProbeAnswer::any:
+            return "anything";
+        case ProbeAnswer::nothing:
+            return "no position";
+        case ProbeAnswer::travler_position:
+            return "a Trav'ler position (AZ = ...)";
+        case ProbeAnswer::g2_position:
+            return "a G2 position (Angle[0] = ...)";
     }
     return "?";
 }
@@ -117,7 +123,8 @@ std::string first_line(const std::vector<std::string>& lines) {
 // What the evidence adds when the console may be `outer`'s inner console left open.
 std::string inside_note(VariantId outer) {
     const FirmwareProfile& inside = profile(outer);
-    return " (a " + std::string(inside.display_name) + " left inside its ODU console looks the same; elevation kept <= " +
+    return " (a " + std::string(inside.display_name) +
+           " left inside its ODU console looks the same; elevation kept <= " +
            std::to_string(static_cast<int>(inside.el_max)) + ")";
 }
 
@@ -151,9 +158,9 @@ private:
     ConsoleSession session_;
     std::chrono::milliseconds boot_timeout_;
     ConsoleEvidence evidence_;
-    std::vector<std::string> help_lines_;   // the latest `?` listing (or the synchroniser's probe reply)
+    std::vector<std::string> help_lines_;  // the latest `?` listing (or the synchroniser's probe reply)
     bool reply_on_same_prompt_ = true;
-    std::string probe_log_;   // each probe and its answer, for the evidence and the failure message
+    std::string probe_log_;  // each probe and its answer, for the evidence and the failure message
 };
 
 }  // namespace
@@ -179,13 +186,16 @@ Status Detector::read_help() {
 // listing, or anywhere in the output, at the G2 root shape keeps the guard's own verdict
 // (root: `q` refused), whatever the caller concluded.
 Status Detector::leave_menu(const std::string& menu) {
-    if (auto heard = session_.listen(probe_profile().quiet_gap); !heard.value.lines.empty() || !heard.value.prompt.empty()) {
-        return Status{Errc::protocol, "auto-detect: the console printed more (\"" +
-                                          escape_bytes(heard.value.lines.empty() ? heard.value.prompt : heard.value.lines.back()) +
-                                          "\") while its menu was being left; not sending q"};
+    if (auto heard = session_.listen(probe_profile().quiet_gap);
+        !heard.value.lines.empty() || !heard.value.prompt.empty()) {
+        return Status{Errc::protocol,
+                      "auto-detect: the console printed more (\"" +
+                          escape_bytes(heard.value.lines.empty() ? heard.value.prompt : heard.value.lines.back()) +
+                          "\") while its menu was being left; not sending q"};
     }
-    if (!(is_g2_root_shape(evidence_.prompt) && (names_a_g2_only_command(evidence_.help) || g2_command_heard(evidence_.lines)))) {
-        session_.set_menu(menu);   // recognised by the caller (see the rules at the top)
+    if (!(is_g2_root_shape(evidence_.prompt) &&
+          (names_a_g2_only_command(evidence_.help) || g2_command_heard(evidence_.lines)))) {
+        session_.set_menu(menu);  // recognised by the caller (see the rules at the top)
     }
     if (auto q = session_.transact("q", help_timeout); !q && q.status.code != Errc::timeout) {
         return q.status;
@@ -221,7 +231,8 @@ Status Detector::back_to_root(std::string_view menu, ProbeAnswer answer, const s
         return Status::ok();
     }
     evidence_.prompt = now;
-    emit(log_, LogLevel::verbose, "auto-detect probe: leaving " + std::string(menu) + " (prompt \"" + now + "\") with q");
+    emit(log_, LogLevel::verbose,
+         "auto-detect probe: leaving " + std::string(menu) + " (prompt \"" + now + "\") with q");
     return leave_menu(std::string(menu));
 }
 
@@ -251,9 +262,10 @@ Result<bool> Detector::leave_motor_menu() {
     if (!here) {
         return {false, here.status};
     }
-    emit(log_, LogLevel::verbose, "auto-detect probe: \"a\" at " +
-                                      (evidence_.prompt.empty() ? std::string("the prompt-less console") : evidence_.prompt) +
-                                      " drew " + answer_name(here.value.answer) + " (" + first_line(here.value.lines) + ")");
+    emit(log_, LogLevel::verbose,
+         "auto-detect probe: \"a\" at " +
+             (evidence_.prompt.empty() ? std::string("the prompt-less console") : evidence_.prompt) + " drew " +
+             answer_name(here.value.answer) + " (" + first_line(here.value.lines) + ")");
     if (here.value.answer == ProbeAnswer::nothing) {
         return {false, Status::ok()};
     }
@@ -273,10 +285,11 @@ Result<std::optional<Detection>> Detector::probe(const std::vector<VariantScore>
             candidates.push_back(entry.variant);
         }
     }
-    std::map<VariantId, int> matched;   // definite expectations met, per candidate
+    std::map<VariantId, int> matched;  // definite expectations met, per candidate
     const std::string root_prompt = evidence_.prompt;
-    emit(log_, LogLevel::verbose, "auto-detect: the evidence does not decide between " + names_of(candidates) +
-                                      "; probing with commands that are harmless on every variant");
+    emit(log_, LogLevel::verbose,
+         "auto-detect: the evidence does not decide between " + names_of(candidates) +
+             "; probing with commands that are harmless on every variant");
     for (const DetectionProbe& row : detection_probes()) {
         if (candidates.size() < 2) {
             break;
@@ -298,11 +311,12 @@ Result<std::optional<Detection>> Detector::probe(const std::vector<VariantScore>
                 ruled_out.push_back(id);
             }
         }
-        const std::string entry = "\"" + std::string(row.enter) + "\" then \"a\" drew " + answer_name(asked.value.answer) +
-                                  " (" + first_line(asked.value.lines) + ")";
+        const std::string entry = "\"" + std::string(row.enter) + "\" then \"a\" drew " +
+                                  answer_name(asked.value.answer) + " (" + first_line(asked.value.lines) + ")";
         probe_log_ += (probe_log_.empty() ? "" : "; ") + entry;
-        emit(log_, LogLevel::verbose, "auto-detect probe: " + entry + "; rules out " + names_of(ruled_out) +
-                                          "; still possible: " + names_of(kept));
+        emit(log_, LogLevel::verbose,
+             "auto-detect probe: " + entry + "; rules out " + names_of(ruled_out) +
+                 "; still possible: " + names_of(kept));
         candidates = std::move(kept);
         if (Status back = back_to_root(row.enter, asked.value.answer, asked.value.prompt, root_prompt); !back) {
             return {std::nullopt, back};
@@ -310,7 +324,8 @@ Result<std::optional<Detection>> Detector::probe(const std::vector<VariantScore>
     }
     // The candidate whose definite answers matched most, then the one with most evidence.
     auto score_of = [&](VariantId id) {
-        const auto it = std::find_if(scores.begin(), scores.end(), [&](const VariantScore& e) { return e.variant == id; });
+        const auto it =
+            std::find_if(scores.begin(), scores.end(), [&](const VariantScore& e) { return e.variant == id; });
         return it == scores.end() ? 0 : it->score;
     };
     std::stable_sort(candidates.begin(), candidates.end(), [&](VariantId a, VariantId b) {
@@ -386,7 +401,7 @@ Result<Detection> Detector::run() {
 
     bool probed = false;
     bool asked_here = false;
-    std::set<std::string> left_menus;   // prompt and listing of each menu left with `q`
+    std::set<std::string> left_menus;  // prompt and listing of each menu left with `q`
     std::vector<VariantScore> ranking;
     for (int level = 0; level < max_levels; ++level) {
         if (help_lines_.empty()) {
@@ -396,15 +411,17 @@ Result<Detection> Detector::run() {
         }
         evidence_.help = parse_help_listing(help_lines_);
         ranking = rank_evidence(evidence_);
-        emit(log_, LogLevel::verbose, "auto-detect: prompt \"" + evidence_.prompt + "\", ? lists " +
-                                          listing_text(evidence_.help) + "; scores: " + summary(ranking));
+        emit(log_, LogLevel::verbose,
+             "auto-detect: prompt \"" + evidence_.prompt + "\", ? lists " + listing_text(evidence_.help) +
+                 "; scores: " + summary(ranking));
         if (const auto winner = clear_winner(ranking)) {
             return conclude(*winner, ranking);
         }
         // A `q` that led back to the same prompt and listing showed this is the root after all.
         const bool left_before = !left_menus.insert(evidence_.prompt + "\n" + listing_text(evidence_.help)).second;
-        const bool submenu = !evidence_.prompt.empty() && reply_on_same_prompt_ && !is_g2_root_shape(evidence_.prompt) &&
-                             !evidence_.help.commands.empty() && !names_a_root_command(evidence_.help) && !left_before;
+        const bool submenu = !evidence_.prompt.empty() && reply_on_same_prompt_ &&
+                             !is_g2_root_shape(evidence_.prompt) && !evidence_.help.commands.empty() &&
+                             !names_a_root_command(evidence_.help) && !left_before;
         if (!submenu) {
             if (probed) {
                 break;
@@ -423,21 +440,26 @@ Result<Detection> Detector::run() {
             probed = true;
             auto found = probe(ranking);
             if (!found) {
-                return {{}, Status{found.status.code, "auto-detect: while probing: " + found.status.message + "; " + force_hint}};
+                return {{},
+                        Status{found.status.code,
+                               "auto-detect: while probing: " + found.status.message + "; " + force_hint}};
             }
             if (found.value) {
                 return {*found.value, Status::ok()};
             }
             break;
         }
-        emit(log_, LogLevel::verbose, "auto-detect: " + evidence_.prompt + " is a submenu (its ? names no root command); leaving it with q");
+        emit(log_, LogLevel::verbose,
+             "auto-detect: " + evidence_.prompt + " is a submenu (its ? names no root command); leaving it with q");
         if (Status left = leave_menu("submenu"); !left) {
             return {{}, left};
         }
     }
-    return {{}, Status{Errc::protocol, "auto-detect: not sure which firmware this is (prompt \"" + evidence_.prompt +
-                                           "\", ? lists " + listing_text(evidence_.help) + "; scores: " + summary(ranking) +
-                                           ")" + (probe_log_.empty() ? std::string() : "; probes: " + probe_log_) + "; " + force_hint}};
+    return {{},
+            Status{Errc::protocol, "auto-detect: not sure which firmware this is (prompt \"" + evidence_.prompt +
+                                       "\", ? lists " + listing_text(evidence_.help) + "; scores: " + summary(ranking) +
+                                       ")" + (probe_log_.empty() ? std::string() : "; probes: " + probe_log_) + "; " +
+                                       force_hint}};
 }
 
 Result<Detection> detect_variant(Transport& transport, const LogSink& log, std::chrono::milliseconds boot_timeout) {

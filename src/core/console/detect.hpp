@@ -22,7 +22,7 @@ namespace birdcage {
 
 struct Detection {
     VariantId variant{};
-    std::string evidence;        // what identified it, for get_info and the debug log
+    std::string evidence;  // what identified it, for get_info and the debug log
     // The console looked like the root of `variant`, which this other variant's inner console also
     // looks like (FirmwareProfile::also_shown_inside: a Trav'ler Pro left inside its ODU console):
     // the caller should keep within that variant's limits too.

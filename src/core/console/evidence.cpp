@@ -12,15 +12,18 @@
 namespace birdcage {
 namespace {
 
-constexpr int description_divisor = 3;     // a word only in a description counts a third
+constexpr int description_divisor = 3;  // a word only in a description counts a third
 
 std::string lower(std::string_view text) {
     std::string out(text);
-    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(out.begin(), out.end(), out.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return out;
 }
 
-bool is_word_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '?'; }
+bool is_word_char(char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '?';
+}
 
 std::vector<std::string> words_of(std::string_view text) {
     std::vector<std::string> words;
@@ -40,7 +43,9 @@ std::vector<std::string> words_of(std::string_view text) {
 
 // A firmware whose shell dies on `q` at its root (the G2, docs/firmware.md 6.5): its clues are
 // warnings against `q`, whatever else the console looks like.
-bool q_at_root_kills(VariantId id) { return profile(id).has(quirk_q_at_root_kills_shell); }
+bool q_at_root_kills(VariantId id) {
+    return profile(id).has(quirk_q_at_root_kills_shell);
+}
 
 // ---- The `?` listing tokeniser ----
 // Command words are found as tokens wherever they stand, not by parsing a layout: a listing may
@@ -82,8 +87,8 @@ LetterCase letter_case(std::string_view word) {
 // The words a shell lists that the ranking looks for, plus those every shell lists: a phrase
 // made mostly of them is a run of commands, not prose.
 bool is_known_command(const std::string& word) {
-    static const std::set<std::string> common{"q", "?", "help", "a", "g", "reboot", "stow", "dvb", "mot", "motor",
-                                              "os", "nvs", "odu", "target", "ngsearch"};
+    static const std::set<std::string> common{"q",   "?",     "help", "a",   "g",   "reboot", "stow",    "dvb",
+                                              "mot", "motor", "os",   "nvs", "odu", "target", "ngsearch"};
     if (common.count(word) > 0) {
         return true;
     }
@@ -101,9 +106,9 @@ bool is_clue_word(const std::string& word) {
 }
 
 struct ListingToken {
-    std::string word;   // lower case
+    std::string word;  // lower case
     LetterCase shape = LetterCase::none;
-    bool bracketed = false;   // `<mot>`, `[mot]`, `(mot)`, `'mot'`...: a command by its looks
+    bool bracketed = false;  // `<mot>`, `[mot]`, `(mot)`, `'mot'`...: a command by its looks
     bool command = false;
 };
 
@@ -115,7 +120,8 @@ struct Phrase {
     std::vector<ListingToken> tokens;
     // Words the ranking scores (`help:` may be a label; `mot:` is a command).
     int scoring() const {
-        return static_cast<int>(std::count_if(tokens.begin(), tokens.end(), [](const ListingToken& t) { return is_clue_word(t.word); }));
+        return static_cast<int>(
+            std::count_if(tokens.begin(), tokens.end(), [](const ListingToken& t) { return is_clue_word(t.word); }));
     }
     int known() const {
         return static_cast<int>(std::count_if(tokens.begin(), tokens.end(),
@@ -123,8 +129,12 @@ struct Phrase {
     }
 };
 
-bool is_opener(char c) { return c == '<' || c == '[' || c == '(' || c == '{' || c == '\'' || c == '"' || c == '`'; }
-bool is_closer(char c) { return c == '>' || c == ']' || c == ')' || c == '}' || c == '\'' || c == '"' || c == '`'; }
+bool is_opener(char c) {
+    return c == '<' || c == '[' || c == '(' || c == '{' || c == '\'' || c == '"' || c == '`';
+}
+bool is_closer(char c) {
+    return c == '>' || c == ']' || c == ')' || c == '}' || c == '\'' || c == '"' || c == '`';
+}
 
 std::vector<Phrase> phrases_of(std::string_view line) {
     std::vector<Phrase> phrases(1);
@@ -155,12 +165,13 @@ std::vector<Phrase> phrases_of(std::string_view line) {
         if (c == ',' || c == ';' || c == '|' || c == '\t') {
             cut(Boundary::list);
         } else if (c == ' ' && i + 1 < line.size() && line[i + 1] == ' ') {
-            cut(Boundary::list);   // columns
+            cut(Boundary::list);  // columns
             while (i + 1 < line.size() && line[i + 1] == ' ') {
                 ++i;
             }
         } else if (c == ':' || c == '=' ||
-                   (c == '-' && (i == 0 || !is_word_char(line[i - 1]) || i + 1 == line.size() || !is_word_char(line[i + 1])))) {
+                   (c == '-' &&
+                    (i == 0 || !is_word_char(line[i - 1]) || i + 1 == line.size() || !is_word_char(line[i + 1])))) {
             cut(Boundary::description);
         }
         ++i;
@@ -179,12 +190,14 @@ std::size_t indentation(std::string_view line) {
     return n;
 }
 
-bool has_letters(const ListingToken& t) { return t.shape != LetterCase::none; }
+bool has_letters(const ListingToken& t) {
+    return t.shape != LetterCase::none;
+}
 
 // Marks the command tokens of one line. Returns whether the line ended inside a description.
 bool mark_line(std::vector<Phrase>& phrases, bool continues_description) {
     if (continues_description) {
-        return true;   // a wrapped description: mentions only (bracketed words excepted)
+        return true;  // a wrapped description: mentions only (bracketed words excepted)
     }
     bool in_description = false;
     bool entry_has_command = false;
@@ -230,7 +243,7 @@ bool mark_line(std::vector<Phrase>& phrases, bool continues_description) {
         bool first = true;
         for (auto& t : phrase.tokens) {
             if (!has_letters(t) && t.word != "?") {
-                continue;   // numbering
+                continue;  // numbering
             }
             if (first) {
                 t.command = !prose;
@@ -265,7 +278,8 @@ bool names_a_root_command(const HelpListing& help) {
 bool is_g2_root_shape(std::string_view prompt) {
     const auto rows = all_profiles();
     return std::any_of(rows.begin(), rows.end(), [&](const FirmwareProfile& row) {
-        return row.has(quirk_q_at_root_kills_shell) && !row.root_prompt.empty() && lower(prompt) == lower(row.root_prompt);
+        return row.has(quirk_q_at_root_kills_shell) && !row.root_prompt.empty() &&
+               lower(prompt) == lower(row.root_prompt);
     });
 }
 
@@ -313,7 +327,8 @@ ProbeAnswer position_answer(const std::vector<std::string>& lines) {
             return ProbeAnswer::g2_position;
         }
         const auto az = line.find("az");
-        if (az != std::string::npos && line.find('=', az) != std::string::npos && line.find("el", az) != std::string::npos) {
+        if (az != std::string::npos && line.find('=', az) != std::string::npos &&
+            line.find("el", az) != std::string::npos) {
             return ProbeAnswer::travler_position;
         }
     }
@@ -357,7 +372,7 @@ HelpListing parse_help_listing(const std::vector<std::string>& lines) {
             }
         }
     }
-    const LetterCase usual = lower_count > upper_count ? LetterCase::lower
+    const LetterCase usual = lower_count > upper_count   ? LetterCase::lower
                              : upper_count > lower_count ? LetterCase::upper
                                                          : LetterCase::none;
     HelpListing listing;
@@ -389,33 +404,34 @@ std::vector<VariantScore> rank_evidence(const ConsoleEvidence& evidence) {
         const std::string text = lower(clue.text);
         VariantScore& entry = entry_for(clue.variant);
         switch (clue.source) {
-        case ClueSource::boot_line:
-            for (const auto& line : evidence.lines) {
-                if (lower(line).find(text) != std::string::npos) {
-                    entry.score += clue.weight;
-                    entry.reasons.push_back("boot line \"" + escape_bytes(line) + "\"");
-                    break;
+            case ClueSource::boot_line:
+                for (const auto& line : evidence.lines) {
+                    if (lower(line).find(text) != std::string::npos) {
+                        entry.score += clue.weight;
+                        entry.reasons.push_back("boot line \"" + escape_bytes(line) + "\"");
+                        break;
+                    }
                 }
-            }
-            break;
-        case ClueSource::prompt:
-            if (!prompt.empty() && prompt == text) {
-                entry.score += clue.weight;
-                entry.reasons.push_back("prompt " + evidence.prompt);
-            }
-            break;
-        case ClueSource::help_command:
-            if (evidence.help.commands.count(text) > 0) {
-                entry.score += clue.weight;
-                entry.reasons.push_back("? lists " + text);
-            } else if (evidence.help.words.count(text) > 0 && clue.weight / description_divisor > 0) {
-                entry.score += clue.weight / description_divisor;
-                entry.reasons.push_back("? mentions " + text);
-            }
-            break;
+                break;
+            case ClueSource::prompt:
+                if (!prompt.empty() && prompt == text) {
+                    entry.score += clue.weight;
+                    entry.reasons.push_back("prompt " + evidence.prompt);
+                }
+                break;
+            case ClueSource::help_command:
+                if (evidence.help.commands.count(text) > 0) {
+                    entry.score += clue.weight;
+                    entry.reasons.push_back("? lists " + text);
+                } else if (evidence.help.words.count(text) > 0 && clue.weight / description_divisor > 0) {
+                    entry.score += clue.weight / description_divisor;
+                    entry.reasons.push_back("? mentions " + text);
+                }
+                break;
         }
     }
-    std::stable_sort(ranking.begin(), ranking.end(), [](const VariantScore& a, const VariantScore& b) { return a.score > b.score; });
+    std::stable_sort(ranking.begin(), ranking.end(),
+                     [](const VariantScore& a, const VariantScore& b) { return a.score > b.score; });
     return ranking;
 }
 

@@ -20,22 +20,22 @@ namespace birdcage {
 // The words of a `?` listing, whatever its layout: one command per line or all on one line, with
 // or without descriptions, `Enter <cmd> - ...`, any separator, any case. Lower case.
 struct HelpListing {
-    std::set<std::string> commands;   // words in a command's place
-    std::set<std::string> words;      // every word, descriptions included
+    std::set<std::string> commands;  // words in a command's place
+    std::set<std::string> words;     // every word, descriptions included
 };
 HelpListing parse_help_listing(const std::vector<std::string>& lines);
 
 // Everything the console has shown so far.
 struct ConsoleEvidence {
-    std::vector<std::string> lines;   // boot lines and any other output
-    std::string prompt;               // confirmed prompt, empty if none
+    std::vector<std::string> lines;  // boot lines and any other output
+    std::string prompt;              // confirmed prompt, empty if none
     HelpListing help;
 };
 
 struct VariantScore {
     VariantId variant{};
     int score = 0;
-    std::vector<std::string> reasons;   // e.g. `? lists a3981`, `boot line "Ant ID - 12-IN G2"`
+    std::vector<std::string> reasons;  // e.g. `? lists a3981`, `boot line "Ant ID - 12-IN G2"`
 };
 // Every variant's score, best first.
 std::vector<VariantScore> rank_evidence(const ConsoleEvidence& evidence);

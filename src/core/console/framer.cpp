@@ -33,7 +33,9 @@
 namespace birdcage {
 namespace {
 
-bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || byte == '\t'; }
+bool is_text_byte(unsigned char byte) {
+    return (byte >= 0x20 && byte < 0x7f) || byte == '\t';
+}
 
 constexpr std::array<std::string_view, 2> fault_markers{"MOTOR STALLED", "Motor Home Failure"};
 

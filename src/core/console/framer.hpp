@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "firmware/prompt.hpp"   // the prompt rule the framer applies
+#include "firmware/prompt.hpp"  // the prompt rule the framer applies
 #include "firmware/variants.hpp"
 
 namespace birdcage {

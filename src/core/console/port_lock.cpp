@@ -3,19 +3,19 @@
 
 #include "console/port_lock.hpp"
 
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <dirent.h>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
-#include <sys/file.h>
-#include <sys/ioctl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 #include <utility>
 
 namespace birdcage {
@@ -34,9 +34,13 @@ std::string read_first_line(const std::string& path) {
     return line;
 }
 
-bool process_alive(pid_t pid) { return pid > 0 && (::kill(pid, 0) == 0 || errno == EPERM); }
+bool process_alive(pid_t pid) {
+    return pid > 0 && (::kill(pid, 0) == 0 || errno == EPERM);
+}
 
-std::string program_of(pid_t pid) { return read_first_line("/proc/" + std::to_string(pid) + "/comm"); }
+std::string program_of(pid_t pid) {
+    return read_first_line("/proc/" + std::to_string(pid) + "/comm");
+}
 
 std::string describe(const PortHolder& holder) {
     return "PID " + std::to_string(holder.pid) + (holder.program.empty() ? "" : " (" + holder.program + ")");
@@ -182,8 +186,9 @@ Result<PortLock> PortLock::acquire(const std::string& device, const std::string&
             break;
         }
         if (process_alive(holder)) {
-            return {std::move(lock), Status{Errc::busy, device + " is locked by " + describe({holder, program_of(holder)}) +
-                                                            " (lock file " + path + ")"}};
+            return {std::move(lock),
+                    Status{Errc::busy, device + " is locked by " + describe({holder, program_of(holder)}) +
+                                           " (lock file " + path + ")"}};
         }
         if (::unlink(path.c_str()) != 0 && errno != ENOENT) {  // stale: its PID is gone
             lock.note_ = "stale lock file " + path + " could not be removed: " + std::strerror(errno);
@@ -220,8 +225,10 @@ Status PortLock::make_exclusive() {
 }
 
 PortLock::PortLock(PortLock&& other) noexcept
-    : device_fd_(std::exchange(other.device_fd_, -1)), exclusive_(std::exchange(other.exclusive_, false)),
-      lock_file_(std::exchange(other.lock_file_, {})), note_(std::move(other.note_)) {}
+    : device_fd_(std::exchange(other.device_fd_, -1)),
+      exclusive_(std::exchange(other.exclusive_, false)),
+      lock_file_(std::exchange(other.lock_file_, {})),
+      note_(std::move(other.note_)) {}
 
 PortLock& PortLock::operator=(PortLock&& other) noexcept {
     if (this != &other) {
@@ -234,7 +241,9 @@ PortLock& PortLock::operator=(PortLock&& other) noexcept {
     return *this;
 }
 
-PortLock::~PortLock() { release(); }
+PortLock::~PortLock() {
+    release();
+}
 
 void PortLock::release() {
     if (device_fd_ >= 0) {

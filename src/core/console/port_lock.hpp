@@ -8,8 +8,8 @@
 // itself) exist, it also looks through /proc for any other process that has the device open.
 #pragma once
 
-#include <string>
 #include <sys/types.h>
+#include <string>
 #include <vector>
 
 #include "base/errors.hpp"
@@ -18,7 +18,7 @@ namespace birdcage {
 
 struct PortHolder {
     pid_t pid = 0;
-    std::string program;   // /proc/<pid>/comm, when readable
+    std::string program;  // /proc/<pid>/comm, when readable
 };
 
 // Processes other than this one that have `device` open, read from /proc/*/fd. A process that
@@ -48,8 +48,8 @@ public:
     // once the program's own final open is done. Ok on a device that is not a terminal.
     Status make_exclusive();
 
-    const std::string& lock_file() const { return lock_file_; }   // empty when none was written
-    const std::string& note() const { return note_; }             // e.g. why no lock file was written
+    const std::string& lock_file() const { return lock_file_; }  // empty when none was written
+    const std::string& note() const { return note_; }            // e.g. why no lock file was written
 
 private:
     void release();

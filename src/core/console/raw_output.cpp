@@ -8,7 +8,9 @@
 
 namespace birdcage {
 
-bool is_text_line(std::size_t text_bytes, std::size_t noise_bytes) { return text_bytes > 0 && noise_bytes * 4 <= text_bytes; }
+bool is_text_line(std::size_t text_bytes, std::size_t noise_bytes) {
+    return text_bytes > 0 && noise_bytes * 4 <= text_bytes;
+}
 
 std::size_t prompt_before_noise(std::string_view line) {
     const std::size_t length = leading_prompt_length(line);

@@ -13,8 +13,12 @@
 namespace birdcage {
 
 // A byte a console prints as text (printable ASCII or TAB), and a line end.
-inline bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || byte == '\t'; }
-inline bool is_line_end(char c) { return c == '\r' || c == '\n'; }
+inline bool is_text_byte(unsigned char byte) {
+    return (byte >= 0x20 && byte < 0x7f) || byte == '\t';
+}
+inline bool is_line_end(char c) {
+    return c == '\r' || c == '\n';
+}
 
 // A line of console text rather than line noise: an idle RS-485 bus can produce random bytes
 // without end, a third of them printable by chance, and once in a while a CR or LF among them. A

@@ -11,16 +11,20 @@ namespace {
 // The one place sp_return becomes an Errc.
 Status sp_status(const char* operation, sp_return code) {
     switch (code) {
-    case SP_OK: return Status::ok();
-    case SP_ERR_ARG: return Status{Errc::invalid_argument, std::string(operation) + ": invalid argument or no such port"};
-    case SP_ERR_SUPP: return Status{Errc::unsupported, std::string(operation) + ": not supported by this port"};
-    case SP_ERR_MEM: return Status{Errc::io, std::string(operation) + ": out of memory"};
-    case SP_ERR_FAIL: {
-        char* text = sp_last_error_message();
-        std::string message = std::string(operation) + ": " + (text != nullptr ? text : "failed");
-        sp_free_error_message(text);
-        return Status{Errc::io, message};
-    }
+        case SP_OK:
+            return Status::ok();
+        case SP_ERR_ARG:
+            return Status{Errc::invalid_argument, std::string(operation) + ": invalid argument or no such port"};
+        case SP_ERR_SUPP:
+            return Status{Errc::unsupported, std::string(operation) + ": not supported by this port"};
+        case SP_ERR_MEM:
+            return Status{Errc::io, std::string(operation) + ": out of memory"};
+        case SP_ERR_FAIL: {
+            char* text = sp_last_error_message();
+            std::string message = std::string(operation) + ": " + (text != nullptr ? text : "failed");
+            sp_free_error_message(text);
+            return Status{Errc::io, message};
+        }
     }
     return Status{Errc::io, std::string(operation) + ": unknown libserialport error"};
 }
@@ -63,7 +67,8 @@ Result<std::unique_ptr<SerialPortTransport>> SerialPortTransport::open(const std
     for (const auto code : steps) {
         if (code != SP_OK) {
             auto status = sp_status("configure", code);
-            status.message = "cannot configure " + path + " for " + std::to_string(baud) + " 8N1 (" + status.message + ")";
+            status.message =
+                "cannot configure " + path + " for " + std::to_string(baud) + " 8N1 (" + status.message + ")";
             return {nullptr, status};
         }
     }
@@ -95,6 +100,8 @@ Result<std::size_t> SerialPortTransport::read(char* buf, std::size_t n, Deadline
     return {static_cast<std::size_t>(got), Status::ok()};
 }
 
-void SerialPortTransport::discard_input() { sp_flush(port_.get(), SP_BUF_INPUT); }
+void SerialPortTransport::discard_input() {
+    sp_flush(port_.get(), SP_BUF_INPUT);
+}
 
 }  // namespace birdcage

@@ -18,9 +18,9 @@ constexpr int max_stale_reads = 64;
 
 // Commands that enter a submenu of the same name (docs/firmware.md 3.3, 4.3, 5.3, 6.3, 8.3). Used only
 // where the firmware's prompts are unknown and the menu must be inferred from what we sent.
-constexpr std::array<std::string_view, 16> submenu_commands{
-    "a3981", "adc", "dipswitch", "dvb", "eeprom", "gpio", "latlon", "mot",
-    "motor", "ngsearch", "nvs", "odu", "os", "peak", "step", "target"};
+constexpr std::array<std::string_view, 16> submenu_commands{"a3981",  "adc",  "dipswitch", "dvb",      "eeprom", "gpio",
+                                                            "latlon", "mot",  "motor",     "ngsearch", "nvs",    "odu",
+                                                            "os",     "peak", "step",      "target"};
 
 }  // namespace
 
@@ -29,7 +29,7 @@ ConsoleSession::ConsoleSession(Transport& transport, const FirmwareProfile& prof
 
 Result<ConsoleSnapshot> ConsoleSession::synchronise(const SyncSettings& settings) {
     framer_.reset();
-    just_booted_ = false;   // the synchroniser reports a ready line itself (ConsoleSnapshot::ready_line)
+    just_booted_ = false;  // the synchroniser reports a ready line itself (ConsoleSnapshot::ready_line)
     ConsoleSynchroniser synchroniser(transport_, settings, log_);
     auto synced = synchroniser.synchronise();
     note_raw(synchroniser.recent_output());
@@ -81,38 +81,39 @@ void ConsoleSession::note_menu_after(std::string_view command) {
 void ConsoleSession::handle_event(const FrameEvent& event, Collected& into) {
     // A prompt after the ready line is the root's; any other output means the dish has moved on.
     if (event.kind != FrameEvent::Kind::prompt && event.kind != FrameEvent::Kind::noise) {
-        just_booted_ = event.kind == FrameEvent::Kind::boot_line &&
-                       std::any_of(profile_.ready_markers.begin(), profile_.ready_markers.end(),
-                                   [&](std::string_view marker) { return event.text.find(marker) != std::string::npos; });
+        just_booted_ =
+            event.kind == FrameEvent::Kind::boot_line &&
+            std::any_of(profile_.ready_markers.begin(), profile_.ready_markers.end(),
+                        [&](std::string_view marker) { return event.text.find(marker) != std::string::npos; });
     }
     switch (event.kind) {
-    case FrameEvent::Kind::line:
-        into.lines.push_back(event.text);
-        into.everything.push_back(event.text);
-        break;
-    case FrameEvent::Kind::echo:
-        break;
-    case FrameEvent::Kind::prompt:
-        into.prompt = event.text;
-        note_prompt(event.text);
-        break;
-    case FrameEvent::Kind::boot_line:
-        reboot_seen_ = true;
-        last_boot_line_ = event.text;
-        menu_.clear();  // wherever we were, a booting dish ends up at its root (or mid-boot)
-        into.everything.push_back(event.text);
-        emit(log_, LogLevel::verbose, "dish boot output: " + event.text);
-        break;
-    case FrameEvent::Kind::fault_line:
-        into.faults.push_back(event.text);
-        into.everything.push_back(event.text);
-        emit(log_, LogLevel::warning, "dish reported: " + event.text);
-        report(ConsoleEvent::fault_line(event.text));
-        break;
-    case FrameEvent::Kind::noise:
-        emit(log_, LogLevel::verbose, "dropped " + std::to_string(event.text.size()) +
-                                          " noise byte(s): " + escape_bytes(event.text));
-        break;
+        case FrameEvent::Kind::line:
+            into.lines.push_back(event.text);
+            into.everything.push_back(event.text);
+            break;
+        case FrameEvent::Kind::echo:
+            break;
+        case FrameEvent::Kind::prompt:
+            into.prompt = event.text;
+            note_prompt(event.text);
+            break;
+        case FrameEvent::Kind::boot_line:
+            reboot_seen_ = true;
+            last_boot_line_ = event.text;
+            menu_.clear();  // wherever we were, a booting dish ends up at its root (or mid-boot)
+            into.everything.push_back(event.text);
+            emit(log_, LogLevel::verbose, "dish boot output: " + event.text);
+            break;
+        case FrameEvent::Kind::fault_line:
+            into.faults.push_back(event.text);
+            into.everything.push_back(event.text);
+            emit(log_, LogLevel::warning, "dish reported: " + event.text);
+            report(ConsoleEvent::fault_line(event.text));
+            break;
+        case FrameEvent::Kind::noise:
+            emit(log_, LogLevel::verbose,
+                 "dropped " + std::to_string(event.text.size()) + " noise byte(s): " + escape_bytes(event.text));
+            break;
     }
 }
 
@@ -146,9 +147,13 @@ Status ConsoleSession::drain_stale(Collected& stale) {
     for (int i = 0; i < max_stale_reads; ++i) {
         Status failure;
         switch (read_some(stale, Clock::now(), failure)) {
-        case ReadOutcome::data: continue;
-        case ReadOutcome::failed: return failure;
-        case ReadOutcome::timeout: i = max_stale_reads; break;
+            case ReadOutcome::data:
+                continue;
+            case ReadOutcome::failed:
+                return failure;
+            case ReadOutcome::timeout:
+                i = max_stale_reads;
+                break;
         }
     }
     for (const auto& line : stale.lines) {
@@ -183,10 +188,10 @@ Result<Reply> ConsoleSession::transact(std::string_view command, std::chrono::mi
     collected.everything.clear();
     collected.prompt.clear();
     auto lost_to_boot = [&](std::string_view when) {
-        return Result<Reply>{{collected.lines, collected.prompt},
-                             Status{Errc::timeout, "the dish has just booted (\"" + last_boot_line_ + "\" " +
-                                                       std::string(when) + " \"" + escape_bytes(command) +
-                                                       "\"): its TV search must be stopped first"}};
+        return Result<Reply>{
+            {collected.lines, collected.prompt},
+            Status{Errc::timeout, "the dish has just booted (\"" + last_boot_line_ + "\" " + std::string(when) + " \"" +
+                                      escape_bytes(command) + "\"): its TV search must be stopped first"}};
     };
     if (just_booted_) {
         return lost_to_boot("before");
@@ -214,7 +219,7 @@ Result<Reply> ConsoleSession::transact(std::string_view command, std::chrono::mi
         const ReadOutcome outcome = read_some(collected, wait_until, failure);
         if (outcome == ReadOutcome::data) {
             if (just_booted_) {
-                return lost_to_boot("arrived instead of the reply to");   // the boot dropped the command
+                return lost_to_boot("arrived instead of the reply to");  // the boot dropped the command
             }
             quiet_until = Clock::now() + profile_.quiet_gap;
             continue;

@@ -11,11 +11,11 @@
 #include <string_view>
 #include <vector>
 
+#include "base/errors.hpp"
+#include "base/log.hpp"
 #include "base/span.hpp"
 #include "console/console_events.hpp"
-#include "base/errors.hpp"
 #include "console/framer.hpp"
-#include "base/log.hpp"
 #include "console/synchroniser.hpp"
 #include "console/transport.hpp"
 #include "firmware/hazards.hpp"
@@ -24,8 +24,8 @@
 namespace birdcage {
 
 struct Reply {
-    std::vector<std::string> lines;   // reply lines, without echo, prompt and unsolicited lines
-    std::string prompt;               // the prompt that ended the reply; empty if none was seen
+    std::vector<std::string> lines;  // reply lines, without echo, prompt and unsolicited lines
+    std::string prompt;              // the prompt that ended the reply; empty if none was seen
 };
 
 // For variants whose prompt is unknown: the reply is complete once this returns true for the
@@ -37,8 +37,7 @@ public:
     ConsoleSession(Transport& transport, const FirmwareProfile& profile, LogSink log);
 
     Result<Reply> transact(std::string_view command, std::chrono::milliseconds timeout);
-    Result<Reply> transact(std::string_view command, std::chrono::milliseconds timeout,
-                           const ReplyComplete& complete);
+    Result<Reply> transact(std::string_view command, std::chrono::milliseconds timeout, const ReplyComplete& complete);
 
     // Brings the console to a confirmed prompt (ConsoleSynchroniser) and adopts it; boot output
     // heard meanwhile counts as for transact(). The only way an open path starts talking.
@@ -51,8 +50,7 @@ public:
     // Listens without sending for `duration`, or until `stop` returns true for a line or a prompt.
     // Unsolicited lines are handled as in transact(). Reply::lines holds every line received,
     // boot and fault lines included. With a `stop` that never matched: Errc::timeout.
-    Result<Reply> listen(std::chrono::milliseconds duration,
-                         const std::function<bool(const std::string&)>& stop = {});
+    Result<Reply> listen(std::chrono::milliseconds duration, const std::function<bool(const std::string&)>& stop = {});
 
     // Which menu the console is in: "root", "mot", ...; empty when unknown.
     const std::string& menu() const { return menu_; }
@@ -104,7 +102,7 @@ private:
     struct Collected {
         std::vector<std::string> lines;
         std::vector<std::string> faults;
-        std::vector<std::string> everything;   // lines, boot lines and fault lines, in order
+        std::vector<std::string> everything;  // lines, boot lines and fault lines, in order
         std::string prompt;
     };
     enum class ReadOutcome { data, timeout, failed };

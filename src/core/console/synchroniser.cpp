@@ -13,16 +13,18 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr std::size_t recent_limit = 8192;   // bytes of output kept for the give-up message and recent_output()
+constexpr std::size_t recent_limit = 8192;  // bytes of output kept for the give-up message and recent_output()
 constexpr std::size_t lines_quoted = 4;
-constexpr std::size_t baud_sample = 256;     // bytes judged by the wrong-baud check
+constexpr std::size_t baud_sample = 256;  // bytes judged by the wrong-baud check
 
 bool contains_any(std::string_view line, Span<const std::string_view> markers) {
     return std::any_of(markers.begin(), markers.end(),
                        [&](std::string_view marker) { return line.find(marker) != std::string_view::npos; });
 }
 
-std::string seconds_text(std::chrono::milliseconds ms) { return std::to_string(ms.count() / 1000) + " s"; }
+std::string seconds_text(std::chrono::milliseconds ms) {
+    return std::to_string(ms.count() / 1000) + " s";
+}
 
 // The auto-detect profile stands for every variant: name each rate with the variants using it.
 std::string usual_baud_text(const FirmwareProfile& profile) {
@@ -67,7 +69,10 @@ SyncSettings console_sync_settings(const FirmwareProfile& profile, std::chrono::
 }
 
 ConsoleSynchroniser::ConsoleSynchroniser(Transport& transport, SyncSettings settings, LogSink log, DishClock clock)
-    : transport_(transport), settings_(std::move(settings)), log_(std::move(log)), clock_(std::move(clock)),
+    : transport_(transport),
+      settings_(std::move(settings)),
+      log_(std::move(log)),
+      clock_(std::move(clock)),
       next_progress_(settings_.progress_interval) {}
 
 Clock::time_point ConsoleSynchroniser::now() const {
@@ -83,7 +88,7 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
     std::size_t line_start = 0;
     std::size_t line_text = 0;
     std::size_t line_noise = 0;
-    std::size_t lines_end = 0;   // the end of the last line of text
+    std::size_t lines_end = 0;  // the end of the last line of text
     for (;;) {
         const auto got = transport_.read(buffer.data(), buffer.size(), wait_until);
         if (!got) {
@@ -107,7 +112,7 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
             if (is_line_end(c)) {
                 const std::string_view ended = std::string_view(heard.raw).substr(line_start, i - line_start);
                 if (const std::size_t prompt = prompt_before_noise(ended)) {
-                    lines_end = line_start + prompt;   // a prompt after the ready line: at the root, as it says
+                    lines_end = line_start + prompt;  // a prompt after the ready line: at the root, as it says
                 } else if (is_text_line(line_text, line_noise)) {
                     lines_end = i + 1;
                     spoke = true;
@@ -139,7 +144,7 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
             heard.text_end = heard.raw.size();
         }
         if (line_text > 0 && !looks_like_prompt(std::string_view(heard.raw).substr(line_start))) {
-            heard.ready_line_last = false;   // more text follows the ready line
+            heard.ready_line_last = false;  // more text follows the ready line
         }
         // The dish has just booted and takes input: every moment waited now lets its TV search
         // swing it further.
@@ -155,15 +160,18 @@ ConsoleSynchroniser::Heard ConsoleSynchroniser::collect(std::chrono::millisecond
     }
 }
 
-bool ConsoleSynchroniser::booting() const { return boot_in_progress_; }
+bool ConsoleSynchroniser::booting() const {
+    return boot_in_progress_;
+}
 
 void ConsoleSynchroniser::end_boot_on(const std::string& answer, const std::string& last_boot_line) {
     if (!booting()) {
         return;
     }
     boot_in_progress_ = false;
-    emit(log_, LogLevel::verbose, "the console answered " + answer + " after a quiet line: the dish has booted (its last boot output \"" +
-                                      escape_bytes(last_boot_line) + "\" was no completion line we know)");
+    emit(log_, LogLevel::verbose,
+         "the console answered " + answer + " after a quiet line: the dish has booted (its last boot output \"" +
+             escape_bytes(last_boot_line) + "\" was no completion line we know)");
 }
 
 void ConsoleSynchroniser::absorb(std::string_view raw, ConsoleSnapshot& snapshot) {
@@ -197,15 +205,18 @@ void ConsoleSynchroniser::check_baud(std::string_view raw) {
     if (baud_warned_) {
         return;
     }
-    const std::string_view sample = std::string_view(recent_).substr(recent_.size() > baud_sample ? recent_.size() - baud_sample : 0);
+    const std::string_view sample =
+        std::string_view(recent_).substr(recent_.size() > baud_sample ? recent_.size() - baud_sample : 0);
     if (!looks_like_wrong_baud(sample) && !looks_like_wrong_baud(raw)) {
         return;
     }
     baud_warned_ = true;
     emit(log_, LogLevel::warning,
          "the console's replies look like a wrong baud rate (" + std::to_string(noise_bytes_) + " of " +
-             std::to_string(bytes_heard_) + " bytes unprintable, e.g. \"" + escape_bytes(sample.substr(0, 48)) +
-             "\")" + (settings_.usual_baud.empty() ? std::string() : "; this dish usually runs at " + settings_.usual_baud + " baud (rotctld -s)") +
+             std::to_string(bytes_heard_) + " bytes unprintable, e.g. \"" + escape_bytes(sample.substr(0, 48)) + "\")" +
+             (settings_.usual_baud.empty()
+                  ? std::string()
+                  : "; this dish usually runs at " + settings_.usual_baud + " baud (rotctld -s)") +
              "; also check the wiring (a swapped RX pair garbles at the right rate)");
 }
 
@@ -217,8 +228,9 @@ Status ConsoleSynchroniser::write(std::string_view bytes) {
 // What the console has shown so far, for the waiting messages: they must never say "nothing"
 // of a console that printed its boot log or answers every poke with a prompt not recognised.
 std::string ConsoleSynchroniser::shown_so_far(const ConsoleSnapshot& snapshot) const {
-    std::string shown = snapshot.last_boot_line.empty() ? std::string("no boot output")
-                                                        : "last boot output \"" + escape_bytes(snapshot.last_boot_line) + "\"";
+    std::string shown = snapshot.last_boot_line.empty()
+                            ? std::string("no boot output")
+                            : "last boot output \"" + escape_bytes(snapshot.last_boot_line) + "\"";
     const std::string last = quoted_tail(recent_, 1);
     if (last.empty()) {
         return shown + ", nothing else heard";
@@ -256,7 +268,8 @@ void ConsoleSynchroniser::report_progress(const ConsoleSnapshot& snapshot, Clock
         milestone = next_progress_;
         next_progress_ += settings_.progress_interval;
     }
-    emit(log_, LogLevel::warning, "still waiting for the dish to boot: " + seconds_text(milestone) + "; " + shown_so_far(snapshot));
+    emit(log_, LogLevel::warning,
+         "still waiting for the dish to boot: " + seconds_text(milestone) + "; " + shown_so_far(snapshot));
 }
 
 Status ConsoleSynchroniser::give_up(const ConsoleSnapshot& snapshot, std::string_view why) const {
@@ -277,7 +290,8 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
     // However small the budget (a recovery slice), a console that is up gets its chance: three
     // rounds of quiet, poke and reply confirm a prompt even if the first reply was stale.
     const auto floor = 3 * (settings_.quiet_gap + settings_.reply_window + settings_.quiet_gap);
-    const Clock::time_point limit = started + std::max(settings_.budget, std::chrono::duration_cast<std::chrono::milliseconds>(floor));
+    const Clock::time_point limit =
+        started + std::max(settings_.budget, std::chrono::duration_cast<std::chrono::milliseconds>(floor));
     auto fail_io = [&](const Status& status) { return Result<ConsoleSnapshot>{std::move(snapshot), status}; };
     auto waited = [&] { return std::chrono::duration_cast<std::chrono::milliseconds>(now() - started); };
 
@@ -293,23 +307,24 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
         }
         snapshot.ready_line = snapshot.last_boot_line;
         snapshot.waited = waited();
-        emit(log_, LogLevel::verbose, "the dish printed its ready line \"" + escape_bytes(snapshot.ready_line) +
-                                          "\": in sync at its root without a poke, after " + seconds_text(snapshot.waited));
+        emit(log_, LogLevel::verbose,
+             "the dish printed its ready line \"" + escape_bytes(snapshot.ready_line) +
+                 "\": in sync at its root without a poke, after " + seconds_text(snapshot.waited));
         return true;
     };
     if (ready(stale)) {
         return {std::move(snapshot), Status::ok()};
     }
     if (booting()) {
-        report_progress(snapshot, started);   // opened mid-boot: say so at once
+        report_progress(snapshot, started);  // opened mid-boot: say so at once
     }
 
     std::string candidate;                  // a prompt seen once; a second poke must end on it too
     std::vector<std::string> probe_answer;  // the probe's reply once; a second must repeat it
     while (now() < limit) {
         // Let the console finish what it is saying; unsolicited output voids a candidate.
-        const Heard unsolicited = collect(booting() ? settings_.boot_listen : settings_.quiet_gap,
-                                          settings_.quiet_gap, limit);
+        const Heard unsolicited =
+            collect(booting() ? settings_.boot_listen : settings_.quiet_gap, settings_.quiet_gap, limit);
         if (unsolicited.failed) {
             return fail_io(unsolicited.failure);
         }
@@ -352,8 +367,8 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
                 end_boot_on("two pokes at " + prompt, snapshot.last_boot_line);
                 snapshot.prompt = std::move(prompt);
                 snapshot.waited = waited();
-                emit(log_, LogLevel::verbose, "console in sync at prompt " + snapshot.prompt + " after " +
-                                                  seconds_text(snapshot.waited));
+                emit(log_, LogLevel::verbose,
+                     "console in sync at prompt " + snapshot.prompt + " after " + seconds_text(snapshot.waited));
                 return {std::move(snapshot), Status::ok()};
             }
             candidate = std::move(prompt);
@@ -377,28 +392,28 @@ Result<ConsoleSnapshot> ConsoleSynchroniser::synchronise() {
                 return {std::move(snapshot), Status::ok()};
             }
             if (std::string prompt = trailing_prompt(answer.text()); !prompt.empty()) {
-                candidate = std::move(prompt);   // the next bare line ending confirms it
+                candidate = std::move(prompt);  // the next bare line ending confirms it
                 continue;
             }
             std::vector<std::string> lines(snapshot.heard.begin() + static_cast<std::ptrdiff_t>(first_new),
                                            snapshot.heard.end());
-            lines.erase(std::remove(lines.begin(), lines.end(), std::string(settings_.probe_command)), lines.end());   // the echo
-            const bool clean = !lines.empty() &&
-                               std::none_of(lines.begin(), lines.end(), [&](const std::string& l) {
-                                   return contains_any(l, settings_.boot_markers) ||
-                                          contains_any(l, settings_.boot_complete_markers);
-                               });
+            lines.erase(std::remove(lines.begin(), lines.end(), std::string(settings_.probe_command)),
+                        lines.end());  // the echo
+            const bool clean = !lines.empty() && std::none_of(lines.begin(), lines.end(), [&](const std::string& l) {
+                return contains_any(l, settings_.boot_markers) || contains_any(l, settings_.boot_complete_markers);
+            });
             if (clean && lines == probe_answer) {
                 end_boot_on("\"" + std::string(settings_.probe_command) + "\" the same twice", snapshot.last_boot_line);
                 snapshot.probe_reply = std::move(lines);
                 snapshot.waited = waited();
-                emit(log_, LogLevel::verbose, "console in sync without a prompt: \"" + std::string(settings_.probe_command) +
-                                                  "\" answered the same twice, after " + seconds_text(snapshot.waited));
+                emit(log_, LogLevel::verbose,
+                     "console in sync without a prompt: \"" + std::string(settings_.probe_command) +
+                         "\" answered the same twice, after " + seconds_text(snapshot.waited));
                 return {std::move(snapshot), Status::ok()};
             }
             probe_answer = clean ? std::move(lines) : std::vector<std::string>{};
             if (clean) {
-                continue;   // ask once more at once
+                continue;  // ask once more at once
             }
         }
         report_progress(snapshot, started);

@@ -47,10 +47,10 @@ struct SyncSettings {
     // Sent after a line ending drew no prompt, to tell a live prompt-less console from a silent
     // one; empty: never. Must be harmless in every menu of every variant (`?`).
     std::string_view probe_command;
-    std::chrono::milliseconds quiet_gap{250};       // silence that ends a reply
-    std::chrono::milliseconds reply_window{1200};   // how long a poke waits for the first byte
-    std::chrono::milliseconds boot_listen{5000};    // listen this long while boot output is in progress
-    std::chrono::milliseconds budget{60000};        // give up after this (the boot timeout)
+    std::chrono::milliseconds quiet_gap{250};      // silence that ends a reply
+    std::chrono::milliseconds reply_window{1200};  // how long a poke waits for the first byte
+    std::chrono::milliseconds boot_listen{5000};   // listen this long while boot output is in progress
+    std::chrono::milliseconds budget{60000};       // give up after this (the boot timeout)
     std::chrono::milliseconds progress_interval{30000};
     // For the messages: what the caller expects ("a prompt (TRK> or MOT>)") and the usual baud
     // rate(s) of what it expects ("115200"), named when the replies look like a wrong baud rate.
@@ -60,11 +60,11 @@ struct SyncSettings {
 
 // What the console showed once it was in sync.
 struct ConsoleSnapshot {
-    std::string prompt;                     // confirmed on two consecutive pokes; trailing spaces stripped
-    std::vector<std::string> probe_reply;   // lines answering probe_command, when it proved the console live
-    std::vector<std::string> heard;         // every printable line heard, oldest first (boot lines included)
-    std::string last_boot_line;             // empty when no boot output was heard
-    std::string ready_line;                 // the ready line that ended the synchronisation (no prompt then)
+    std::string prompt;                    // confirmed on two consecutive pokes; trailing spaces stripped
+    std::vector<std::string> probe_reply;  // lines answering probe_command, when it proved the console live
+    std::vector<std::string> heard;        // every printable line heard, oldest first (boot lines included)
+    std::string last_boot_line;            // empty when no boot output was heard
+    std::string ready_line;                // the ready line that ended the synchronisation (no prompt then)
     bool boot_heard = false;
     std::chrono::milliseconds waited{0};
 };
@@ -83,12 +83,12 @@ public:
 
 private:
     struct Heard {
-        std::string raw;          // every byte, as received
-        std::size_t text_end = 0; // raw up to the end of its last text line or clean prompt (noise after it ignored)
+        std::string raw;           // every byte, as received
+        std::size_t text_end = 0;  // raw up to the end of its last text line or clean prompt (noise after it ignored)
         std::string_view text() const { return std::string_view(raw).substr(0, text_end); }
         bool failed = false;
         Status failure;
-        bool ready_line_last = false;   // the latest text was a complete ready line (SyncSettings::ready_markers)
+        bool ready_line_last = false;  // the latest text was a complete ready line (SyncSettings::ready_markers)
     };
 
     Clock::time_point now() const;
@@ -117,9 +117,9 @@ private:
     std::chrono::milliseconds next_progress_{0};
     std::size_t bytes_heard_ = 0;
     std::size_t noise_bytes_ = 0;
-    std::size_t pokes_ = 0;            // bare line endings sent
-    std::size_t answered_pokes_ = 0;   // of which drew console text
-    std::string recent_;   // the tail of everything heard, for the give-up message
+    std::size_t pokes_ = 0;           // bare line endings sent
+    std::size_t answered_pokes_ = 0;  // of which drew console text
+    std::string recent_;              // the tail of everything heard, for the give-up message
 };
 
 // The settings every open path uses for `profile` (a variant's row, or the auto-detect profile):

@@ -6,29 +6,29 @@
 #include <cmath>
 #include <utility>
 
-#include "firmware/protocol.hpp"
 #include "dish/move_drivers.hpp"
+#include "firmware/protocol.hpp"
 
 namespace birdcage {
 namespace {
 
 using namespace std::chrono_literals;
 
-constexpr auto query_timeout = 2000ms;        // `a`: ~60 bytes even at 57600 baud is ~11 ms
-constexpr auto poll_interval = 100ms;         // >= 10 Hz position polls while a leg runs (docs/tracking.md 1.2)
-constexpr auto still_window = 2000ms;         // an axis unchanged this long has stopped
-constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
+constexpr auto query_timeout = 2000ms;  // `a`: ~60 bytes even at 57600 baud is ~11 ms
+constexpr auto poll_interval = 100ms;   // >= 10 Hz position polls while a leg runs (docs/tracking.md 1.2)
+constexpr auto still_window = 2000ms;   // an axis unchanged this long has stopped
+constexpr auto leg_margin = 3000ms;     // added to 2 x the estimated move time
 // An axis that has not moved since its command is not stopped while it may still be starting
 // (a motor may start seconds after the command, docs/tracking.md 1.5): it gets its learnt start-up
 // delay times this, plus the still window; until a leg has timed the axis' start, this long.
 constexpr double startup_margin = 1.5;
-constexpr double under_way_degrees = 0.02;   // as the position model's start (position_model.cpp)
+constexpr double under_way_degrees = 0.02;  // as the position model's start (position_model.cpp)
 constexpr auto unlearnt_startup_allowance = 5000ms;
 // With prompts, the reply to a move may wait for the move's end (G2 after-motion acks): this much
 // beyond the leg's budget. Without prompts the reply is the quiet gap after the move's output.
 constexpr auto prompt_after_move_margin = 2000ms;
 constexpr auto unknown_prompt_send_timeout = 1000ms;
-constexpr double stillness_degrees = 0.02;    // position changes smaller than this are noise
+constexpr double stillness_degrees = 0.02;  // position changes smaller than this are noise
 // An acknowledged angle this far from the one sent means the firmware changed it (clamped, or
 // named another branch); the ack prints two decimals.
 constexpr double ack_match_degrees = 0.01;
@@ -39,12 +39,18 @@ constexpr double ack_branch_degrees = 1.0;
 // was wrong, or the readings too sparse to follow the axis): the leg teaches nothing about the mapping.
 constexpr double path_jump_degrees = 90.0;
 
-std::string degrees_text(double value) { return format_degrees(value); }
-double axis_value(AzEl position, Axis axis) { return axis == Axis::azimuth ? position.az : position.el; }
+std::string degrees_text(double value) {
+    return format_degrees(value);
+}
+double axis_value(AzEl position, Axis axis) {
+    return axis == Axis::azimuth ? position.az : position.el;
+}
 double axis_error(Axis axis, double from, double to) {
     return axis == Axis::azimuth ? std::fabs(azimuth_difference(from, to)) : std::fabs(to - from);
 }
-std::string axis_text(Axis axis) { return std::to_string(static_cast<int>(axis)); }
+std::string axis_text(Axis axis) {
+    return std::to_string(static_cast<int>(axis));
+}
 
 }  // namespace
 
@@ -66,12 +72,13 @@ void AxisLegDriver::plan(AzEl wanted, AzEl command, const std::optional<AzEl>& p
                          const std::optional<wrap::PassAhead>& ahead) {
     pending_.clear();
     // The mechanical azimuth: the target's branch, plus the leapfrog lead, inside the usable window.
-    const std::optional<double> leg_end =
-        in_flight_ && in_flight_->axis == Axis::azimuth ? std::optional<double>(in_flight_->final_mech_az) : std::nullopt;
-    const double target_mech = c_.wrap.choose_branch(wanted, previous, az_rate_dps, c_.el_min, leg_end, commanded_az_, ahead);
+    const std::optional<double> leg_end = in_flight_ && in_flight_->axis == Axis::azimuth
+                                              ? std::optional<double>(in_flight_->final_mech_az)
+                                              : std::nullopt;
+    const double target_mech =
+        c_.wrap.choose_branch(wanted, previous, az_rate_dps, c_.el_min, leg_end, commanded_az_, ahead);
     const wrap::Window plan = c_.wrap.plan_window();
-    const double command_mech =
-        std::clamp(target_mech + azimuth_difference(wanted.az, command.az), plan.min, plan.max);
+    const double command_mech = std::clamp(target_mech + azimuth_difference(wanted.az, command.az), plan.min, plan.max);
     command.az = c_.wrap.command_value(command_mech);
 
     const auto mech_az = c_.wrap.mechanical();
@@ -177,7 +184,8 @@ Status AxisLegDriver::send(Leg& leg) {
     const auto estimate = estimated_move_time(c_.profile, leg.axis, distance(leg));
     leg.estimate = estimate;
     const auto until = [&](Clock::time_point end) {
-        return std::max(std::chrono::milliseconds{0}, std::chrono::duration_cast<std::chrono::milliseconds>(end - c_.now()));
+        return std::max(std::chrono::milliseconds{0},
+                        std::chrono::duration_cast<std::chrono::milliseconds>(end - c_.now()));
     };
     leg.queued_behind = until(firmware_busy_.expected);
     leg.queued_at_most = until(firmware_busy_.at_most);
@@ -194,9 +202,11 @@ Status AxisLegDriver::send(Leg& leg) {
     // only a delay the readings have shown counts here. A prompt lost on the line costs this whole
     // wait, so the unlearnt allowance, which only keeps an unstarted axis from being called
     // stopped, would make every lost prompt byte seconds longer (docs/tracking.md §1.5).
-    const auto reply_budget = estimate * 2 + leg_margin +
-                              (startup_.learnt(leg.axis) ? start_allowance(leg) - still_window : std::chrono::milliseconds{0});
-    const auto timeout = c_.profile.prompt_known() ? reply_budget + prompt_after_move_margin : unknown_prompt_send_timeout;
+    const auto reply_budget =
+        estimate * 2 + leg_margin +
+        (startup_.learnt(leg.axis) ? start_allowance(leg) - still_window : std::chrono::milliseconds{0});
+    const auto timeout =
+        c_.profile.prompt_known() ? reply_budget + prompt_after_move_margin : unknown_prompt_send_timeout;
     ReplyComplete complete;
     if (c_.profile.move_ack == MoveAckFormat::g2_angle) {
         complete = [](Span<const std::string> lines) { return static_cast<bool>(parse_g2_move_ack(lines)); };
@@ -273,7 +283,7 @@ Status AxisLegDriver::send(Leg& leg) {
     leg.motion.to = leg.axis == Axis::azimuth ? normalize_azimuth(leg.target.az) : leg.target.el;
     leg.motion.sent_at = leg.sent_at;
     leg.motion.latest = AxisReading{leg.motion.start, c_.state.last_position_at.value_or(leg.sent_at)};
-    settling(leg.axis).reset();   // this leg moves the axis from here on
+    settling(leg.axis).reset();  // this leg moves the axis from here on
     last_poll_ = leg.sent_at;
     emit(c_.log, LogLevel::verbose, "sent " + command + " (estimated " + std::to_string(estimate.count()) + " ms)");
     in_flight_ = leg;
@@ -400,15 +410,15 @@ Status AxisLegDriver::follow() {
         leg.last_seen = seen;
         leg.last_change = t;
     } else if (t - leg.last_change >= still_window && t - leg.sent_at >= unmoved_for) {
-        emit(c_.log, LogLevel::warning, "axis " + axis_text(leg.axis) + " stopped at " + degrees_text(seen) +
-                                            ", short of " + degrees_text(goal));
+        emit(c_.log, LogLevel::warning,
+             "axis " + axis_text(leg.axis) + " stopped at " + degrees_text(seen) + ", short of " + degrees_text(goal));
         if (!leg.under_way) {
             unstarted_stop_ = leg.axis;
         }
         end_leg("stopped");
         return Status::ok();
     }
-    if (t - leg.sent_at > leg.budget) {   // the budget may have grown with what this poll taught
+    if (t - leg.sent_at > leg.budget) {  // the budget may have grown with what this poll taught
         finish("timed out");
         return Status{Errc::timeout, "axis " + axis_text(leg.axis) + " did not reach " + degrees_text(goal) + " in " +
                                          std::to_string(leg.budget.count()) + " ms"};
@@ -425,8 +435,8 @@ void AxisLegDriver::observe_azimuth_leg(Leg& leg, bool at_rest) {
         return;
     }
     azmap::Learner& learner = c_.wrap.learner();
-    const auto learnt = learner.observe(
-        {leg.target.az, leg.from_mech, leg.lowest, leg.highest, at_rest ? mech_az : std::nullopt});
+    const auto learnt =
+        learner.observe({leg.target.az, leg.from_mech, leg.lowest, leg.highest, at_rest ? mech_az : std::nullopt});
     if (!learnt) {
         return;
     }
@@ -443,8 +453,9 @@ void AxisLegDriver::observe_azimuth_leg(Leg& leg, bool at_rest) {
 // with): the legs queued under that plan are dropped and the current target is put on a branch of
 // what is now known, from where the dish is.
 void AxisLegDriver::replan_after_surprise() {
-    pending_.erase(std::remove_if(pending_.begin(), pending_.end(), [](const Leg& leg) { return leg.axis == Axis::azimuth; }),
-                   pending_.end());
+    pending_.erase(
+        std::remove_if(pending_.begin(), pending_.end(), [](const Leg& leg) { return leg.axis == Axis::azimuth; }),
+        pending_.end());
     const auto mech_az = c_.wrap.mechanical();
     const auto& target = c_.state.target;
     if (!target || !mech_az) {
@@ -454,9 +465,9 @@ void AxisLegDriver::replan_after_surprise() {
     const wrap::Window plan = c_.wrap.plan_window();
     const double mechanical = wrap::choose_branch(target->az, *mech_az, 0, false, plan).mechanical;
     c_.wrap.set_target_mechanical(mechanical);
-    emit(c_.log, LogLevel::verbose, "azimuth " + degrees_text(target->az) + " re-planned on mechanical " +
-                                        degrees_text(mechanical) + " from " + degrees_text(*mech_az) + " (window " +
-                                        degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")");
+    emit(c_.log, LogLevel::verbose,
+         "azimuth " + degrees_text(target->az) + " re-planned on mechanical " + degrees_text(mechanical) + " from " +
+             degrees_text(*mech_az) + " (window " + degrees_text(plan.min) + ".." + degrees_text(plan.max) + ")");
     if (std::fabs(mechanical - *mech_az) < same_angle_degrees) {
         return;
     }
@@ -477,11 +488,10 @@ void AxisLegDriver::record_reading(AzEl position) {
             motion.pace = paces_.pace(motion.axis, axis_error(motion.axis, motion.start, motion.to));
             if (const auto delay = StartupDelays::observed(c_.profile, motion)) {
                 startup_.learn(motion.axis, *delay);
-                emit(c_.log, LogLevel::verbose, "axis " + axis_text(motion.axis) + " started " +
-                                                    std::to_string(static_cast<int>(*delay * 1000)) +
-                                                    " ms after its command (learnt " +
-                                                    std::to_string(static_cast<int>(startup_.delay(motion.axis) * 1000)) +
-                                                    " ms)");
+                emit(c_.log, LogLevel::verbose,
+                     "axis " + axis_text(motion.axis) + " started " + std::to_string(static_cast<int>(*delay * 1000)) +
+                         " ms after its command (learnt " +
+                         std::to_string(static_cast<int>(startup_.delay(motion.axis) * 1000)) + " ms)");
             }
         }
         if (const auto pace = observed_pace(c_.profile, motion)) {
@@ -495,7 +505,7 @@ void AxisLegDriver::record_reading(AzEl position) {
         LegMotion& motion = settling->motion;
         const double value = axis_value(position, motion.axis);
         if (axis_error(motion.axis, motion.latest.value, value) < stillness_degrees) {
-            settling.reset();   // at rest where read
+            settling.reset();  // at rest where read
         } else {
             add_reading(motion, AxisReading{value, at});
         }
@@ -516,7 +526,9 @@ MovingAxes AxisLegDriver::moving_axes() const {
     if (!c_.state.last_position || !c_.state.last_position_at) {
         return moving;
     }
-    auto put = [&](const Leg& leg) { (leg.axis == Axis::azimuth ? moving.azimuth : moving.elevation) = motion_of(leg); };
+    auto put = [&](const Leg& leg) {
+        (leg.axis == Axis::azimuth ? moving.azimuth : moving.elevation) = motion_of(leg);
+    };
     // A reading newer than the settling leg's own was taken while no leg polled: it is the truth.
     for (const auto& settling : settling_) {
         if (settling && settling->motion.latest.at == *c_.state.last_position_at) {

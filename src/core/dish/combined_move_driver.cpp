@@ -5,17 +5,17 @@
 #include <cmath>
 #include <utility>
 
-#include "firmware/protocol.hpp"
 #include "dish/move_drivers.hpp"
+#include "firmware/protocol.hpp"
 
 namespace birdcage {
 namespace {
 
 using namespace std::chrono_literals;
 
-constexpr auto listen_slice = 100ms;          // one service() call listens this long for live output
-constexpr auto leg_margin = 3000ms;           // added to 2 x the estimated move time
-constexpr auto menu_step_timeout = 3000ms;    // the line ending that aborts a `g`, and its reply
+constexpr auto listen_slice = 100ms;        // one service() call listens this long for live output
+constexpr auto leg_margin = 3000ms;         // added to 2 x the estimated move time
+constexpr auto menu_step_timeout = 3000ms;  // the line ending that aborts a `g`, and its reply
 // `g` with prompts unknown: its reply is the quiet gap after the first live output, or this.
 constexpr auto send_timeout = 1000ms;
 // The 2003 Carryout prints a live position line within this long after `g` starts a move: the
@@ -25,7 +25,9 @@ constexpr auto first_live_line_window = 1000ms;
 // Without a position reading the distance of a move is unknown: assume the longest (a half turn).
 constexpr double unknown_distance_degrees = 180.0;
 
-std::string degrees_text(double value) { return format_degrees(value); }
+std::string degrees_text(double value) {
+    return format_degrees(value);
+}
 
 }  // namespace
 
@@ -62,9 +64,9 @@ Status CombinedMoveDriver::service() {
 
 Status CombinedMoveDriver::send(Move move) {
     const auto& last = c_.state.last_position;
-    const double distance = last ? std::max(std::fabs(azimuth_difference(last->az, move.target.az)),
-                                            std::fabs(move.target.el - last->el))
-                                 : unknown_distance_degrees;
+    const double distance =
+        last ? std::max(std::fabs(azimuth_difference(last->az, move.target.az)), std::fabs(move.target.el - last->el))
+             : unknown_distance_degrees;
     const auto estimate = std::max(estimated_move_time(c_.profile, Axis::azimuth, distance),
                                    estimated_move_time(c_.profile, Axis::elevation, distance));
     move.budget = estimate * 2 + leg_margin;
@@ -162,8 +164,7 @@ void CombinedMoveDriver::finish(std::string_view how) {
 }
 
 Status CombinedMoveDriver::lose_sync(const std::string& why) {
-    emit(c_.log, LogLevel::warning,
-         why + "; the console is not where it was left (a silent reboot?): re-initialising");
+    emit(c_.log, LogLevel::warning, why + "; the console is not where it was left (a silent reboot?): re-initialising");
     finish("abandoned");
     pending_.reset();
     sync_lost_ = true;
@@ -196,8 +197,10 @@ void CombinedMoveDriver::cancel() {
 
 std::unique_ptr<MoveDriver> make_move_driver(const MoveContext& context) {
     switch (context.profile.move_style) {
-    case MoveStyle::per_axis_a: return std::make_unique<AxisLegDriver>(context);
-    case MoveStyle::combined_g: return std::make_unique<CombinedMoveDriver>(context);
+        case MoveStyle::per_axis_a:
+            return std::make_unique<AxisLegDriver>(context);
+        case MoveStyle::combined_g:
+            return std::make_unique<CombinedMoveDriver>(context);
     }
     return std::make_unique<AxisLegDriver>(context);
 }

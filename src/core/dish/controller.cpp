@@ -6,19 +6,21 @@
 #include <algorithm>
 #include <cmath>
 
-#include "tracking/leapfrog.hpp"
-#include "firmware/protocol.hpp"
 #include "console/synchroniser.hpp"
+#include "firmware/protocol.hpp"
+#include "tracking/leapfrog.hpp"
 
 namespace birdcage {
 namespace {
 
 using namespace std::chrono_literals;
 
-constexpr auto skip_init_sync_budget = 5000ms;  // skip_init: the dish is said to be up already
+constexpr auto skip_init_sync_budget = 5000ms;     // skip_init: the dish is said to be up already
 constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
 
-std::string degrees_text(double value) { return format_degrees(value); }
+std::string degrees_text(double value) {
+    return format_degrees(value);
+}
 
 }  // namespace
 
@@ -44,8 +46,8 @@ Controller::Controller(Transport& transport, ControllerOptions options)
         limit = std::clamp(*user, profile_.el_min, profile_.el_max);
         if (limit != *user) {
             emit(options_.log, LogLevel::warning,
-                 std::string(name) + " " + degrees_text(*user) + " is beyond the " +
-                     std::string(profile_.short_name) + " limits; using " + degrees_text(limit));
+                 std::string(name) + " " + degrees_text(*user) + " is beyond the " + std::string(profile_.short_name) +
+                     " limits; using " + degrees_text(limit));
         }
     };
     override_limit(options_.el_min, el_min_, "el_min");
@@ -57,13 +59,15 @@ Controller::Controller(Transport& transport, ControllerOptions options)
     }
     session_.set_event_sink(options_.console_events);
     session_.set_requests(backend_requests);  // its moves, homes, search stop and LNB switch
-    driver_ = make_move_driver(
-        MoveContext{session_, profile_, state_, wrap_, reader_, options_.log, [this] { return now(); }, el_min_, el_max_});
+    driver_ = make_move_driver(MoveContext{session_, profile_, state_, wrap_, reader_, options_.log,
+                                           [this] { return now(); }, el_min_, el_max_});
 }
 
 Controller::~Controller() = default;
 
-Clock::time_point Controller::now() const { return options_.clock.now(); }
+Clock::time_point Controller::now() const {
+    return options_.clock.now();
+}
 
 // A booting, idle or noisy console is brought to a confirmed prompt by the one synchroniser
 // (never on a single line: see synchroniser.hpp); it also says at default verbosity that it waits.
@@ -71,7 +75,8 @@ Clock::time_point Controller::now() const { return options_.clock.now(); }
 // no poke, because each moment lets the TV search swing the dish further (docs/reliability.md).
 Result<bool> Controller::wait_for_boot() {
     auto at_ready_line = [this](const std::string& ready_line) -> Result<bool> {
-        emit(options_.log, LogLevel::warning, "dish booted (its ready line \"" + ready_line + "\"): stopping its TV search at once");
+        emit(options_.log, LogLevel::warning,
+             "dish booted (its ready line \"" + ready_line + "\"): stopping its TV search at once");
         return {true, Status::ok()};
     };
     if (session_.just_booted()) {
@@ -117,8 +122,8 @@ Status Controller::check_tracker_disabled() {
         emit(options_.log, LogLevel::warning,
              "NVS " + std::to_string(entry.value->index) + " (" + entry.value->name +
                  ") is FALSE: the firmware's TV-satellite search runs after every boot and will move the dish on "
-                 "its own. Set it to TRUE yourself (nvs, e " + std::to_string(entry.value->index) +
-                 " TRUE, s, reboot); the backend never writes NVS.");
+                 "its own. Set it to TRUE yourself (nvs, e " +
+                 std::to_string(entry.value->index) + " TRUE, s, reboot); the backend never writes NVS.");
     }
     return Status::ok();
 }
@@ -139,7 +144,9 @@ Status Controller::reinitialize(std::chrono::milliseconds boot_budget) {
     return st;
 }
 
-Status Controller::initialize() { return initialize_within(options_.boot_timeout); }
+Status Controller::initialize() {
+    return initialize_within(options_.boot_timeout);
+}
 
 // From whatever the console shows to the motor menu: synchronise (waiting out a boot), leave any
 // submenu, stop the TV search, enter the motor menu.
@@ -147,7 +154,8 @@ Status Controller::open_motor_menu() {
     if (options_.skip_init) {
         emit(options_.log, LogLevel::verbose, "skip_init: assuming the dish is booted and in its motor menu");
         if (profile_.prompt_known()) {
-            if (const auto synced = session_.synchronise(console_sync_settings(profile_, skip_init_sync_budget)); !synced) {
+            if (const auto synced = session_.synchronise(console_sync_settings(profile_, skip_init_sync_budget));
+                !synced) {
                 return synced.status;
             }
         }
@@ -173,8 +181,8 @@ Status Controller::open_motor_menu() {
         }
         // A firmware that prints more after its ready line answers only once it has finished: it
         // kept the input, so its prompt is found the usual way and the whole stop sent again.
-        emit(options_.log, LogLevel::verbose, "no answer right after the ready line (" + killed.message +
-                                                  "); waiting for the console's prompt");
+        emit(options_.log, LogLevel::verbose,
+             "no answer right after the ready line (" + killed.message + "); waiting for the console's prompt");
         if (const Result<bool> again = wait_for_boot(); !again) {
             return again.status;
         }
@@ -214,7 +222,7 @@ Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
         }
     }
     warn_if_unhomed();
-    motor_menu_ = session_.menu();   // where every later reply must come from (needs_reinit())
+    motor_menu_ = session_.menu();  // where every later reply must come from (needs_reinit())
     initialised_ = true;
     emit(options_.log, LogLevel::verbose, "initialised: " + describe());
     return Status::ok();
@@ -233,7 +241,9 @@ Result<AzEl> Controller::query_position() {
         if (state_.last_position) {
             return {*state_.last_position, Status::ok()};
         }
-        return {{}, Status{Errc::unsupported, "this dish cannot report its position at rest and none has been commanded yet"}};
+        return {
+            {},
+            Status{Errc::unsupported, "this dish cannot report its position at rest and none has been commanded yet"}};
     }
     const auto before = state_.last_position;
     const auto mech_before = wrap_.mechanical();
@@ -249,8 +259,8 @@ Result<AzEl> Controller::query_position() {
             state_.last_position = before;
             wrap_.restore_mechanical(mech_before);
             return {*before, Status{Errc::protocol, "inconsistent position readings (az " + degrees_text(first.az) +
-                                                         " el " + degrees_text(first.el) +
-                                                         ", then not repeated): line noise? keeping the last position"}};
+                                                        " el " + degrees_text(first.el) +
+                                                        ", then not repeated): line noise? keeping the last position"}};
         }
         position = again;
     }
@@ -258,7 +268,8 @@ Result<AzEl> Controller::query_position() {
     // why once, read-only (docs/firmware.md 6.2).
     if (position && before && at_rest && !tracker_checked_ && profile_.tracker_disable_nvs_index >= 0 &&
         moved_on_its_own(*before, position.value)) {
-        emit(options_.log, LogLevel::warning, "the dish moves on its own while idle; checking whether its tracker is enabled");
+        emit(options_.log, LogLevel::warning,
+             "the dish moves on its own while idle; checking whether its tracker is enabled");
         if (Status checked = check_tracker_disabled(); !checked) {
             return {position.value, checked};
         }
@@ -282,14 +293,14 @@ Status Controller::set_target(AzEl target, double az_rate_dps, const std::option
     if (options_.az_min && options_.az_max && *options_.az_min < *options_.az_max) {
         const double clamped = std::clamp(wanted.az, *options_.az_min, *options_.az_max);
         if (clamped != wanted.az) {
-            emit(options_.log, LogLevel::verbose, "azimuth " + degrees_text(wanted.az) + " clamped to " +
-                                                      degrees_text(clamped) + " (az_min/az_max)");
+            emit(options_.log, LogLevel::verbose,
+                 "azimuth " + degrees_text(wanted.az) + " clamped to " + degrees_text(clamped) + " (az_min/az_max)");
             wanted.az = clamped;
         }
     }
     if (wanted.el != target.el) {
-        emit(options_.log, LogLevel::verbose, "elevation " + degrees_text(target.el) + " clamped to " +
-                                                  degrees_text(wanted.el));
+        emit(options_.log, LogLevel::verbose,
+             "elevation " + degrees_text(target.el) + " clamped to " + degrees_text(wanted.el));
     }
     const std::optional<AzEl> previous = state_.target;
     if (previous && std::fabs(azimuth_difference(previous->az, wanted.az)) < same_angle_degrees &&
@@ -339,12 +350,18 @@ bool Controller::needs_reinit() const {
     return !motor_menu_.empty() && !session_.menu().empty() && session_.menu() != motor_menu_;
 }
 
-bool Controller::idle() const { return !homing_ && driver_->idle(); }
+bool Controller::idle() const {
+    return !homing_ && driver_->idle();
+}
 
 // Homing holds the shell like a leg does: the console must stay in the motor menu.
-bool Controller::leg_in_flight() const { return homing_ || driver_->leg_in_flight(); }
+bool Controller::leg_in_flight() const {
+    return homing_ || driver_->leg_in_flight();
+}
 
-MovingAxes Controller::moving_axes() const { return driver_->moving_axes(); }
+MovingAxes Controller::moving_axes() const {
+    return driver_->moving_axes();
+}
 
 std::string Controller::describe() const {
     std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +
@@ -369,8 +386,10 @@ std::string Controller::describe() const {
                 " Disable Tracker Proc? is FALSE (the TV search will move the dish)";
     }
     if (state_.last_position) {
-        text += "; position az " + degrees_text(state_.last_position->az) + " el " + degrees_text(state_.last_position->el);
-        text += state_.position_estimated ? " (last commanded; this dish cannot report its position at rest)" : " (read back)";
+        text +=
+            "; position az " + degrees_text(state_.last_position->az) + " el " + degrees_text(state_.last_position->el);
+        text += state_.position_estimated ? " (last commanded; this dish cannot report its position at rest)"
+                                          : " (read back)";
     } else {
         text += "; position unknown";
     }

@@ -11,19 +11,19 @@
 #include <string>
 #include <utility>
 
-#include "tracking/az_mapping.hpp"
 #include "base/azel.hpp"
 #include "base/clock.hpp"
-#include "console/console_events.hpp"
-#include "dish/dish_state.hpp"
 #include "base/errors.hpp"
 #include "base/log.hpp"
-#include "dish/menu_navigator.hpp"
-#include "dish/move_driver.hpp"
 #include "base/option_range.hpp"
+#include "console/console_events.hpp"
 #include "console/session.hpp"
 #include "console/transport.hpp"
+#include "dish/dish_state.hpp"
+#include "dish/menu_navigator.hpp"
+#include "dish/move_driver.hpp"
 #include "firmware/variants.hpp"
+#include "tracking/az_mapping.hpp"
 #include "tracking/wrap_tracker.hpp"
 
 namespace birdcage {
@@ -37,16 +37,16 @@ struct ControllerOptions {
 
     VariantId variant;
     bool leapfrog = true;
-    std::optional<double> el_min, el_max;          // user overrides, never beyond the variant's mechanical/firmware limits
-    std::optional<double> az_min, az_max;          // user azimuth range (0..360 display degrees): targets are clamped into it
+    std::optional<double> el_min, el_max;  // user overrides, never beyond the variant's mechanical/firmware limits
+    std::optional<double> az_min, az_max;  // user azimuth range (0..360 display degrees): targets are clamped into it
     // How the firmware maps an azimuth command onto its travel (az_mapping.hpp), as the user states
     // it; nullopt (auto): learnt from where the dish goes.
     std::optional<azmap::Mapping> az_mapping;
     std::chrono::milliseconds boot_timeout{15 * 60 * 1000};
-    bool skip_init = false;                         // user says the dish is ready (already in the motor menu)
-    bool detect = false;                            // RotatorService: identify the variant at start (auto)
-    std::string detection_note;                     // how the variant was identified (shown by describe())
-    int line_baud = 0;                              // the rate the port was opened at (describe()); 0 = unknown
+    bool skip_init = false;      // user says the dish is ready (already in the motor menu)
+    bool detect = false;         // RotatorService: identify the variant at start (auto)
+    std::string detection_note;  // how the variant was identified (shown by describe())
+    int line_baud = 0;           // the rate the port was opened at (describe()); 0 = unknown
     LogSink log;
     // What the controller learns from the console's replies, as values (console_events.hpp), in
     // the order it was read; unset: nothing is reported.
@@ -61,10 +61,10 @@ struct ControllerOptions {
 // targets into commands and follows them; the wrap tracker keeps the mechanical azimuth; the
 // position reader turns replies into DishState. What is left here: initialisation, target
 // validation and clamping, leapfrog, homing, the idle checks, and describe().
-class Controller {   // single-threaded; RotatorService calls it from one worker thread
+class Controller {  // single-threaded; RotatorService calls it from one worker thread
 public:
     Controller(Transport& transport, ControllerOptions options);
-    Controller(const Controller&) = delete;   // the parts hold references to each other
+    Controller(const Controller&) = delete;  // the parts hold references to each other
     Controller& operator=(const Controller&) = delete;
     ~Controller();
 
@@ -85,16 +85,17 @@ public:
     bool needs_reinit() const;
     // The firmware's fault line (`AZ MOTOR STALLED`) that ended the last leg, once; empty if none.
     std::string take_fault() { return std::exchange(state_.fault, std::string()); }
-    Result<AzEl> query_position();    // asks the dish now; updates last_position(); az in [0, 360)
+    Result<AzEl> query_position();  // asks the dish now; updates last_position(); az in [0, 360)
     // Validates, clamps, leap-frogs, and has the move driver queue legs. No I/O.
     // `target.az` may be 0..360 or -180..180 (any finite value is taken modulo 360); the backend
     // chooses the mechanical branch (WrapTracker::choose_branch()). `az_rate_dps` is the caller's
     // estimate of the target's azimuth rate (deg/s, sign = direction of motion; 0 = unknown or
     // stationary): it lets a pass start on the branch with room for the whole pass. `ahead`: the
     // rest of the pass as a trusted orbit foresees it (exact room, and when to unwind).
-    Status set_target(AzEl target, double az_rate_dps = 0.0, const std::optional<wrap::PassAhead>& ahead = std::nullopt);
-    Status service();                 // one pump step (~every 50 ms)
-    void cancel_pending();            // drops legs not yet sent; aborts a running `g` where input aborts it
+    Status set_target(AzEl target, double az_rate_dps = 0.0,
+                      const std::optional<wrap::PassAhead>& ahead = std::nullopt);
+    Status service();       // one pump step (~every 50 ms)
+    void cancel_pending();  // drops legs not yet sent; aborts a running `g` where input aborts it
     // Homing (Hamlib reset) without blocking: start_home() queues the variant's home commands
     // (unsupported if none) and service() drives them, sending each and then reading the console
     // a short slice per call until its prompt returns (the G2's `h` holds the shell until the
@@ -102,7 +103,7 @@ public:
     // runs the console is busy: idle() and query_position() say so, targets set meanwhile wait.
     Status start_home();
     bool homing() const { return homing_.has_value(); }
-    Status home();                    // start_home(), then service() until it ends (blocking)
+    Status home();  // start_home(), then service() until it ends (blocking)
     bool unhomed() const { return state_.unhomed; }
     bool idle() const;
     // How long a small step takes this dish, as its own legs timed it (MoveDriver).
@@ -158,7 +159,7 @@ private:
     Status check_tracker_disabled();
     void forget_target();
     bool moved_on_its_own(const AzEl& before, const AzEl& now) const;
-    Status service_homing();   // controller_homing.cpp, with start_home() and home()
+    Status service_homing();  // controller_homing.cpp, with start_home() and home()
     Status finish_homing();
 
     const FirmwareProfile& profile_;
@@ -172,15 +173,15 @@ private:
     std::unique_ptr<MoveDriver> driver_;
     bool initialised_ = false;
     struct HomingRun {
-        std::size_t next = 0;               // index into profile_.home_commands
-        bool awaiting_prompt = false;       // home_commands[next] was sent; its prompt has not come back
+        std::size_t next = 0;          // index into profile_.home_commands
+        bool awaiting_prompt = false;  // home_commands[next] was sent; its prompt has not come back
         Clock::time_point sent_at{};
     };
     std::optional<HomingRun> homing_;
-    bool tracker_enabled_ = false;      // G2 NVS 20 "Disable Tracker Proc?" read FALSE (describe())
+    bool tracker_enabled_ = false;  // G2 NVS 20 "Disable Tracker Proc?" read FALSE (describe())
     bool tracker_checked_ = false;
-    std::chrono::milliseconds boot_budget_{0};   // wait_for_boot()'s bound for this initialisation
-    std::string motor_menu_;                     // the session's menu at the end of initialize()
+    std::chrono::milliseconds boot_budget_{0};  // wait_for_boot()'s bound for this initialisation
+    std::string motor_menu_;                    // the session's menu at the end of initialize()
 };
 
 }  // namespace birdcage

@@ -31,8 +31,8 @@ void Controller::warn_if_unhomed() const {
 
 Status Controller::start_home() {
     if (profile_.home_commands.empty()) {
-        return Status{Errc::unsupported, std::string(profile_.display_name) +
-                                             " has no homing command (it calibrates at power-up only)"};
+        return Status{Errc::unsupported,
+                      std::string(profile_.display_name) + " has no homing command (it calibrates at power-up only)"};
     }
     if (!initialised_) {
         return Status{Errc::not_initialised, "initialize() has not succeeded"};
@@ -85,7 +85,7 @@ Status Controller::service_homing() {
     if (!heard.value.prompt.empty()) {
         run.awaiting_prompt = false;
         ++run.next;
-        return service_homing();   // the next command at once, or the end
+        return service_homing();  // the next command at once, or the end
     }
     if (now() - run.sent_at > home_timeout) {
         return failed(Status{Errc::timeout, "no prompt within " + std::to_string(home_timeout.count()) + " ms"});

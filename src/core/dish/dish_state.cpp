@@ -30,7 +30,7 @@ Result<AzEl> PositionReader::ask(std::chrono::milliseconds timeout) {
     };
     const std::string command(profile_.position_query);
     const auto reply = session_.transact(command, timeout, complete);
-    state_.fault_reported = reply.status.code == Errc::protocol;   // the session's only protocol error: a fault line
+    state_.fault_reported = reply.status.code == Errc::protocol;  // the session's only protocol error: a fault line
     if (state_.fault_reported) {
         state_.fault = reply.status.message;
     }
@@ -57,7 +57,7 @@ Result<AzEl> PositionReader::ask(std::chrono::milliseconds timeout) {
     record_reading(position.value);
     session_.report(ConsoleEvent::read_position(ConsoleEvent::Kind::position, position.value));
     if (!reply) {
-        position.status = reply.status;   // a valid position, but the dish also reported a fault
+        position.status = reply.status;  // a valid position, but the dish also reported a fault
     }
     return position;
 }

@@ -22,13 +22,13 @@
 namespace birdcage {
 
 struct DishState {
-    std::optional<AzEl> last_position;                 // az in [0, 360)
+    std::optional<AzEl> last_position;  // az in [0, 360)
     std::optional<Clock::time_point> last_position_at;
-    bool position_estimated = false;   // last_position comes from commands, not a readback
+    bool position_estimated = false;  // last_position comes from commands, not a readback
     bool unhomed = false;
-    bool fault_reported = false;       // the last position reply carried a fault line (stall)
-    std::string fault;                 // that fault, until Controller::take_fault()
-    std::optional<AzEl> target;        // the client's target as accepted (clamped), display degrees
+    bool fault_reported = false;  // the last position reply carried a fault line (stall)
+    std::string fault;            // that fault, until Controller::take_fault()
+    std::optional<AzEl> target;   // the client's target as accepted (clamped), display degrees
 
     // A position the dish reported (estimated = false) or the backend inferred (true).
     void record(AzEl position, Clock::time_point at, bool estimated);

@@ -13,7 +13,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr auto menu_step_timeout = 3000ms;   // one menu command and its reply
+constexpr auto menu_step_timeout = 3000ms;  // one menu command and its reply
 // Re-synchronising on a console that is up, only its menu unknown (as auto-detection does after a `q`).
 constexpr auto menu_sync_budget = 5000ms;
 // Known prompts: `q` at most this often on the way to the root (the deepest nesting is 3 levels,
@@ -80,7 +80,8 @@ Status MenuNavigator::visit(std::string_view menu, const std::function<Status(Co
         back = enter_motor_menu("returning to the motor menu");
     }
     if (!back) {
-        emit(log_, LogLevel::warning, "could not return to the motor menu from " + std::string(menu) + ": " + back.message);
+        emit(log_, LogLevel::warning,
+             "could not return to the motor menu from " + std::string(menu) + ": " + back.message);
         return back;
     }
     return worked;

@@ -15,8 +15,8 @@
 #include "base/errors.hpp"
 #include "base/log.hpp"
 #include "base/span.hpp"
-#include "firmware/protocol.hpp"
 #include "console/session.hpp"
+#include "firmware/protocol.hpp"
 #include "firmware/variants.hpp"
 
 namespace birdcage {

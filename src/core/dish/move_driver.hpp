@@ -13,11 +13,11 @@
 
 #include "base/azel.hpp"
 #include "base/clock.hpp"
-#include "dish/dish_state.hpp"
 #include "base/errors.hpp"
 #include "base/log.hpp"
 #include "base/plain_types.hpp"
 #include "console/session.hpp"
+#include "dish/dish_state.hpp"
 #include "firmware/variants.hpp"
 #include "tracking/wrap_tracker.hpp"
 
@@ -30,7 +30,7 @@ struct MoveContext {
     WrapTracker& wrap;
     PositionReader& reader;
     LogSink log;
-    std::function<Clock::time_point()> now;   // dish time (clock.hpp)
+    std::function<Clock::time_point()> now;  // dish time (clock.hpp)
     double el_min, el_max;
 
     // The target is void (the firmware dropped its moves): the same target sent again is a new move.

@@ -33,10 +33,10 @@ public:
     void recovered() override { farther_axis_first_ = true; }
 
 private:
-    static constexpr int max_waypoint_legs = 4;   // bounds the waypoint legs per target (3 span any window)
+    static constexpr int max_waypoint_legs = 4;  // bounds the waypoint legs per target (3 span any window)
     struct Leg {
         Axis axis = Axis::azimuth;
-        AzEl target;                   // the commanded value; only the axis' field counts
+        AzEl target;  // the commanded value; only the axis' field counts
         // Azimuth legs: the mechanical azimuth this leg commands (target.az is its display form)
         // and the one the move ends at; they differ while waypoints lead there (wrap::next_waypoint).
         double mech_az = 0.0;
@@ -46,13 +46,13 @@ private:
         // swept; path_known while the readings came close enough together to follow it.
         double from_mech = 0.0, lowest = 0.0, highest = 0.0;
         bool path_known = false;
-        std::optional<double> expected_end;   // where the learnt mapping now says it goes (if not mech_az)
+        std::optional<double> expected_end;  // where the learnt mapping now says it goes (if not mech_az)
         Clock::time_point sent_at{};
         std::chrono::milliseconds budget{0};
-        std::optional<double> last_seen;       // the axis' position at the previous poll
+        std::optional<double> last_seen;  // the axis' position at the previous poll
         Clock::time_point last_change{};
-        LegMotion motion;   // for the position model (send() starts it, polls add readings)
-        bool from_rest = true;   // the axis was not still covering a previous leg when this one was sent
+        LegMotion motion;       // for the position model (send() starts it, polls add readings)
+        bool from_rest = true;  // the axis was not still covering a previous leg when this one was sent
         // Where the axis counts as not yet under way towards this leg's end (mechanical azimuth or
         // elevation): where it stood, or the end of the previous leg it was still covering when
         // that lies on the way; under_way once a poll shows it past that.
@@ -62,7 +62,7 @@ private:
         // and how long it may take at most: `a` queues a motor command behind the motor that is
         // moving (docs/firmware.md §2, §3.4), so this axis cannot start before that is over.
         std::chrono::milliseconds queued_behind{0}, queued_at_most{0};
-        std::chrono::milliseconds estimate{0};   // the move's estimated time once the axis runs
+        std::chrono::milliseconds estimate{0};  // the move's estimated time once the axis runs
     };
 
     Status send(Leg& leg);
@@ -92,8 +92,8 @@ private:
     struct FirmwareBusy {
         Clock::time_point expected{}, at_most{};
     } firmware_busy_;
-    AxisPaces paces_;   // how fast the motors ran on earlier legs: a fact about the dish, kept
-    StartupDelays startup_;   // how long each motor took to start on earlier legs: likewise
+    AxisPaces paces_;        // how fast the motors ran on earlier legs: a fact about the dish, kept
+    StartupDelays startup_;  // how long each motor took to start on earlier legs: likewise
     // How long small legs took from the command to the reading that showed them there: what a
     // step costs on this dish, start-up, motion and polling together (an average over legs). Only
     // legs of a comparable size count: on an acceleration-limited motor the time grows with the
@@ -102,11 +102,11 @@ private:
     // flipped with every change of mode (docs/tracking.md §6).
     static constexpr double small_step_min_deg = 0.4, small_step_max_deg = 2.0;
     StartupDelays step_times_;
-    std::optional<Axis> unstarted_stop_;   // the axis whose last leg was declared stopped before it moved
-    std::optional<double> commanded_az_, commanded_el_;   // values last sent (or in flight); az mechanical
+    std::optional<Axis> unstarted_stop_;                 // the axis whose last leg was declared stopped before it moved
+    std::optional<double> commanded_az_, commanded_el_;  // values last sent (or in flight); az mechanical
     Clock::time_point last_poll_{};
     unsigned move_count_ = 0;
-    bool farther_axis_first_ = false;   // set by recovered(), for the next plan only
+    bool farther_axis_first_ = false;  // set by recovered(), for the next plan only
 };
 
 // The 2003 Carryout's combined `g <az> <el>` in its `target` menu: no position query, only live
@@ -130,8 +130,8 @@ private:
         AzEl target;
         Clock::time_point sent_at{};
         std::chrono::milliseconds budget{0};
-        bool live_seen = false;       // a live position line was printed for this move
-        bool needs_motion = false;    // the dish was not already at the target
+        bool live_seen = false;     // a live position line was printed for this move
+        bool needs_motion = false;  // the dish was not already at the target
     };
 
     Status send(Move move);

@@ -19,13 +19,15 @@ Status require_receiver(const Controller& controller) {
     return Status::ok();
 }
 
-} // namespace
+}  // namespace
 
 std::string build_lnb_supply(LnbSupply supply) {
     return supply == LnbSupply::odu_13v ? "lnbdc odu" : "lnbdc stb";
 }
 
-int lnb_volts(LnbSupply supply) { return supply == LnbSupply::odu_13v ? 13 : 18; }
+int lnb_volts(LnbSupply supply) {
+    return supply == LnbSupply::odu_13v ? 13 : 18;
+}
 
 Result<LnbSupply> lnb_supply_from_volts(double volts) {
     if (!std::isfinite(volts) || volts < 13.0 || volts > 18.0) {
@@ -34,7 +36,9 @@ Result<LnbSupply> lnb_supply_from_volts(double volts) {
     return {volts < 15.5 ? LnbSupply::odu_13v : LnbSupply::stb_18v, Status::ok()};
 }
 
-std::chrono::milliseconds rssi_timeout(int samples) { return samples * 20ms + receiver_command_timeout; }
+std::chrono::milliseconds rssi_timeout(int samples) {
+    return samples * 20ms + receiver_command_timeout;
+}
 
 Result<RssiReading> read_signal(Controller& controller, int samples) {
     if (Status usable = require_receiver(controller); !usable) {
@@ -87,4 +91,4 @@ Result<LnbSupply> read_lnb_supply(Controller& controller) {
     return supply;
 }
 
-} // namespace birdcage
+}  // namespace birdcage

@@ -13,20 +13,20 @@
 #include <chrono>
 #include <string>
 
-#include "dish/controller.hpp"
 #include "base/errors.hpp"
 #include "base/plain_types.hpp"
+#include "dish/controller.hpp"
 #include "firmware/protocol.hpp"
 
 namespace birdcage {
 
-inline constexpr int rssi_default_samples = 10;   // what the upstream scanners send (docs/firmware.md 6.6)
+inline constexpr int rssi_default_samples = 10;  // what the upstream scanners send (docs/firmware.md 6.6)
 // At 20 ms a sample the reading blocks the console for samples x 20 ms; 100 keeps it at 2 s, well
 // inside the position's freshness limit (ServiceTiming::max_position_age).
 inline constexpr int rssi_max_samples = 100;
 
-std::string build_lnb_supply(LnbSupply supply);   // "lnbdc odu" / "lnbdc stb"
-int lnb_volts(LnbSupply supply);                  // 13 / 18
+std::string build_lnb_supply(LnbSupply supply);  // "lnbdc odu" / "lnbdc stb"
+int lnb_volts(LnbSupply supply);                 // 13 / 18
 // 13 and 18 (and the values in between rounded to the nearer); anything else is invalid.
 Result<LnbSupply> lnb_supply_from_volts(double volts);
 
@@ -41,4 +41,4 @@ Status apply_lnb_supply(Controller& controller, LnbSupply supply);
 // so that what the backend reports after open is the dish's, not an assumption.
 Result<LnbSupply> read_lnb_supply(Controller& controller);
 
-} // namespace birdcage
+}  // namespace birdcage

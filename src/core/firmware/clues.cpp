@@ -50,7 +50,7 @@ constexpr std::array<DetectionClue, 37> clues{{
     {S::help_command, "odu", V::travler_pro, 6},
     {S::help_command, "target", V::carryout2003, 6},
     {S::help_command, "ngsearch", V::travler_hal205, 6},
-    {S::help_command, "motor", V::travler_hal205, 3},   // its motor menu (4.3); HAL 2.05 may list mot too
+    {S::help_command, "motor", V::travler_hal205, 3},  // its motor menu (4.3); HAL 2.05 may list mot too
     {S::help_command, "mot", V::travler_hal000, 2},
     {S::help_command, "os", V::travler_hal000, 1},
     {S::help_command, "nvs", V::travler_hal000, 1},
@@ -68,16 +68,20 @@ constexpr std::array<ProbeExpectation, 5> motor_probe{{{V::travler_hal000, A::no
                                                        {V::carryout2003, A::any},
                                                        {V::carryout_g2, A::nothing}}};
 constexpr std::array<ProbeExpectation, 5> mot_probe{{{V::travler_hal000, A::travler_position},
-                                                     {V::travler_hal205, A::any},   // 14 HAL2.05.4
-                                                     {V::travler_pro, A::any},      // IDU or ODU root
+                                                     {V::travler_hal205, A::any},  // 14 HAL2.05.4
+                                                     {V::travler_pro, A::any},     // IDU or ODU root
                                                      {V::carryout2003, A::nothing},
                                                      {V::carryout_g2, A::g2_position}}};
 constexpr std::array<DetectionProbe, 2> probes{{{"motor", "a", motor_probe}, {"mot", "a", mot_probe}}};
 
 }  // namespace
 
-Span<const DetectionClue> detection_clues() { return clues; }
+Span<const DetectionClue> detection_clues() {
+    return clues;
+}
 
-Span<const DetectionProbe> detection_probes() { return probes; }
+Span<const DetectionProbe> detection_probes() {
+    return probes;
+}
 
 }  // namespace birdcage

@@ -30,18 +30,18 @@ Span<const DetectionClue> detection_clues();
 // variant (an unknown command at worst; the query has no arguments, so it never moves), and the
 // variants answer them differently. After a probe that entered a menu, `q` leaves it (docs/firmware.md 2).
 enum class ProbeAnswer {
-    any,                // not documented: the answer rules nothing in or out
-    nothing,            // no position (an unknown command at this variant's root)
-    travler_position,   // `AZ = <f> EL = <f> ...` (docs/firmware.md 3.3)
-    g2_position,        // `Angle[0] = <f>` (docs/firmware.md 6.3)
+    any,               // not documented: the answer rules nothing in or out
+    nothing,           // no position (an unknown command at this variant's root)
+    travler_position,  // `AZ = <f> EL = <f> ...` (docs/firmware.md 3.3)
+    g2_position,       // `Angle[0] = <f>` (docs/firmware.md 6.3)
 };
 struct ProbeExpectation {
     VariantId variant;
-    ProbeAnswer answer;   // from this variant's root
+    ProbeAnswer answer;  // from this variant's root
 };
 struct DetectionProbe {
-    std::string_view enter;   // a menu command
-    std::string_view query;   // asked inside it
+    std::string_view enter;  // a menu command
+    std::string_view query;  // asked inside it
     Span<const ProbeExpectation> expected;
 };
 Span<const DetectionProbe> detection_probes();

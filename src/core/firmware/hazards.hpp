@@ -39,7 +39,8 @@ enum HazardRequest : std::uint32_t {
     request_home = 1u << 1,         // `h <id>` with id 0, 1 or `*` in a motor menu
     request_search_stop = 1u << 2,  // `kill Search` in OS, bare `s` in `ngsearch`
     request_lnb_supply = 1u << 3,   // DVB `lnbdc odu` / `lnbdc stb`
-    request_nvs_write = 1u << 4,    // NVS `e <idx> <value>` and `s`, EEPROM `ee <idx> <value>`: only where a user allowed it
+    request_nvs_write =
+        1u << 4,  // NVS `e <idx> <value>` and `s`, EEPROM `ee <idx> <value>`: only where a user allowed it
 };
 using HazardRequests = std::uint32_t;
 

@@ -46,7 +46,9 @@ bool same_word(std::string_view a, std::string_view b) {
 
 }  // namespace
 
-Span<const MenuFact> documented_menus() { return menus; }
+Span<const MenuFact> documented_menus() {
+    return menus;
+}
 
 const MenuFact* menu_entered_by(std::string_view word) {
     for (const MenuFact& menu : menus) {
@@ -69,6 +71,8 @@ const MenuFact* menu_with_prompt_word(std::string_view prompt_word) {
     return nullptr;
 }
 
-bool is_root_prompt_word(std::string_view prompt_word) { return same_word(prompt_word, "TRK"); }
+bool is_root_prompt_word(std::string_view prompt_word) {
+    return same_word(prompt_word, "TRK");
+}
 
 }  // namespace birdcage

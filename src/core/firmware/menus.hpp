@@ -15,9 +15,10 @@
 namespace birdcage {
 
 struct MenuFact {
-    std::string_view word;         // entered from the root with it: "mot"
-    std::string_view prompt_word;  // its prompt shows it: "MOT" (the G2's eeprom shows "EE"); empty = no prompt of its own
-    std::string_view exit_word;    // leaves it for the root: "q" (§2)
+    std::string_view word;  // entered from the root with it: "mot"
+    std::string_view
+        prompt_word;  // its prompt shows it: "MOT" (the G2's eeprom shows "EE"); empty = no prompt of its own
+    std::string_view exit_word;  // leaves it for the root: "q" (§2)
     // The menu is a tunnel into another console (the Pro's `odu`, §5.1): its prompt is that
     // console's root, and where its exit word lands is not documented.
     bool tunnel = false;

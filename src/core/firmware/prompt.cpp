@@ -6,10 +6,18 @@
 namespace birdcage {
 namespace {
 
-bool is_text_byte(unsigned char byte) { return (byte >= 0x20 && byte < 0x7f) || byte == '\t'; }
-bool is_prompt_word_char(char c) { return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_'; }
-bool is_decoration_after_char(char c) { return std::string_view("$#:%>~").find(c) != std::string_view::npos; }
-bool is_letter_or_digit(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'); }
+bool is_text_byte(unsigned char byte) {
+    return (byte >= 0x20 && byte < 0x7f) || byte == '\t';
+}
+bool is_prompt_word_char(char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+bool is_decoration_after_char(char c) {
+    return std::string_view("$#:%>~").find(c) != std::string_view::npos;
+}
+bool is_letter_or_digit(char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9');
+}
 
 // A longer run before the word is a line of output that ends in a prompt-like word, not a tag.
 constexpr std::size_t max_decoration_before = 12;
@@ -62,7 +70,9 @@ std::optional<PromptShape> prompt_shape(std::string_view text) {
     return PromptShape{documented, text.substr(0, length)};
 }
 
-bool looks_like_prompt(std::string_view text) { return prompt_shape(text).has_value(); }
+bool looks_like_prompt(std::string_view text) {
+    return prompt_shape(text).has_value();
+}
 
 std::string prompt_text(std::string_view text) {
     const auto shape = prompt_shape(text);

@@ -20,8 +20,8 @@ namespace birdcage {
 // `$#:%>~` after it, then at most one space. `Enter <a3981> - ...` and `mot>` (an echo, a listing
 // word) are not prompts.
 struct PromptShape {
-    std::string_view documented;   // `TRK>` of `WG TRK> `: what the menus are known by
-    std::string_view decorated;    // the prompt as printed, without its trailing space
+    std::string_view documented;  // `TRK>` of `WG TRK> `: what the menus are known by
+    std::string_view decorated;   // the prompt as printed, without its trailing space
 };
 // `text` as a whole is a prompt (one trailing space allowed).
 std::optional<PromptShape> prompt_shape(std::string_view text);

@@ -15,9 +15,15 @@
 namespace birdcage {
 namespace {
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
-bool is_alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
+bool is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n';
+}
+bool is_digit(char c) {
+    return c >= '0' && c <= '9';
+}
+bool is_alnum(char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0;
+}
 
 std::string join_lines(Span<const std::string> lines) {
     std::string text;
@@ -57,8 +63,8 @@ std::optional<double> number_at(std::string_view text, std::size_t pos, std::siz
         return std::nullopt;  // "1e5", "1.2.3", "12abc": not a console number
     }
     double value = 0;
-    const auto [ptr, ec] = std::from_chars(text.data() + digits_start, text.data() + i, value,
-                                           std::chars_format::fixed);
+    const auto [ptr, ec] =
+        std::from_chars(text.data() + digits_start, text.data() + i, value, std::chars_format::fixed);
     if (ec != std::errc{} || ptr != text.data() + i) {
         return std::nullopt;
     }
@@ -141,8 +147,8 @@ std::string format_degrees(double degrees) {
         rounded = 0.0;  // -0.0 compares equal to 0.0; this assignment drops the sign
     }
     std::array<char, 64> buffer{};
-    const auto [ptr, ec] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), rounded,
-                                         std::chars_format::fixed, 2);
+    const auto [ptr, ec] =
+        std::to_chars(buffer.data(), buffer.data() + buffer.size(), rounded, std::chars_format::fixed, 2);
     if (ec != std::errc{}) {
         return "0.00";
     }
@@ -157,10 +163,13 @@ std::string build_combined_move(AzEl target) {
     return "g " + format_degrees(target.az) + " " + format_degrees(target.el);
 }
 
+std::string build_nvs_dump(int index) {
+    return "d " + std::to_string(index);
+}
 
-std::string build_nvs_dump(int index) { return "d " + std::to_string(index); }
-
-std::string build_rssi(int samples) { return "rssi " + std::to_string(samples); }
+std::string build_rssi(int samples) {
+    return "rssi " + std::to_string(samples);
+}
 
 Result<AzEl> parse_travler_position(Span<const std::string> lines) {
     const std::string text = join_lines(lines);
@@ -176,8 +185,7 @@ Result<AzEl> parse_g2_position(Span<const std::string> lines) {
     const std::string text = join_lines(lines);
     const auto az = field_value(text, "Angle[0]");
     const auto el = field_value(text, "Angle[1]");
-    const bool sentinel = text.find(int_max_text) != std::string::npos ||
-                          (az && std::fabs(*az) >= unhomed_threshold) ||
+    const bool sentinel = text.find(int_max_text) != std::string::npos || (az && std::fabs(*az) >= unhomed_threshold) ||
                           (el && std::fabs(*el) >= unhomed_threshold);
     if (sentinel) {
         return {{}, Status{Errc::not_homed, "the dish reports uncalibrated axes (INT_MAX); home them with h 0 / h 1"}};
@@ -226,9 +234,12 @@ Result<AzEl> parse_carryout_live(Span<const std::string> lines) {
 
 Result<AzEl> parse_position(const FirmwareProfile& profile, Span<const std::string> lines) {
     switch (profile.position_format) {
-    case PositionFormat::travler_az_el_sk: return parse_travler_position(lines);
-    case PositionFormat::g2_angle_index: return parse_g2_position(lines);
-    case PositionFormat::carryout_live: return parse_carryout_live(lines);
+        case PositionFormat::travler_az_el_sk:
+            return parse_travler_position(lines);
+        case PositionFormat::g2_angle_index:
+            return parse_g2_position(lines);
+        case PositionFormat::carryout_live:
+            return parse_carryout_live(lines);
     }
     return {{}, Status{Errc::unsupported, "unknown position format"}};
 }

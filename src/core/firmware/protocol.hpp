@@ -24,10 +24,10 @@ std::string format_degrees(double degrees);
 
 // ---- command builders --------------------------------------------------------------------------
 
-std::string build_axis_move(Axis axis, double degrees);   // "a 0 180.00"
-std::string build_combined_move(AzEl target);             // "g 180.00 45.00"
-std::string build_nvs_dump(int index);                    // "d 20"  (G2 NVS>)
-std::string build_rssi(int samples);                      // "rssi 10" (G2 DVB>)
+std::string build_axis_move(Axis axis, double degrees);  // "a 0 180.00"
+std::string build_combined_move(AzEl target);            // "g 180.00 45.00"
+std::string build_nvs_dump(int index);                   // "d 20"  (G2 NVS>)
+std::string build_rssi(int samples);                     // "rssi 10" (G2 DVB>)
 
 // ---- reply parsers -----------------------------------------------------------------------------
 // Each parser takes the reply lines (echo and prompt already removed). A reply that does not
@@ -74,9 +74,9 @@ Result<LnbSupply> parse_g2_lnb_polarity(Span<const std::string> lines);
 
 // What the session knows when it decides whether a command may be sent.
 struct HazardContext {
-    std::string_view menu;       // "root", "mot", "nvs", ... ; empty = unknown
+    std::string_view menu;  // "root", "mot", "nvs", ... ; empty = unknown
     bool allow_nvs_write = false;
-    bool axes_unhomed = false;   // a position reply showed the INT_MAX sentinel
+    bool axes_unhomed = false;  // a position reply showed the INT_MAX sentinel
     // What the caller asks for (hazards.hpp): nothing by default, so a caller that forgets to say
     // gets a console it cannot move.
     HazardRequests requests = request_nothing;

@@ -17,15 +17,15 @@ using namespace std::chrono_literals;
 // ---- Trav'ler HAL 0.0.00 (docs/firmware.md 3) ----
 constexpr std::array<ConsoleStep, 1> hal000_motor_entry{{{"mot", 0ms}}};
 // travler_init.py: q, CR, os, kill Search, q, CR.
-constexpr std::array<ConsoleStep, 6> hal000_search_kill{{{"q", 0ms}, {"", 0ms}, {"os", 0ms},
-                                                         {"kill Search", 0ms}, {"q", 0ms}, {"", 0ms}}};
+constexpr std::array<ConsoleStep, 6> hal000_search_kill{
+    {{"q", 0ms}, {"", 0ms}, {"os", 0ms}, {"kill Search", 0ms}, {"q", 0ms}, {"", 0ms}}};
 constexpr std::array<std::string_view, 1> hal000_boot_complete{"NoGPS"};
 
 // ---- Trav'ler HAL 2.05.003 (docs/firmware.md 4) ----
 constexpr std::array<ConsoleStep, 1> hal205_motor_entry{{{"motor", 0ms}}};
 // birdcage's HAL205 sequence (4.3), with its 0.2 s pauses after `ngsearch` and `s`.
-constexpr std::array<ConsoleStep, 6> hal205_search_kill{{{"q", 0ms}, {"", 0ms}, {"ngsearch", 200ms},
-                                                         {"s", 200ms}, {"q", 0ms}, {"", 0ms}}};
+constexpr std::array<ConsoleStep, 6> hal205_search_kill{
+    {{"q", 0ms}, {"", 0ms}, {"ngsearch", 200ms}, {"s", 200ms}, {"q", 0ms}, {"", 0ms}}};
 constexpr std::array<std::string_view, 2> hal205_boot_complete{"NoGPS", "No LNB Voltage"};
 
 // ---- Trav'ler Pro (docs/firmware.md 5) ----
@@ -34,8 +34,14 @@ constexpr std::array<std::string_view, 2> hal205_boot_complete{"NoGPS", "No LNB 
 // either way: two `q` reach the ODU root or the IDU; `odu` then enters the ODU from the IDU and
 // is an unknown (harmless) command at the ODU root. No `q` follows `odu` (the upstream client's
 // `odu`, `q`, `mot` only works if `q` stays on the ODU).
-constexpr std::array<ConsoleStep, 9> pro_search_kill{{{"q", 0ms}, {"q", 0ms}, {"", 1000ms}, {"odu", 1000ms},
-                                                      {"", 0ms}, {"os", 0ms}, {"kill Search", 0ms}, {"q", 0ms},
+constexpr std::array<ConsoleStep, 9> pro_search_kill{{{"q", 0ms},
+                                                      {"q", 0ms},
+                                                      {"", 1000ms},
+                                                      {"odu", 1000ms},
+                                                      {"", 0ms},
+                                                      {"os", 0ms},
+                                                      {"kill Search", 0ms},
+                                                      {"q", 0ms},
                                                       {"", 0ms}}};
 constexpr std::array<ConsoleStep, 1> pro_motor_entry{{{"mot", 0ms}}};
 
@@ -47,16 +53,15 @@ constexpr std::array<ConsoleStep, 1> g2_motor_entry{{{"mot", 0ms}}};
 // `Boot Complete` then `Loc Startup: IDU NOT Present`: the boot-complete pair (6.2 item 3-4); the
 // second may arrive after the first has been answered, so either ends the boot.
 constexpr std::array<std::string_view, 2> g2_boot_complete{"Boot Complete", "Loc Startup:"};
-constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -",
-                                                    "Boot Complete", "Loc Startup:"};
+constexpr std::array<std::string_view, 5> g2_reboot{"Bootloader v", "Motor init:", "Ant ID -", "Boot Complete",
+                                                    "Loc Startup:"};
 
 // G2 homing, elevation first as `h *` does (6.3): the dish rises before it turns.
 constexpr std::array<std::string_view, 2> g2_home{"h 1", "h 0"};
 
-constexpr std::array<std::string_view, 4> any_boot_complete{"NoGPS", "No LNB Voltage", "Boot Complete",
-                                                            "Loc Startup:"};
-constexpr std::array<std::string_view, 8> any_boot_marker{"NoGPS", "No LNB Voltage", "Boot Complete",
-                                                          "Bootloader v", "Motor init:", "Ant ID -",
+constexpr std::array<std::string_view, 4> any_boot_complete{"NoGPS", "No LNB Voltage", "Boot Complete", "Loc Startup:"};
+constexpr std::array<std::string_view, 8> any_boot_marker{"NoGPS",        "No LNB Voltage", "Boot Complete",
+                                                          "Bootloader v", "Motor init:",    "Ant ID -",
                                                           "Loc Startup:", "Antenna Facing"};
 
 constexpr FirmwareProfile travler_hal000_profile() {
@@ -78,13 +83,18 @@ constexpr FirmwareProfile travler_hal000_profile() {
     p.position_format = PositionFormat::travler_az_el_sk;
     p.move_ack = MoveAckFormat::none;
     p.move_style = MoveStyle::per_axis_a;
-    p.el_min = 15.0; p.el_max = 90.0;
-    p.az_min = 0.0; p.az_max = 455.0;
+    p.el_min = 15.0;
+    p.el_max = 90.0;
+    p.az_min = 0.0;
+    p.az_max = 455.0;
     p.arrival_tolerance = 0.2;
     p.motion_model = MotionModel::travler_time_fit;
-    p.az_speed_dps = 0; p.el_speed_dps = 0; p.accel_dps2 = 0;
+    p.az_speed_dps = 0;
+    p.el_speed_dps = 0;
+    p.accel_dps2 = 0;
     p.quirks = quirk_none;
-    p.park_az = 0.0; p.park_el = 45.0;
+    p.park_az = 0.0;
+    p.park_el = 45.0;
     p.home_commands = {};
     p.tracker_disable_nvs_index = -1;
     p.predictive_by_default = false;
@@ -112,13 +122,18 @@ constexpr FirmwareProfile travler_hal205_profile() {
     p.position_format = PositionFormat::travler_az_el_sk;
     p.move_ack = MoveAckFormat::none;
     p.move_style = MoveStyle::per_axis_a;
-    p.el_min = 15.0; p.el_max = 90.0;
-    p.az_min = 0.0; p.az_max = 455.0;
+    p.el_min = 15.0;
+    p.el_max = 90.0;
+    p.az_min = 0.0;
+    p.az_max = 455.0;
     p.arrival_tolerance = 0.2;
     p.motion_model = MotionModel::travler_time_fit;
-    p.az_speed_dps = 0; p.el_speed_dps = 0; p.accel_dps2 = 0;
+    p.az_speed_dps = 0;
+    p.el_speed_dps = 0;
+    p.accel_dps2 = 0;
     p.quirks = quirk_none;
-    p.park_az = 0.0; p.park_el = 45.0;
+    p.park_az = 0.0;
+    p.park_el = 45.0;
     p.home_commands = {};
     p.tracker_disable_nvs_index = -1;
     p.predictive_by_default = false;
@@ -145,13 +160,18 @@ constexpr FirmwareProfile travler_pro_profile() {
     p.position_format = PositionFormat::travler_az_el_sk;
     p.move_ack = MoveAckFormat::none;
     p.move_style = MoveStyle::per_axis_a;
-    p.el_min = 12.0; p.el_max = 75.0;  // motors stall above ~75 and may lock up (5.4)
-    p.az_min = 0.0; p.az_max = 455.0;
+    p.el_min = 12.0;
+    p.el_max = 75.0;  // motors stall above ~75 and may lock up (5.4)
+    p.az_min = 0.0;
+    p.az_max = 455.0;
     p.arrival_tolerance = 0.2;
     p.motion_model = MotionModel::travler_time_fit;
-    p.az_speed_dps = 0; p.el_speed_dps = 0; p.accel_dps2 = 0;
+    p.az_speed_dps = 0;
+    p.el_speed_dps = 0;
+    p.accel_dps2 = 0;
     p.quirks = quirk_odu_tunnel;
-    p.park_az = 0.0; p.park_el = 45.0;
+    p.park_az = 0.0;
+    p.park_el = 45.0;
     p.home_commands = {};
     p.tracker_disable_nvs_index = -1;
     p.predictive_by_default = false;
@@ -177,14 +197,19 @@ constexpr FirmwareProfile carryout2003_profile() {
     p.position_format = PositionFormat::carryout_live;
     p.move_ack = MoveAckFormat::none;
     p.move_style = MoveStyle::combined_g;
-    p.el_min = 22.0; p.el_max = 73.0;  // NVS 102 default (8.5)
-    p.az_min = 0.0; p.az_max = 360.0;
+    p.el_min = 22.0;
+    p.el_max = 73.0;  // NVS 102 default (8.5)
+    p.az_min = 0.0;
+    p.az_max = 360.0;
     p.arrival_tolerance = 0.5;
     // No speed is documented; scans manage ~3 one-degree moves per second (8.5). Conservative guess.
     p.motion_model = MotionModel::trapezoid;
-    p.az_speed_dps = 10.0; p.el_speed_dps = 10.0; p.accel_dps2 = 20.0;
+    p.az_speed_dps = 10.0;
+    p.el_speed_dps = 10.0;
+    p.accel_dps2 = 20.0;
     p.quirks = quirk_none;
-    p.park_az = 0.0; p.park_el = 45.0;
+    p.park_az = 0.0;
+    p.park_el = 45.0;
     p.home_commands = {};
     p.tracker_disable_nvs_index = -1;
     p.predictive_by_default = false;
@@ -210,13 +235,18 @@ constexpr FirmwareProfile carryout_g2_profile() {
     p.position_format = PositionFormat::g2_angle_index;
     p.move_ack = MoveAckFormat::g2_angle;
     p.move_style = MoveStyle::per_axis_a;
-    p.el_min = 18.0; p.el_max = 65.0;  // NVS 101/102
-    p.az_min = -423.33; p.az_max = 23.33;  // cable wrap after homing (6.4)
+    p.el_min = 18.0;
+    p.el_max = 65.0;  // NVS 101/102
+    p.az_min = -423.33;
+    p.az_max = 23.33;  // cable wrap after homing (6.4)
     p.arrival_tolerance = 0.1;
     p.motion_model = MotionModel::trapezoid;
-    p.az_speed_dps = 65.0; p.el_speed_dps = 45.0; p.accel_dps2 = 400.0;  // NVS 80/85/81/86
+    p.az_speed_dps = 65.0;
+    p.el_speed_dps = 45.0;
+    p.accel_dps2 = 400.0;  // NVS 80/85/81/86
     p.quirks = quirk_q_at_root_kills_shell | quirk_requires_homing;
-    p.park_az = 0.0; p.park_el = 65.0;
+    p.park_az = 0.0;
+    p.park_el = 65.0;
     p.home_commands = g2_home;
     p.tracker_disable_nvs_index = 20;
     p.predictive_by_default = true;
@@ -224,8 +254,9 @@ constexpr FirmwareProfile carryout_g2_profile() {
     return p;
 }
 
-constexpr std::array<FirmwareProfile, 5> profiles{{travler_hal000_profile(), travler_hal205_profile(), travler_pro_profile(),
-                                                   carryout2003_profile(), carryout_g2_profile()}};
+constexpr std::array<FirmwareProfile, 5> profiles{{travler_hal000_profile(), travler_hal205_profile(),
+                                                   travler_pro_profile(), carryout2003_profile(),
+                                                   carryout_g2_profile()}};
 
 double seconds_trapezoid(double distance, double speed, double accel) {
     if (distance < speed * speed / accel) {
@@ -248,11 +279,11 @@ double seconds_travler_fit(double distance) {
 
 double move_seconds(const FirmwareProfile& profile, Axis axis, double distance) {
     switch (profile.motion_model) {
-    case MotionModel::trapezoid:
-        return seconds_trapezoid(distance, axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps,
-                                 profile.accel_dps2);
-    case MotionModel::travler_time_fit:
-        return seconds_travler_fit(distance);
+        case MotionModel::trapezoid:
+            return seconds_trapezoid(distance, axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps,
+                                     profile.accel_dps2);
+        case MotionModel::travler_time_fit:
+            return seconds_travler_fit(distance);
     }
     return 0.0;
 }
@@ -276,13 +307,18 @@ constexpr FirmwareProfile auto_detect_profile() {
     p.position_format = PositionFormat::travler_az_el_sk;
     p.move_ack = MoveAckFormat::none;
     p.move_style = MoveStyle::per_axis_a;
-    p.el_min = 0; p.el_max = 0;
-    p.az_min = 0; p.az_max = 0;
+    p.el_min = 0;
+    p.el_max = 0;
+    p.az_min = 0;
+    p.az_max = 0;
     p.arrival_tolerance = 0;
     p.motion_model = MotionModel::trapezoid;
-    p.az_speed_dps = 0; p.el_speed_dps = 0; p.accel_dps2 = 0;
+    p.az_speed_dps = 0;
+    p.el_speed_dps = 0;
+    p.accel_dps2 = 0;
     p.quirks = quirk_q_at_root_kills_shell;
-    p.park_az = 0; p.park_el = 0;
+    p.park_az = 0;
+    p.park_el = 0;
     p.home_commands = {};
     p.tracker_disable_nvs_index = -1;
     p.predictive_by_default = false;
@@ -293,7 +329,9 @@ constexpr FirmwareProfile probe = auto_detect_profile();
 
 }  // namespace
 
-const FirmwareProfile& probe_profile() { return probe; }
+const FirmwareProfile& probe_profile() {
+    return probe;
+}
 
 const FirmwareProfile& profile(VariantId id) {
     for (const auto& row : profiles) {
@@ -313,7 +351,9 @@ std::optional<VariantId> variant_from_name(std::string_view short_name) {
     return std::nullopt;
 }
 
-Span<const FirmwareProfile> all_profiles() { return profiles; }
+Span<const FirmwareProfile> all_profiles() {
+    return profiles;
+}
 
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees) {
     const double seconds = move_seconds(profile, axis, std::fabs(degrees));

@@ -33,24 +33,24 @@ enum Quirk : std::uint32_t {
 };
 
 enum class PositionFormat {
-    travler_az_el_sk,   // `AZ = <f> EL = <f> SK = <f>` (any whitespace / line layout, optional sign)
-    g2_angle_index,     // `Angle[0] = <f>` / `Angle[1] = <f>`
-    carryout_live,      // none at rest; `... <azcdeg>   el = <elcdeg>` while `g` runs
+    travler_az_el_sk,  // `AZ = <f> EL = <f> SK = <f>` (any whitespace / line layout, optional sign)
+    g2_angle_index,    // `Angle[0] = <f>` / `Angle[1] = <f>`
+    carryout_live,     // none at rest; `... <azcdeg>   el = <elcdeg>` while `g` runs
 };
 
 enum class MoveAckFormat {
-    none,       // nothing documented; replies are not read
-    g2_angle,   // `Angle = <f>`
+    none,      // nothing documented; replies are not read
+    g2_angle,  // `Angle = <f>`
 };
 
 enum class MoveStyle {
-    per_axis_a,   // `a <id> <deg>`, one motor at a time
-    combined_g,   // `g <az> <el>` in a menu of its own; live output while it runs (CombinedMoveDriver)
+    per_axis_a,  // `a <id> <deg>`, one motor at a time
+    combined_g,  // `g <az> <el>` in a menu of its own; live output while it runs (CombinedMoveDriver)
 };
 
 enum class MotionModel {
-    trapezoid,          // speed + acceleration per axis
-    travler_time_fit,   // Gabe's empirical fit, docs/firmware.md 3.4
+    trapezoid,         // speed + acceleration per axis
+    travler_time_fit,  // Gabe's empirical fit, docs/firmware.md 3.4
 };
 
 // A console command plus how long to keep listening before the next one (pacing some firmware needs).
@@ -61,9 +61,9 @@ struct ConsoleStep {
 
 struct FirmwareProfile {
     VariantId id;
-    std::string_view short_name;     // "hal000", "hal205", "pro", "carryout2003", "g2"
+    std::string_view short_name;  // "hal000", "hal205", "pro", "carryout2003", "g2"
     std::string_view display_name;
-    int model_index;                 // Hamlib model = family * 100 + model_index
+    int model_index;  // Hamlib model = family * 100 + model_index
     int baud;
     std::string_view line_ending;
 
@@ -73,8 +73,8 @@ struct FirmwareProfile {
     std::string_view motor_prompt;
     std::chrono::milliseconds quiet_gap;
 
-    Span<const ConsoleStep> motor_menu_entry;  // from the root menu into the motor menu
-    Span<const ConsoleStep> search_kill;       // stops the TV search; starts and ends at root
+    Span<const ConsoleStep> motor_menu_entry;            // from the root menu into the motor menu
+    Span<const ConsoleStep> search_kill;                 // stops the TV search; starts and ends at root
     Span<const std::string_view> boot_complete_markers;  // substrings: boot has finished
     Span<const std::string_view> reboot_markers;         // substrings: the dish is (re)booting
 
@@ -83,9 +83,9 @@ struct FirmwareProfile {
     MoveAckFormat move_ack;
     MoveStyle move_style;
 
-    double el_min, el_max;      // firmware/mechanical limits, degrees
-    double az_min, az_max;      // travel including cable wrap, in the dish's own coordinates
-    double arrival_tolerance;   // |target - position| that counts as arrived, degrees
+    double el_min, el_max;     // firmware/mechanical limits, degrees
+    double az_min, az_max;     // travel including cable wrap, in the dish's own coordinates
+    double arrival_tolerance;  // |target - position| that counts as arrived, degrees
 
     MotionModel motion_model;
     double az_speed_dps, el_speed_dps, accel_dps2;  // trapezoid parameters

@@ -18,14 +18,15 @@ bool link_lost(const Status& status) {
 RecoveryVerdict classify_step(const StepOutcome& outcome, int failures_so_far, int failures_before_recovery) {
     const Status& step = outcome.status;
     if (link_lost(step)) {
-        return {RecoveryAction::reopen, failures_so_far, "the serial port hung up (" + step.message + "); reopening it"};
+        return {RecoveryAction::reopen, failures_so_far,
+                "the serial port hung up (" + step.message + "); reopening it"};
     }
     if (outcome.needs_reinit) {
         return {RecoveryAction::reinitialise, failures_so_far,
                 "the dish rebooted; waiting for it to boot and re-initialising it"};
     }
     if (!outcome.talked) {
-        return {RecoveryAction::none, failures_so_far, {}};   // nothing asked: neither success nor failure
+        return {RecoveryAction::none, failures_so_far, {}};  // nothing asked: neither success nor failure
     }
     // Answers that prove the console is alive and in step, even when they refuse something.
     const bool console_answered = step || outcome.fault_reported || step.code == Errc::not_homed ||

@@ -14,10 +14,10 @@
 namespace birdcage {
 
 struct StepOutcome {
-    Status status;                 // the step's result
-    bool talked = true;            // the step exchanged something with the dish
-    bool needs_reinit = false;     // the controller saw boot output or a foreign menu
-    bool fault_reported = false;   // the dish printed a fault line (a stall): it answers
+    Status status;                // the step's result
+    bool talked = true;           // the step exchanged something with the dish
+    bool needs_reinit = false;    // the controller saw boot output or a foreign menu
+    bool fault_reported = false;  // the dish printed a fault line (a stall): it answers
 };
 
 enum class RecoveryAction { none, reopen, reinitialise, resynchronise };

@@ -21,9 +21,13 @@ RotatorService::RotatorService(std::unique_ptr<Transport> transport, ControllerO
                                TransportFactory reopen)
     : timing_(timing), worker_(mailbox_, std::move(transport), std::move(options), timing, std::move(reopen)) {}
 
-RotatorService::~RotatorService() { shutdown(); }
+RotatorService::~RotatorService() {
+    shutdown();
+}
 
-void RotatorService::set_pointing(PointingOptions pointing) { worker_.set_pointing(std::move(pointing)); }
+void RotatorService::set_pointing(PointingOptions pointing) {
+    worker_.set_pointing(std::move(pointing));
+}
 
 Status RotatorService::start() {
     if (thread_.joinable()) {
@@ -84,8 +88,8 @@ Result<AzEl> RotatorService::position() {
         return {AzEl{}, Status{Errc::not_homed, "the dish's axes are not homed; reset (R 1) homes them"}};
     }
     if (!dish.position) {
-        const Status why = dish.last_error ? Status{Errc::not_initialised, "no position read from the dish yet"}
-                                           : dish.last_error;
+        const Status why =
+            dish.last_error ? Status{Errc::not_initialised, "no position read from the dish yet"} : dish.last_error;
         return {AzEl{}, why};
     }
     const AzEl reported = modelled_position(worker_.profile(), *dish.position, dish.moving_axes, worker_.clock().now());
@@ -111,8 +115,8 @@ Status RotatorService::reset() {
         return {Errc::not_initialised, "rotator is not open"};
     }
     if (worker_.profile().home_commands.empty()) {
-        return {Errc::unsupported,
-                std::string(worker_.profile().display_name) + " has no homing command (it calibrates at power-up only)"};
+        return {Errc::unsupported, std::string(worker_.profile().display_name) +
+                                       " has no homing command (it calibrates at power-up only)"};
     }
     return mailbox_.post_home();
 }
@@ -143,26 +147,38 @@ Status RotatorService::set_lnb_supply(LnbSupply supply) {
     if (mailbox_.is_open() && worker_.profile().receiver_menu.empty()) {
         return unsupported_without_tuner();
     }
-    const Status done = mailbox_.run_job(
-        [supply](Controller& controller) { return apply_lnb_supply(controller, supply); },
-        receiver_wait_for_leg + rssi_timeout(1));
+    const Status done =
+        mailbox_.run_job([supply](Controller& controller) { return apply_lnb_supply(controller, supply); },
+                         receiver_wait_for_leg + rssi_timeout(1));
     if (done) {
         mailbox_.set_lnb_supply(supply);
     }
     return done;
 }
 
-std::optional<LnbSupply> RotatorService::lnb_supply() const { return mailbox_.view().lnb_supply; }
+std::optional<LnbSupply> RotatorService::lnb_supply() const {
+    return mailbox_.view().lnb_supply;
+}
 
-bool RotatorService::idle() const { return mailbox_.view().idle; }
+bool RotatorService::idle() const {
+    return mailbox_.view().idle;
+}
 
-bool RotatorService::homing() const { return mailbox_.view().homing; }
+bool RotatorService::homing() const {
+    return mailbox_.view().homing;
+}
 
-bool RotatorService::recovering() const { return mailbox_.view().dish.recovering; }
+bool RotatorService::recovering() const {
+    return mailbox_.view().dish.recovering;
+}
 
-bool RotatorService::answering() const { return !not_answering(mailbox_.view().dish); }
+bool RotatorService::answering() const {
+    return !not_answering(mailbox_.view().dish);
+}
 
-unsigned RotatorService::recoveries() const { return mailbox_.view().dish.recoveries; }
+unsigned RotatorService::recoveries() const {
+    return mailbox_.view().dish.recoveries;
+}
 
 Status RotatorService::last_error() const {
     const ServiceView view = mailbox_.view();
@@ -196,6 +212,8 @@ std::string RotatorService::describe() const {
     return text;
 }
 
-const FirmwareProfile& RotatorService::profile() const { return worker_.profile(); }
+const FirmwareProfile& RotatorService::profile() const {
+    return worker_.profile();
+}
 
 }  // namespace birdcage

@@ -14,14 +14,14 @@
 // thread and turns the worker's snapshot into answers (position model, staleness, faults).
 #pragma once
 
-#include "dish/controller.hpp"
 #include "base/errors.hpp"
-#include "tracking/pointing.hpp"
+#include "console/transport.hpp"
+#include "dish/controller.hpp"
 #include "dish/receiver.hpp"
 #include "service/service_mailbox.hpp"
 #include "service/service_worker.hpp"
+#include "tracking/pointing.hpp"
 #include "tracking/steering.hpp"
-#include "console/transport.hpp"
 
 #include <memory>
 #include <string>
@@ -31,8 +31,8 @@ namespace birdcage {
 
 class RotatorService {
 public:
-    RotatorService(std::unique_ptr<Transport> transport, ControllerOptions options,
-                   ServiceTiming timing = {}, TransportFactory reopen = {});
+    RotatorService(std::unique_ptr<Transport> transport, ControllerOptions options, ServiceTiming timing = {},
+                   TransportFactory reopen = {});
     ~RotatorService();
     RotatorService(const RotatorService&) = delete;
     RotatorService& operator=(const RotatorService&) = delete;

@@ -29,14 +29,15 @@ Status ServiceMailbox::post_target(AzEl target, Clock::time_point posted_at) {
             return {Errc::not_initialised, "rotator is not open"};
         }
         if (snapshot_.unhomed && !snapshot_.homing && !home_posted_) {
-            return {Errc::not_homed, "the dish's axes are not homed (it reports INT_MAX); home them first with "
-                                     "reset (rotctl: R 1)"};
+            return {Errc::not_homed,
+                    "the dish's axes are not homed (it reports INT_MAX); home them first with "
+                    "reset (rotctl: R 1)"};
         }
         posted_target_ = target;
         posted_at_ = posted_at;
         reported_before_target_ = reported_;
         latest_target_ = target;
-        fault_ = Status::ok();   // a new target is the client's answer to a fault (p still reports it once)
+        fault_ = Status::ok();  // a new target is the client's answer to a fault (p still reports it once)
     }
     wake_worker_.notify_all();
     return Status::ok();
@@ -144,7 +145,7 @@ ServiceMail ServiceMailbox::take() {
 void ServiceMailbox::home_started() {
     std::lock_guard lock(mutex_);
     home_posted_ = false;
-    snapshot_.homing = true;   // until the worker publishes the controller's own view
+    snapshot_.homing = true;  // until the worker publishes the controller's own view
 }
 
 bool ServiceMailbox::job_started(const std::shared_ptr<ServiceJob>& job) {

@@ -34,32 +34,32 @@ struct ServiceJob {
 
 // What the worker takes from the mailbox at one step.
 struct ServiceMail {
-    bool stop = false;                   // a stop posted since the last step; acted on before `target`
-    std::optional<AzEl> target;          // the newest target posted since the last step
+    bool stop = false;                     // a stop posted since the last step; acted on before `target`
+    std::optional<AzEl> target;            // the newest target posted since the last step
     Clock::time_point target_posted_at{};  // when it was posted (dish time)
     // The position `p` last answered before the target was posted: what the client compared the
     // satellite with when it decided to send (a tracking client sends when the dish it read back is
     // off). None: nothing asked yet.
     std::optional<AzEl> reported_before_target;
-    bool home = false;                   // a home requested and not yet started
-    std::optional<AzEl> latest_target;   // the client's last target (resumed after a recovery)
-    std::shared_ptr<ServiceJob> job;     // a receiver job waiting for the dish, if any
+    bool home = false;                  // a home requested and not yet started
+    std::optional<AzEl> latest_target;  // the client's last target (resumed after a recovery)
+    std::shared_ptr<ServiceJob> job;    // a receiver job waiting for the dish, if any
 };
 
 // The worker's view of the dish, as last published.
 struct ServiceSnapshot {
-    std::optional<AzEl> position;              // the last position read (or known) from the dish
-    MovingAxes moving_axes;                    // the legs that may be moving, for the position model
-    bool dish_idle = true;                     // the controller has nothing in flight or queued
-    bool homing = false;                       // the firmware's home is running
-    bool unhomed = false;                      // the dish reports its axes unhomed
-    Status last_error;                         // the last step that talked to the dish
+    std::optional<AzEl> position;  // the last position read (or known) from the dish
+    MovingAxes moving_axes;        // the legs that may be moving, for the position model
+    bool dish_idle = true;         // the controller has nothing in flight or queued
+    bool homing = false;           // the firmware's home is running
+    bool unhomed = false;          // the dish reports its axes unhomed
+    Status last_error;             // the last step that talked to the dish
     std::string description;
     // The worker cannot ask the dish (rebooting, re-initialising, adapter unplugged, out of sync):
     // `position` stays the last reading until the recovery has read a fresh one.
     bool recovering = false;
     std::string recovery_reason;
-    Clock::time_point recovering_since{};      // steady (real) time, like last_answer_at
+    Clock::time_point recovering_since{};  // steady (real) time, like last_answer_at
     unsigned recoveries = 0;
     // The last step that talked and succeeded. Steady (real) time: how long the line has been
     // silent is a matter of the serial link, like every I/O deadline (clock.hpp).
@@ -69,9 +69,9 @@ struct ServiceSnapshot {
 // What callers see: the snapshot plus the mailbox's own view of mail not yet taken.
 struct ServiceView {
     ServiceSnapshot dish;
-    bool idle = true;             // no motion, nothing queued, nothing posted and not yet taken
-    bool homing = false;          // homing, or a home requested and not yet started
-    Status fault;                 // the last motor fault, until the next target
+    bool idle = true;     // no motion, nothing queued, nothing posted and not yet taken
+    bool homing = false;  // homing, or a home requested and not yet started
+    Status fault;         // the last motor fault, until the next target
     // Read from the dish at open, set since, or the boot default after a reboot; empty: unknown
     // (the read failed and nothing was set), never assumed.
     std::optional<LnbSupply> lnb_supply;
@@ -131,7 +131,7 @@ private:
     bool stop_posted_ = false;
     bool home_posted_ = false;
     std::optional<AzEl> latest_target_;
-    std::shared_ptr<ServiceJob> job_;   // one at a time; rotctld serialises its clients anyway
+    std::shared_ptr<ServiceJob> job_;  // one at a time; rotctld serialises its clients anyway
     // Outbox.
     ServiceSnapshot snapshot_;
     Status fault_;

@@ -19,12 +19,14 @@ constexpr double fast_step_s = 0.6;
 
 }  // namespace
 
-
 ServiceWorker::ServiceWorker(ServiceMailbox& mailbox, std::unique_ptr<Transport> transport, ControllerOptions options,
                              ServiceTiming timing, TransportFactory reopen)
-    : mailbox_(mailbox), transport_(std::move(transport)), options_(std::move(options)),
+    : mailbox_(mailbox),
+      transport_(std::move(transport)),
+      options_(std::move(options)),
       controller_(options_.detect ? nullptr : std::make_unique<Controller>(*transport_, options_)),
-      profile_(controller_ ? &controller_->profile() : &probe_profile()), timing_(timing),
+      profile_(controller_ ? &controller_->profile() : &probe_profile()),
+      timing_(timing),
       reopen_(std::move(reopen)) {}
 
 void ServiceWorker::set_pointing(PointingOptions pointing) {
@@ -84,7 +86,8 @@ void ServiceWorker::read_lnb_supply_at_open() {
     const Result<LnbSupply> supply = read_lnb_supply(*controller_);
     if (supply) {
         mailbox_.set_lnb_supply(supply.value);
-        emit(options_.log, LogLevel::verbose, "LNB supply read from the dish: " + std::to_string(lnb_volts(supply.value)) + " V");
+        emit(options_.log, LogLevel::verbose,
+             "LNB supply read from the dish: " + std::to_string(lnb_volts(supply.value)) + " V");
         return;
     }
     emit(options_.log, LogLevel::warning,
@@ -127,7 +130,7 @@ Clock::duration ServiceWorker::step() {
         }
     }
     if (!fault.empty()) {
-        mailbox_.report_fault(Status{Errc::protocol, fault});   // "dish reported: AZ MOTOR STALLED"
+        mailbox_.report_fault(Status{Errc::protocol, fault});  // "dish reported: AZ MOTOR STALLED"
     }
     publish(outcome.status, outcome.talked);
     return next_period(entered_recovery);
@@ -202,8 +205,8 @@ ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
     }
     const Status attempt = recover_once();
     if (!attempt) {
-        const RetryVerdict retry = classify_failed_attempt(attempt, backoff_, timing_.recovery_backoff_min,
-                                                           timing_.recovery_backoff_max);
+        const RetryVerdict retry =
+            classify_failed_attempt(attempt, backoff_, timing_.recovery_backoff_min, timing_.recovery_backoff_max);
         link_down_ = link_down_ || retry.reopen;
         backoff_ = retry.backoff;
         published_.recovery_reason = attempt.message;
@@ -211,7 +214,7 @@ ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
     }
     consecutive_failures_ = 0;
     published_.recovering = false;
-    published_.last_answer_at = Clock::now();   // recover_once() has just read the position
+    published_.last_answer_at = Clock::now();  // recover_once() has just read the position
     ++published_.recoveries;
     mailbox_.dish_rebooted();
     emit(options_.log, LogLevel::warning,
@@ -282,7 +285,7 @@ Status ServiceWorker::read_position_afresh() {
 }
 
 Status ServiceWorker::resume(AzEl target) {
-    aim_.reset();   // the moves in flight were lost: steer again from the estimate
+    aim_.reset();  // the moves in flight were lost: steer again from the estimate
     leg_overhead_.interrupt();
     // A target posted while the worker was stuck in the failing step or recovering never reached
     // the estimator: take it as new, or the dish would return to the one before it.
@@ -405,13 +408,11 @@ Status ServiceWorker::steer() {
         leg_overhead_.interrupt();
     }
     aim_ = decision->aim;
-    const double az_rate = decision->az_rate != 0.0
-                               ? decision->az_rate
-                               : client_target_ ? azimuth_direction_hint(predictor_.predict(now),
-                                                                         controller_->last_position(),
-                                                                         previous_client_target_, *client_target_,
-                                                                         controller_->el_min())
-                                                : 0.0;
+    const double az_rate = decision->az_rate != 0.0 ? decision->az_rate
+                           : client_target_
+                               ? azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
+                                                        previous_client_target_, *client_target_, controller_->el_min())
+                               : 0.0;
     return controller_->set_target(decision->aim, az_rate, predictor_.pass_ahead(now));
 }
 
@@ -428,8 +429,7 @@ Clock::duration ServiceWorker::next_period(bool entered_recovery) const {
         return entered_recovery ? Clock::duration::zero() : Clock::duration(backoff_);
     }
     const auto now = options_.clock.now();
-    const bool steering =
-        steering_predictively() && predictor_.predict(now).value_or(Prediction{}).moving;
+    const bool steering = steering_predictively() && predictor_.predict(now).value_or(Prediction{}).moving;
     if (controller_->idle() && !steering) {
         const Clock::duration until_poll = last_poll_ + timing_.idle_poll_period - now;
         return std::clamp<Clock::duration>(until_poll, timing_.busy_period, timing_.idle_poll_period);

@@ -9,12 +9,12 @@
 // the service's thread.
 #pragma once
 
-#include "dish/controller.hpp"
 #include "base/errors.hpp"
-#include "tracking/pointing.hpp"
-#include "service/service_mailbox.hpp"
-#include "tracking/steering.hpp"
 #include "console/transport.hpp"
+#include "dish/controller.hpp"
+#include "service/service_mailbox.hpp"
+#include "tracking/pointing.hpp"
+#include "tracking/steering.hpp"
 
 #include <chrono>
 #include <functional>
@@ -87,7 +87,7 @@ private:
     void read_lnb_supply_at_open();
     struct Outcome {
         Status status = Status::ok();
-        bool talked = false;   // false: an idle step that sent nothing (proves nothing about the dish)
+        bool talked = false;  // false: an idle step that sent nothing (proves nothing about the dish)
     };
     Outcome work_on(const ServiceMail& mail);
     Outcome recover(const ServiceMail& mail);
@@ -104,7 +104,7 @@ private:
     ServiceMailbox& mailbox_;
     std::unique_ptr<Transport> transport_;
     ControllerOptions options_;
-    std::unique_ptr<Controller> controller_;   // built at start() once the variant is known
+    std::unique_ptr<Controller> controller_;  // built at start() once the variant is known
     const FirmwareProfile* profile_;
     ServiceTiming timing_;
     TransportFactory reopen_;
@@ -114,25 +114,25 @@ private:
     bool mode_from_dish_ = false;
     void choose_mode_from_dish();
     bool steering_predictively() const;
-    bool steered_predictively_ = false;   // what the last target was steered by (to log a switch)
+    bool steered_predictively_ = false;  // what the last target was steered by (to log a switch)
 
     // Steering: the estimator and what was last handed to the controller.
     TargetPredictor predictor_;
     std::optional<AzEl> aim_;
-    std::optional<AzEl> client_target_;   // the last target the client sent, as sent
-    std::optional<AzEl> previous_client_target_;   // the one before it (the client's last step)
+    std::optional<AzEl> client_target_;           // the last target the client sent, as sent
+    std::optional<AzEl> previous_client_target_;  // the one before it (the client's last step)
     LegOverheadMeter leg_overhead_;
 
     // Polling and recovery.
     Clock::time_point last_poll_{};
-    bool link_down_ = false;               // the transport hung up; reopen before anything else
+    bool link_down_ = false;  // the transport hung up; reopen before anything else
     int consecutive_failures_ = 0;
     std::chrono::milliseconds backoff_{0};
     unsigned attempts_ = 0;
-    Clock::time_point recovery_started_{};   // dish clock: a position read after it is fresh
-    bool reinitialised_ = false;             // this recovery has re-initialised the dish
+    Clock::time_point recovery_started_{};  // dish clock: a position read after it is fresh
+    bool reinitialised_ = false;            // this recovery has re-initialised the dish
 
-    ServiceSnapshot published_;   // the worker's own copy of what it last published
+    ServiceSnapshot published_;  // the worker's own copy of what it last published
 };
 
 }  // namespace birdcage

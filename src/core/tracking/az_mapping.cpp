@@ -17,17 +17,24 @@ constexpr double consistency_tolerance_deg = 5.0;
 // A wrap point known within this arc is known well enough to plan with.
 constexpr int pinned_arc_deg = 90;
 
-wrap::Window intersect(wrap::Window a, wrap::Window b) { return {std::max(a.min, b.min), std::min(a.max, b.max)}; }
+wrap::Window intersect(wrap::Window a, wrap::Window b) {
+    return {std::max(a.min, b.min), std::min(a.max, b.max)};
+}
 
-std::string whole(double value) { return std::to_string(static_cast<long>(std::lround(value))); }
+std::string whole(double value) {
+    return std::to_string(static_cast<long>(std::lround(value)));
+}
 
 }  // namespace
 
 std::string_view mapping_name(Mapping mapping) {
     switch (mapping) {
-        case Mapping::nearest: return "nearest";
-        case Mapping::literal: return "literal";
-        case Mapping::wrap_manager: return "wrap_manager";
+        case Mapping::nearest:
+            return "nearest";
+        case Mapping::literal:
+            return "literal";
+        case Mapping::wrap_manager:
+            return "wrap_manager";
     }
     return "?";
 }
@@ -72,9 +79,8 @@ double predict(Mapping mapping, double value, double from, const Travel& travel,
             if (candidates.empty()) {
                 return clamp(value);
             }
-            return *std::min_element(candidates.begin(), candidates.end(), [&](double a, double b) {
-                return std::fabs(a - from) < std::fabs(b - from);
-            });
+            return *std::min_element(candidates.begin(), candidates.end(),
+                                     [&](double a, double b) { return std::fabs(a - from) < std::fabs(b - from); });
         }
         case Mapping::literal:
             if (!window.contains(value) && travel.negative_is_relative && window.contains(value - 360.0)) {
@@ -95,13 +101,15 @@ double predict(Mapping mapping, double value, double from, const Travel& travel,
 
 wrap::Window reachable(Mapping mapping, const Travel& travel, double wrap_point) {
     switch (mapping) {
-        case Mapping::nearest: return travel.window;
+        case Mapping::nearest:
+            return travel.window;
         case Mapping::literal:
             // Numbers >= 0 name themselves inside the travel, and the angle 360 below otherwise.
             return travel.negative_is_relative
                        ? wrap::Window{std::max(travel.window.min, travel.window.max - 360.0), travel.window.max}
                        : travel.window;
-        case Mapping::wrap_manager: return intersect(wrap_sector(wrap_point, travel), travel.window);
+        case Mapping::wrap_manager:
+            return intersect(wrap_sector(wrap_point, travel), travel.window);
     }
     return travel.window;
 }
@@ -115,15 +123,15 @@ bool Learner::consistent(Mapping mapping, const Observation& seen, double wrap_p
     const double low = std::min(seen.from, expected) - consistency_tolerance_deg;
     const double high = std::max(seen.from, expected) + consistency_tolerance_deg;
     if (seen.lowest < low || seen.highest > high) {
-        return false;   // it went where this reading would not take it
+        return false;  // it went where this reading would not take it
     }
     if (mapping == Mapping::wrap_manager) {
         // A wrap manager never lets the axis through its point: one the dish swept past is not it
         // (unless the axis started outside the manager's sector, as a dish may at power-on: the
         // way in may cross it).
         const wrap::Window sector = wrap_sector(wrap_point, travel_);
-        const bool started_inside = seen.from >= sector.min - consistency_tolerance_deg &&
-                                    seen.from <= sector.max + consistency_tolerance_deg;
+        const bool started_inside =
+            seen.from >= sector.min - consistency_tolerance_deg && seen.from <= sector.max + consistency_tolerance_deg;
         const double inner_low = seen.lowest + consistency_tolerance_deg;
         const double inner_high = seen.highest - consistency_tolerance_deg;
         const double first = wrap_point + 360.0 * std::ceil((inner_low - wrap_point) / 360.0);
@@ -258,8 +266,11 @@ std::optional<double> Learner::wrap_point() const {
 wrap::Window Learner::plan_window(wrap::Window usable) const {
     wrap::Window window = usable;
     switch (planning()) {
-        case Mapping::nearest: break;
-        case Mapping::literal: window = intersect(usable, reachable(Mapping::literal, travel_)); break;
+        case Mapping::nearest:
+            break;
+        case Mapping::literal:
+            window = intersect(usable, reachable(Mapping::literal, travel_));
+            break;
         case Mapping::wrap_manager: {
             const auto arc = candidate_arc();
             if (arc && arc->second <= pinned_arc_deg) {
@@ -298,7 +309,8 @@ std::string Learner::describe() const {
     if (possible(Mapping::wrap_manager)) {
         const auto arc = candidate_arc();
         if (arc && arc->second < 359) {
-            text += "; wrap point within " + whole(arc->first) + ".." + whole(normalize_azimuth(arc->first + arc->second));
+            text +=
+                "; wrap point within " + whole(arc->first) + ".." + whole(normalize_azimuth(arc->first + arc->second));
         }
     }
     return text;

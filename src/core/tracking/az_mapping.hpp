@@ -33,8 +33,8 @@ std::string_view mapping_name(Mapping mapping);
 std::optional<Mapping> mapping_from_name(std::string_view name);
 
 struct Travel {
-    wrap::Window window;                 // the mechanical travel
-    bool negative_is_relative = false;   // absolute numbers are >= 0: a leading '-' is a relative move
+    wrap::Window window;                // the mechanical travel
+    bool negative_is_relative = false;  // absolute numbers are >= 0: a leading '-' is a relative move
 };
 
 // The number sent for mechanical azimuth `mechanical` (two decimals, as the command prints it):
@@ -95,8 +95,8 @@ private:
     Travel travel_;
     std::optional<Mapping> stated_;
     std::array<bool, 3> possible_{true, true, true};
-    std::bitset<360> wrap_candidates_;   // whole-degree wrap points (display) still possible
-    int contradictions_ = 0;             // observations a stated reading did not explain
+    std::bitset<360> wrap_candidates_;  // whole-degree wrap points (display) still possible
+    int contradictions_ = 0;            // observations a stated reading did not explain
 };
 
 }  // namespace birdcage::azmap

@@ -78,9 +78,9 @@ bool solve(std::array<std::array<double, N>, N> a, std::array<double, N> b, std:
 
 struct Residuals {
     std::vector<double> values;
-    std::vector<char> smooth;   // per value: from an unclamped target (the lead moves it smoothly)
+    std::vector<char> smooth;  // per value: from an unclamped target (the lead moves it smoothly)
     double exact_sum = 0.0;
-    double normalised_sum = 0.0;   // each exact target's miss over the scatter expected of it
+    double normalised_sum = 0.0;  // each exact target's miss over the scatter expected of it
     std::size_t exact_count = 0;
 };
 
@@ -88,8 +88,9 @@ struct Residuals {
 // `search_offsets`: per target, where the client's search stopped against its box's boundary
 // (Evaluator::look_ahead); empty: found now and stored there.
 template <typename Targets>
-Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& targets, const OrbitModel::ClientView& client,
-                       std::vector<double>& search_offsets, double clamped_threshold) {
+Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& targets,
+                       const OrbitModel::ClientView& client, std::vector<double>& search_offsets,
+                       double clamped_threshold) {
     const bool refresh = search_offsets.size() != targets.size();
     if (refresh) {
         search_offsets.assign(targets.size(), 0.0);
@@ -248,9 +249,7 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::op
         o.lead_deg = std::clamp(p[4], 0.0, max_fitted_lead_deg);
         return o;
     };
-    auto client_for = [&](const Orbit& o) {
-        return ClientView{o.lead_deg, client_min_el_, client_max_el_};
-    };
+    auto client_for = [&](const Orbit& o) { return ClientView{o.lead_deg, client_min_el_, client_max_el_}; };
     auto sum_sq = [](const Residuals& r) {
         double s = 0.0;
         for (double v : r.values) {
@@ -348,9 +347,8 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::op
         Params column{};
         const std::size_t m = current.values.size();
         const double scatter = std::max(std::sqrt(cost / static_cast<double>(m > n ? m - n : 1)), target_scatter_deg);
-        orbit.lead_sigma_deg = solve(last_jtj, unit_lead, column) && column[4] > 0.0
-                                   ? std::sqrt(column[4]) * scatter
-                                   : HUGE_VAL;
+        orbit.lead_sigma_deg =
+            solve(last_jtj, unit_lead, column) && column[4] > 0.0 ? std::sqrt(column[4]) * scatter : HUGE_VAL;
     }
     if (!current.exact_count) {
         return {};

@@ -21,22 +21,32 @@ using Vec = std::array<double, 3>;
 using Orbit = OrbitModel::Orbit;
 
 constexpr double deg = M_PI / 180.0;
-constexpr double earth_mu_km3_s2 = 398600.4418;     // WGS-84
-constexpr double earth_spin_rad_s = 7.2921159e-5;   // sidereal
+constexpr double earth_mu_km3_s2 = 398600.4418;    // WGS-84
+constexpr double earth_spin_rad_s = 7.2921159e-5;  // sidereal
 constexpr double equatorial_radius_km = 6378.137;
 constexpr double polar_radius_km = 6356.752;
 constexpr double mean_radius_km = 6371.0;
 // How far ahead the track is searched for its rise and set (seconds).
 constexpr double rise_search_s = 1800.0;
 
-inline double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline double dot(const Vec& a, const Vec& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 inline Vec cross(const Vec& a, const Vec& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-inline Vec scaled(const Vec& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-inline Vec plus(const Vec& a, const Vec& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-inline Vec minus(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-inline Vec unit(const Vec& a) { return scaled(a, 1.0 / std::sqrt(dot(a, a))); }
+inline Vec scaled(const Vec& a, double s) {
+    return {a[0] * s, a[1] * s, a[2] * s};
+}
+inline Vec plus(const Vec& a, const Vec& b) {
+    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+inline Vec minus(const Vec& a, const Vec& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+inline Vec unit(const Vec& a) {
+    return scaled(a, 1.0 / std::sqrt(dot(a, a)));
+}
 
 inline Vec unit_vector(AzEl p) {
     const double az = p.az * deg, el = p.el * deg;
@@ -62,7 +72,7 @@ inline Vec rotated(const Vec& v, const Vec& axis, double angle) {
 struct Earth {
     double radius_km = mean_radius_km;
     Vec axis{0.0, 0.0, 1.0};
-    double spin = 0.0;   // rad/s; 0: a still Earth
+    double spin = 0.0;  // rad/s; 0: a still Earth
 };
 
 inline Earth earth_at(std::optional<double> latitude_deg) {
@@ -79,7 +89,9 @@ inline Earth earth_at(std::optional<double> latitude_deg) {
     return earth;
 }
 
-inline double kepler_rate(double radius_km) { return std::sqrt(earth_mu_km3_s2 / (radius_km * radius_km * radius_km)); }
+inline double kepler_rate(double radius_km) {
+    return std::sqrt(earth_mu_km3_s2 / (radius_km * radius_km * radius_km));
+}
 
 // The orbit's geometry at its reference time: position direction p0 and in-plane direction of
 // motion w (geocentric, site frame), radius and rate.

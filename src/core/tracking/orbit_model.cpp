@@ -66,8 +66,8 @@ bool OrbitModel::add(double t, AzEl target, std::optional<double> lead_hint_deg)
     const bool clamped = std::fabs(target.el - client_min_el_) < same_angle_degrees ||
                          std::fabs(target.el - client_max_el_) < same_angle_degrees;
     const Kind kind = below_horizon && target.el <= same_angle_degrees ? Kind::before_rise
-                      : clamped                                           ? Kind::clamped
-                                                                          : Kind::exact;
+                      : clamped                                        ? Kind::clamped
+                                                                       : Kind::exact;
     bool expected = true;
     if (trusted_ && kind == Kind::exact) {
         // Within a second of the client's timing: near north the client's plain comparison of
@@ -275,9 +275,10 @@ void OrbitModel::judge() {
         lead_hint_deg_ && !lead_from_targets() ? std::string("learnt from the dish") : std::string(sigma) + overridden;
     char text[256];
     std::snprintf(text, sizeof text,
-                  "orbit %.0f km, client lead %.2f deg (%s), %zu targets (%zu exact over %.1f deg, %.0f s), RMS %.3f deg (%.1f of the expected scatter)%s",
-                  orbit_->altitude_km, client_view().threshold, lead_source.c_str(), targets_.size(), exact,
-                  arc, span, residual_.rms_deg, residual_.normalised,
+                  "orbit %.0f km, client lead %.2f deg (%s), %zu targets (%zu exact over %.1f deg, %.0f s), RMS %.3f "
+                  "deg (%.1f of the expected scatter)%s",
+                  orbit_->altitude_km, client_view().threshold, lead_source.c_str(), targets_.size(), exact, arc, span,
+                  residual_.rms_deg, residual_.normalised,
                   settings_.latitude_deg ? "" : ", Earth taken as still (no latitude)");
     description_ = text;
     const char* why = nullptr;
@@ -293,10 +294,11 @@ void OrbitModel::judge() {
         // in their order along the fitted track they turn as gently as the pass. A scan's
         // serpentine or a user's jogging turns in either order.
         why = "the targets turn as no pass does (manual pointing, a scan)";
-    } else if (!lead_hint_deg_ &&
-               (orbit_->lead_sigma_deg > settings_.max_lead_sigma_deg || exact < settings_.min_exact_targets_fitted_lead)) {
+    } else if (!lead_hint_deg_ && (orbit_->lead_sigma_deg > settings_.max_lead_sigma_deg ||
+                                   exact < settings_.min_exact_targets_fitted_lead)) {
         why = "the client's lead not yet known";
-    } else if (residual_.normalised > settings_.max_normalised_residual || residual_.rms_deg > settings_.max_residual_deg) {
+    } else if (residual_.normalised > settings_.max_normalised_residual ||
+               residual_.rms_deg > settings_.max_residual_deg) {
         why = off_orbit;
     } else if (orbit_->altitude_km < settings_.min_altitude_km || orbit_->altitude_km > settings_.max_altitude_km) {
         why = "no LEO altitude";

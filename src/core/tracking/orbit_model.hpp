@@ -82,8 +82,8 @@ struct OrbitModelSettings {
 };
 
 struct OrbitPoint {
-    AzEl position;          // azimuth in [0, 360)
-    double az_rate = 0.0;   // deg/s
+    AzEl position;         // azimuth in [0, 360)
+    double az_rate = 0.0;  // deg/s
     double el_rate = 0.0;
 };
 
@@ -135,8 +135,8 @@ public:
     struct Orbit {
         double t_ref = 0.0;
         double x = 0.0, y = 0.0, heading = 0.0, altitude_km = 500.0;
-        double lead_deg = 0.0;   // the client's lead (threshold, degrees), fitted when not given
-        double lead_sigma_deg = 0.0;   // its standard error (0 when given)
+        double lead_deg = 0.0;        // the client's lead (threshold, degrees), fitted when not given
+        double lead_sigma_deg = 0.0;  // its standard error (0 when given)
     };
 
     // How the client made its targets: its threshold (0: no look-ahead) and the elevation limits it
@@ -157,8 +157,8 @@ private:
     void refit(bool from_scratch);
     bool initialise();
     struct FitResidual {
-        double rms_deg = 0.0;      // of the unclamped targets
-        double normalised = 0.0;   // the same over the scatter expected of each (1: as expected)
+        double rms_deg = 0.0;     // of the unclamped targets
+        double normalised = 0.0;  // the same over the scatter expected of each (1: as expected)
         std::size_t exact_count = 0;
     };
     FitResidual refine(Orbit& orbit, int iterations) const;
@@ -172,11 +172,11 @@ private:
     OrbitModelSettings settings_;
     std::deque<Target> targets_;
     std::optional<double> lead_hint_deg_;
-    bool lead_fitted_despite_hint_ = false;   // question_lead() found the targets contradict the hint
-    bool lead_none_despite_hint_ = false;     // ... and fit no lead at all clearly better
+    bool lead_fitted_despite_hint_ = false;  // question_lead() found the targets contradict the hint
+    bool lead_none_despite_hint_ = false;    // ... and fit no lead at all clearly better
     // The lead the fit holds: the hint, none, or fitted (nullopt), as question_lead() decided.
     std::optional<double> lead_in_fit() const;
-    std::size_t next_lead_question_ = 0;      // exact targets at which to question it next (when many)
+    std::size_t next_lead_question_ = 0;  // exact targets at which to question it next (when many)
     // The client's elevation limits as its targets show them: the dish's until one lies beyond.
     double client_min_el_ = 0.0, client_max_el_ = 90.0;
     std::optional<Orbit> orbit_;

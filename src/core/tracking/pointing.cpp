@@ -15,7 +15,7 @@
 namespace birdcage {
 namespace {
 
-constexpr double max_lead_s = 30.0;            // a learned lead longer than this is not a lead
+constexpr double max_lead_s = 30.0;  // a learned lead longer than this is not a lead
 constexpr double max_lead_threshold_deg = 10.0;
 constexpr std::size_t lead_observations_kept = 8;
 // An observation smaller than this fraction of the learned threshold is a "lead" event (the dish
@@ -56,18 +56,20 @@ std::optional<PointingMode> pointing_mode_from_name(std::string_view name) {
 
 std::string_view pointing_mode_name(PointingMode mode) {
     switch (mode) {
-    case PointingMode::none:
-        return "none";
-    case PointingMode::leapfrog:
-        return "leapfrog";
-    case PointingMode::predictive:
-        return "predictive";
+        case PointingMode::none:
+            return "none";
+        case PointingMode::leapfrog:
+            return "leapfrog";
+        case PointingMode::predictive:
+            return "predictive";
     }
     return "none";
 }
 
 TargetPredictor::TargetPredictor(PredictorSettings settings)
-    : settings_(settings), orbit_(settings.orbit), dish_el_min_(settings.orbit.el_floor),
+    : settings_(settings),
+      orbit_(settings.orbit),
+      dish_el_min_(settings.orbit.el_floor),
       dish_el_max_(settings.orbit.el_cap) {}
 
 void TargetPredictor::set_dish_limits(double el_min, double el_max) {
@@ -130,8 +132,10 @@ void TargetPredictor::fit() {
     while (samples_.size() > 2 && samples_.back().t - samples_[1].t >= settings_.fit_window_s) {
         samples_.pop_front();
     }
-    const Fit az = slope_at_end(samples_, [](const Sample& s) { return s.az; }, max_az_accel);
-    const Fit el = slope_at_end(samples_, [](const Sample& s) { return s.el; }, max_el_accel);
+    const Fit az = slope_at_end(
+        samples_, [](const Sample& s) { return s.az; }, max_az_accel);
+    const Fit el = slope_at_end(
+        samples_, [](const Sample& s) { return s.el; }, max_el_accel);
     have_rate_ = az.ok && el.ok && std::hypot(az.rate, el.rate) >= settings_.stationary_dps;
     if (have_rate_) {
         // Manual pointing moves by steps at whatever pace the user or program likes, and a few
@@ -139,12 +143,14 @@ void TargetPredictor::fit() {
         // pace are extrapolated (docs/tracking.md §7).
         const double cos_el = std::cos(samples_.back().el * M_PI / 180.0);
         const double sky_rate = std::hypot(az.rate * cos_el, el.rate);
-        const double residual =
-            std::sqrt(mean_square_off(samples_, [](const Sample& s) { return s.az; }, az, cos_el) +
-                      mean_square_off(samples_, [](const Sample& s) { return s.el; }, el, 1.0));
-        have_rate_ = track_targets_ >= settings_.min_track_targets && sky_rate <= settings_.max_satellite_sky_rate_dps &&
-                     residual <= settings_.max_track_residual_deg &&
-                     sharpest_turn_deg(sample_directions(), settings_.min_turn_step_deg) <= settings_.max_track_turn_deg;
+        const double residual = std::sqrt(mean_square_off(
+                                              samples_, [](const Sample& s) { return s.az; }, az, cos_el) +
+                                          mean_square_off(
+                                              samples_, [](const Sample& s) { return s.el; }, el, 1.0));
+        have_rate_ =
+            track_targets_ >= settings_.min_track_targets && sky_rate <= settings_.max_satellite_sky_rate_dps &&
+            residual <= settings_.max_track_residual_deg &&
+            sharpest_turn_deg(sample_directions(), settings_.min_turn_step_deg) <= settings_.max_track_turn_deg;
     }
     az_rate_ = have_rate_ ? az.rate : 0.0;
     el_rate_ = have_rate_ ? el.rate : 0.0;
@@ -175,7 +181,8 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     }
     const Sample last = samples_.back();
     const double az = last.az + azimuth_difference(last.az, target.az);
-    const bool repeated = std::fabs(az - last.az) < same_angle_degrees && std::fabs(target.el - last.el) < same_angle_degrees;
+    const bool repeated =
+        std::fabs(az - last.az) < same_angle_degrees && std::fabs(target.el - last.el) < same_angle_degrees;
     // A target after a held one cannot give a rate: the client only now started moving.
     if (repeated || t - last.t > settings_.max_gap_s || t <= last.t || held_) {
         held_ = repeated;
@@ -184,19 +191,24 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     }
     // Faster than any satellite on the sky, or a jump as large as the restart gate: the client
     // re-pointed the dish (a manual P, park, another satellite), it is not tracking one.
-    const double sky_step = std::hypot(azimuth_difference(last.az, target.az) * std::cos(target.el * M_PI / 180.0),
-                                       target.el - last.el);
-    if (!have_rate_ && (sky_step > settings_.restart_gate_deg || sky_step / (t - last.t) > settings_.max_sky_rate_dps)) {
+    const double sky_step =
+        std::hypot(azimuth_difference(last.az, target.az) * std::cos(target.el * M_PI / 180.0), target.el - last.el);
+    if (!have_rate_ &&
+        (sky_step > settings_.restart_gate_deg || sky_step / (t - last.t) > settings_.max_sky_rate_dps)) {
         restart(t, target, keep_orbit);
         return;
     }
     if (have_rate_) {
         // Where the client's next target was expected (the satellite plus the learned lead).
         const auto expected = estimate(when, false);
-        const double lead_s = lead_threshold_ ? std::min(*lead_threshold_ / std::max(std::fabs(az_rate_), std::fabs(el_rate_)), max_lead_s) : 0.0;
+        const double lead_s =
+            lead_threshold_
+                ? std::min(*lead_threshold_ / std::max(std::fabs(az_rate_), std::fabs(el_rate_)), max_lead_s)
+                : 0.0;
         const double expected_az = expected->position.az + az_rate_ * lead_s;
         const double expected_el = expected->position.el + el_rate_ * lead_s;
-        const double innovation = std::max(std::fabs(azimuth_difference(expected_az, target.az)), std::fabs(target.el - expected_el));
+        const double innovation =
+            std::max(std::fabs(azimuth_difference(expected_az, target.az)), std::fabs(target.el - expected_el));
         // A trusted orbit that expected the target vouches for it: the local estimate is what erred.
         if (innovation > settings_.restart_gate_deg && !(orbit_trusted && orbit_expected)) {
             restart(t, target, keep_orbit);
@@ -244,7 +256,8 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         // pre-pass unwind, an acquisition), not a threshold crossing.
         const bool plausible = std::max(std::fabs(gap_az), std::fabs(gap_el)) <= 2.0 * max_lead_threshold_deg &&
                                threshold_obs <= max_lead_threshold_deg;
-        if (plausible && lead_obs_s > 0.0 && (!lead_threshold_ || threshold_obs >= lag_event_fraction * *lead_threshold_)) {
+        if (plausible && lead_obs_s > 0.0 &&
+            (!lead_threshold_ || threshold_obs >= lag_event_fraction * *lead_threshold_)) {
             // Low recent observations: a dish that trails for any other reason makes the gap
             // larger than twice the lead, never smaller, and a lead learned too large would keep
             // the dish trailing (the client then re-sends every cycle).
@@ -266,7 +279,8 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     if (lead_threshold_) {
         lead_s = std::min(*lead_threshold_ / dominant_rate, max_lead_s);
         for (int refine = 0; refine < 3; ++refine) {
-            const double moved = std::max(std::fabs(az_rate_ - 0.5 * az_accel_ * lead_s), std::fabs(el_rate_ - 0.5 * el_accel_ * lead_s));
+            const double moved = std::max(std::fabs(az_rate_ - 0.5 * az_accel_ * lead_s),
+                                          std::fabs(el_rate_ - 0.5 * el_accel_ * lead_s));
             lead_s = moved > settings_.stationary_dps ? std::min(*lead_threshold_ / moved, max_lead_s) : lead_s;
         }
     }
@@ -293,7 +307,9 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     el_rate_ -= el_accel_ * lead_s;
 }
 
-std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const { return estimate(when, true); }
+std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const {
+    return estimate(when, true);
+}
 
 std::optional<wrap::PassAhead> TargetPredictor::pass_ahead(Clock::time_point when) const {
     if (!pass_model_in_use()) {
@@ -340,8 +356,8 @@ std::optional<Prediction> TargetPredictor::estimate(Clock::time_point when, bool
     // (docs/tracking.md §7).
     const Sample& last = samples_.back();
     const Prediction at_last_target{{normalize_azimuth(last.az), last.el}, 0.0, 0.0, false};
-    const bool young = track_targets_ < settings_.established_track_targets ||
-                       last.t - track_start_t_ < settings_.established_track_s;
+    const bool young =
+        track_targets_ < settings_.established_track_targets || last.t - track_start_t_ < settings_.established_track_s;
     if (hold_at_last_target && young) {
         // Along the track on the sky (cos(el) scales the azimuth), the time the estimate takes
         // from the anchor to the last target.
@@ -359,7 +375,9 @@ std::optional<Prediction> TargetPredictor::estimate(Clock::time_point when, bool
         const double curved = std::min(dt_axis, accel_horizon_s);
         return rate * dt_axis + accel * curved * (0.5 * curved + (dt_axis - curved));
     };
-    auto rate_at = [&](double rate, double accel, double dt_axis) { return rate + accel * std::min(dt_axis, accel_horizon_s); };
+    auto rate_at = [&](double rate, double accel, double dt_axis) {
+        return rate + accel * std::min(dt_axis, accel_horizon_s);
+    };
     const double dt_el = std::min(dt, horizon);
     const double el = anchor_el_ + travel(el_rate_, el_accel_, dt_el);
     const double az_horizon = std::max(anchor_el_, el) > settings_.zenith_guard_el
@@ -388,7 +406,8 @@ std::string TargetPredictor::describe() const {
     if (lead_threshold_) {
         std::snprintf(lead, sizeof lead, "%.2f deg", *lead_threshold_);
     }
-    std::snprintf(text, sizeof text, "az rate %.3f deg/s, el rate %.3f deg/s, client lead %s", az_rate_, el_rate_, lead);
+    std::snprintf(text, sizeof text, "az rate %.3f deg/s, el rate %.3f deg/s, client lead %s", az_rate_, el_rate_,
+                  lead);
     if (settings_.use_pass_model && orbit_.targets() >= 2) {
         return std::string(text) + "; " + orbit_.describe();
     }

@@ -35,9 +35,9 @@
 #include <vector>
 
 #include "base/azel.hpp"
+#include "base/plain_types.hpp"
 #include "tracking/orbit_model.hpp"
 #include "tracking/wrap.hpp"
-#include "base/plain_types.hpp"
 
 namespace birdcage {
 
@@ -99,10 +99,10 @@ struct PredictorSettings {
 };
 
 struct Prediction {
-    AzEl position;          // azimuth in [0, 360)
-    double az_rate = 0.0;   // deg/s of the (unwrapped) azimuth
+    AzEl position;         // azimuth in [0, 360)
+    double az_rate = 0.0;  // deg/s of the (unwrapped) azimuth
     double el_rate = 0.0;
-    bool moving = false;    // false: hold `position` (stationary or extrapolation expired)
+    bool moving = false;  // false: hold `position` (stationary or extrapolation expired)
 };
 
 class TargetPredictor {
@@ -144,10 +144,12 @@ public:
     // the lead in use is under a fifth of the client's half step (a client that leads by L steps
     // by about 2L, rarely much more), the half step stands for the coarseness.
     std::optional<double> client_coarseness_deg() const {
-        const std::optional<double> gaps =
-            lead_threshold_ ? lead_threshold_ : pass_model_in_use() ? orbit_.lead_deg() : std::nullopt;
+        const std::optional<double> gaps = lead_threshold_       ? lead_threshold_
+                                           : pass_model_in_use() ? orbit_.lead_deg()
+                                                                 : std::nullopt;
         const std::optional<double> lead = lead_threshold_deg();
-        if (half_step_ && half_steps_.size() >= min_half_steps && lead && *lead < no_look_ahead_lead_share * *half_step_) {
+        if (half_step_ && half_steps_.size() >= min_half_steps && lead &&
+            *lead < no_look_ahead_lead_share * *half_step_) {
             return std::max(gaps.value_or(0.0), *half_step_);
         }
         return gaps;
@@ -158,8 +160,8 @@ public:
 
 private:
     struct Sample {
-        double t;    // seconds since origin_
-        double az;   // unwrapped, continuous with the previous sample
+        double t;   // seconds since origin_
+        double az;  // unwrapped, continuous with the previous sample
         double el;
     };
     double seconds(Clock::time_point t) const;
@@ -175,10 +177,10 @@ private:
     Clock::time_point origin_{};
     bool has_origin_ = false;
     std::deque<Sample> samples_;
-    double az_rate_ = 0.0, el_rate_ = 0.0;     // at the anchor
+    double az_rate_ = 0.0, el_rate_ = 0.0;  // at the anchor
     double az_accel_ = 0.0, el_accel_ = 0.0;
     bool have_rate_ = false;
-    bool held_ = false;   // the last target repeated the one before: the client holds still
+    bool held_ = false;                     // the last target repeated the one before: the client holds still
     std::optional<double> lead_threshold_;  // learned client threshold, degrees (per axis)
     std::deque<double> lead_observations_;
     // Half the client's step between targets sent apart (on the faster axis), a low median.

@@ -25,12 +25,16 @@ constexpr double pace_smoothing = 0.3;
 constexpr double max_startup_s = 10.0;
 // Weight of the newest observation in a learnt start-up delay.
 constexpr double startup_smoothing = 0.3;
-constexpr int inversion_steps = 40;   // bisection on a move of <= 20 s: well under a microsecond
+constexpr int inversion_steps = 40;  // bisection on a move of <= 20 s: well under a microsecond
 
-double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+double seconds(Clock::duration d) {
+    return std::chrono::duration<double>(d).count();
+}
 
 // Signed degrees from `from` to `to` along the leg's axis (azimuth: the short way round).
-double delta(Axis axis, double from, double to) { return axis == Axis::azimuth ? azimuth_difference(from, to) : to - from; }
+double delta(Axis axis, double from, double to) {
+    return axis == Axis::azimuth ? azimuth_difference(from, to) : to - from;
+}
 
 // The model time at which a move of `distance` has covered `done` degrees.
 double time_at(const FirmwareProfile& dish, Axis axis, double distance, double done, double total) {
@@ -73,10 +77,11 @@ double modelled_axis(const FirmwareProfile& dish, const LegMotion& leg, Clock::t
     const double expected_start_s = std::max(leg.startup_s, 0.0);
     double model_time = 0.0;
     if (leg.latest.at <= leg.sent_at) {
-        model_time = prior * std::max(0.0, seconds(now - leg.sent_at) - expected_start_s);   // no reading since the send
+        model_time = prior * std::max(0.0, seconds(now - leg.sent_at) - expected_start_s);  // no reading since the send
     } else if (const double latest = done(leg.latest.value); latest < started_degrees) {
-        const double since_start = std::min(seconds(now - leg.sent_at) - expected_start_s, seconds(now - leg.latest.at));
-        model_time = prior * std::max(0.0, since_start);   // not moving yet when last read
+        const double since_start =
+            std::min(seconds(now - leg.sent_at) - expected_start_s, seconds(now - leg.latest.at));
+        model_time = prior * std::max(0.0, since_start);  // not moving yet when last read
     } else {
         const double pace = observed_pace(dish, leg).value_or(prior);
         model_time = time_at(dish, leg.axis, distance, latest, total) + pace * seconds(now - leg.latest.at);
@@ -154,10 +159,9 @@ std::optional<double> StartupDelays::observed(const FirmwareProfile& dish, const
     // The motion began in (earliest, latest]: after the last reading of this leg that did not show
     // it (or the send), by the reading that does.
     const double latest = seconds(leg.first_moving->at - leg.sent_at);
-    const double earliest =
-        leg.previous && leg.previous->at > leg.sent_at && leg.previous->at < leg.first_moving->at
-            ? seconds(leg.previous->at - leg.sent_at)
-            : 0.0;
+    const double earliest = leg.previous && leg.previous->at > leg.sent_at && leg.previous->at < leg.first_moving->at
+                                ? seconds(leg.previous->at - leg.sent_at)
+                                : 0.0;
     const double pace = std::clamp(leg.pace, min_pace, max_pace);
     const double covering =
         time_at(dish, leg.axis, curve.distance, curve.done(leg.first_moving->value), curve.total) / pace;

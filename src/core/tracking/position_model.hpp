@@ -42,12 +42,12 @@ std::optional<double> observed_pace(const FirmwareProfile& dish, const LegMotion
 // sqrt(length) on short moves, the fit does not), so one factor per axis would not do.
 class AxisPaces {
 public:
-    double pace(Axis axis, double distance) const;   // 1 until a leg of that length was timed
+    double pace(Axis axis, double distance) const;  // 1 until a leg of that length was timed
     bool learnt(Axis axis, double distance) const;
     void learn(Axis axis, double distance, double observed);
 
 private:
-    static constexpr int length_classes = 8;   // < 0.25 deg, then doubling up to >= 16 deg
+    static constexpr int length_classes = 8;  // < 0.25 deg, then doubling up to >= 16 deg
     static int length_class(double distance);
     std::array<std::array<std::optional<double>, length_classes>, 2> paces_{};
 };

@@ -18,8 +18,8 @@ constexpr std::size_t quadratic_min_samples = 3;
 constexpr double quadratic_min_span_s = 3.0;
 
 struct Fit {
-    double rate = 0.0;    // slope at the newest sample
-    double accel = 0.0;   // curvature (0 for a straight line)
+    double rate = 0.0;   // slope at the newest sample
+    double accel = 0.0;  // curvature (0 for a straight line)
     bool ok = false;
 };
 

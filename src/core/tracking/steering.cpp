@@ -19,7 +19,7 @@ constexpr double min_cos_el = 0.1;
 // factor per round until the steps need at most `max_motor_share` of the motor's time (one axis
 // moves at a time; above that share the dish falls behind and its commands queue).
 constexpr double widen_factor = 1.2;
-constexpr int max_widen_rounds = 30;   // 1.2^30 ≈ 240x: far beyond any max_deadband_deg
+constexpr int max_widen_rounds = 30;  // 1.2^30 ≈ 240x: far beyond any max_deadband_deg
 constexpr double max_motor_share = 0.5;
 // An axis rate below this (deg/s) is no motion: the axis is only re-aimed when off by a deadband.
 constexpr double still_rate_dps = 1e-6;

@@ -11,9 +11,9 @@
 
 #include "base/azel.hpp"
 #include "base/option_range.hpp"
-#include "tracking/pointing.hpp"
 #include "base/plain_types.hpp"
 #include "firmware/variants.hpp"
+#include "tracking/pointing.hpp"
 
 namespace birdcage {
 
@@ -49,12 +49,12 @@ struct SteeringInput {
     Clock::time_point now;
     const TargetPredictor& predictor;
     const FirmwareProfile& dish;
-    double el_min = 0.0, el_max = 90.0;     // the controller's effective limits
+    double el_min = 0.0, el_max = 90.0;  // the controller's effective limits
     PointingOptions pointing;
-    double measured_overhead_s = 0.0;       // per leg beyond the motion, as measured (0: unknown)
-    std::optional<AzEl> aim;                // what was last handed to the controller
-    std::optional<AzEl> client_target;      // the client's last target, as sent
-    std::optional<AzEl> dish_position;      // the dish's last reading
+    double measured_overhead_s = 0.0;   // per leg beyond the motion, as measured (0: unknown)
+    std::optional<AzEl> aim;            // what was last handed to the controller
+    std::optional<AzEl> client_target;  // the client's last target, as sent
+    std::optional<AzEl> dish_position;  // the dish's last reading
 };
 
 struct SteeringDecision {
@@ -62,9 +62,9 @@ struct SteeringDecision {
     // The satellite's azimuth rate (deg/s) for the controller's cable-wrap choice; 0 when the
     // estimate is stationary (the caller may supply a direction of its own).
     double az_rate = 0.0;
-    bool holding = false;       // a stationary target: aim at it, no lead
-    int legs = 0;               // axes that move (for timing the step); 0 on the first aim
-    double motion_s = 0.0;      // their estimated motor time
+    bool holding = false;   // a stationary target: aim at it, no lead
+    int legs = 0;           // axes that move (for timing the step); 0 on the first aim
+    double motion_s = 0.0;  // their estimated motor time
 };
 
 // Aims each axis `deadband` ahead of where the satellite will be when the move completes, and

@@ -12,13 +12,17 @@ namespace birdcage::wrap {
 namespace {
 
 constexpr double epsilon = 1e-9;
-constexpr double reading_slack_deg = 1.0;   // a reading may overshoot a limit by this much
+constexpr double reading_slack_deg = 1.0;  // a reading may overshoot a limit by this much
 
-bool same(double a, double b) { return std::fabs(a - b) < 1e-6; }
+bool same(double a, double b) {
+    return std::fabs(a - b) < 1e-6;
+}
 
 }  // namespace
 
-bool Window::contains(double mechanical) const { return mechanical >= min - epsilon && mechanical <= max + epsilon; }
+bool Window::contains(double mechanical) const {
+    return mechanical >= min - epsilon && mechanical <= max + epsilon;
+}
 
 Window usable_window(Window mechanical, double margin) {
     const double room = std::max(0.0, (mechanical.span() - 360.0) / 2.0);
@@ -45,14 +49,12 @@ std::vector<double> branches(double display, Window window) {
 }
 
 double unwrap_reading(double display, double reference, Window mechanical) {
-    const auto candidates =
-        branches(display, {mechanical.min - reading_slack_deg, mechanical.max + reading_slack_deg});
+    const auto candidates = branches(display, {mechanical.min - reading_slack_deg, mechanical.max + reading_slack_deg});
     if (candidates.empty()) {
         return nearest_branch(display, reference);
     }
-    return *std::min_element(candidates.begin(), candidates.end(), [&](double a, double b) {
-        return std::fabs(a - reference) < std::fabs(b - reference);
-    });
+    return *std::min_element(candidates.begin(), candidates.end(),
+                             [&](double a, double b) { return std::fabs(a - reference) < std::fabs(b - reference); });
 }
 
 double start_branch(double display, Window mechanical) {
@@ -71,10 +73,14 @@ double room_ahead(double mechanical, int direction, Window window) {
 
 std::string_view reason_text(Reason reason) {
     switch (reason) {
-        case Reason::continuous: return "continuing on the same branch";
-        case Reason::pass_start: return "a pass is starting and the current branch has too little room ahead for it";
-        case Reason::forced_unwind: return "continuing would pass the wrap limit (less the margin): unwinding";
-        case Reason::no_branch: return "no branch inside the wrap window: the nearest edge";
+        case Reason::continuous:
+            return "continuing on the same branch";
+        case Reason::pass_start:
+            return "a pass is starting and the current branch has too little room ahead for it";
+        case Reason::forced_unwind:
+            return "continuing would pass the wrap limit (less the margin): unwinding";
+        case Reason::no_branch:
+            return "no branch inside the wrap window: the nearest edge";
         case Reason::orbit_pass:
             return "the orbit shows the coming pass needs more room than this branch has: moving to the branch "
                    "that holds it before it rises";
@@ -101,9 +107,7 @@ Choice choose_branch(double display, double reference, int direction, bool pass_
     const auto roomier = [&](double a, double b) {
         return room(a) > room(b) + 1e-6 || (same(room(a), room(b)) && distance(a) < distance(b));
     };
-    const auto pick = [&](auto better) {
-        return *std::min_element(candidates.begin(), candidates.end(), better);
-    };
+    const auto pick = [&](auto better) { return *std::min_element(candidates.begin(), candidates.end(), better); };
     const auto choice = [&](double mechanical, Reason reason) {
         return Choice{mechanical, same(mechanical, continuous) ? Reason::continuous : reason, continuous};
     };
@@ -139,9 +143,9 @@ std::optional<double> branch_for_pass(double display, double reference, const Pa
     double best_overflow = 0.0;
     for (double candidate : branches(display, usable)) {
         const double overflow = pass_overflow(display, candidate, ahead, usable);
-        const bool better = !best || overflow < best_overflow - 1e-6 ||
-                            (same(overflow, best_overflow) &&
-                             std::fabs(candidate - reference) < std::fabs(*best - reference));
+        const bool better =
+            !best || overflow < best_overflow - 1e-6 ||
+            (same(overflow, best_overflow) && std::fabs(candidate - reference) < std::fabs(*best - reference));
         if (better) {
             best = candidate;
             best_overflow = overflow;

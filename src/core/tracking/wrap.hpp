@@ -21,7 +21,7 @@ namespace birdcage::wrap {
 struct Window {
     double min = 0.0;
     double max = 360.0;
-    bool contains(double mechanical) const;   // inclusive, with a 1e-9 tolerance
+    bool contains(double mechanical) const;  // inclusive, with a 1e-9 tolerance
     double span() const { return max - min; }
 };
 
@@ -65,19 +65,19 @@ double start_branch(double display, Window mechanical);
 double room_ahead(double mechanical, int direction, Window window);
 
 enum class Reason {
-    continuous,      // the branch nearest the previous target (no cable unwind)
-    pass_start,      // a pass is starting and the continuous branch lacks room for it
-    forced_unwind,   // the continuous branch is beyond the usable window
-    no_branch,       // no branch inside the window at all: the nearest window edge
-    culmination,     // past its culmination the pass needs more room than its branch has left
-    orbit_pass,      // before the pass rises, its orbit shows it needs more room than this branch has
+    continuous,     // the branch nearest the previous target (no cable unwind)
+    pass_start,     // a pass is starting and the continuous branch lacks room for it
+    forced_unwind,  // the continuous branch is beyond the usable window
+    no_branch,      // no branch inside the window at all: the nearest window edge
+    culmination,    // past its culmination the pass needs more room than its branch has left
+    orbit_pass,     // before the pass rises, its orbit shows it needs more room than this branch has
 };
 std::string_view reason_text(Reason reason);
 
 struct Choice {
-    double mechanical;   // the branch to command
+    double mechanical;  // the branch to command
     Reason reason;
-    double continuous;   // the branch nearest the reference (what continuity alone would pick)
+    double continuous;  // the branch nearest the reference (what continuity alone would pick)
 };
 
 // The rest of the pass being followed, as a trusted orbit foresees it (TargetPredictor::pass_ahead()):

@@ -74,7 +74,9 @@ double culmination_travel(const std::vector<std::pair<double, double>>& points, 
     return vertex >= lo && vertex <= hi ? vertex : fallback;
 }
 
-std::string degrees_text(double value) { return format_degrees(value); }
+std::string degrees_text(double value) {
+    return format_degrees(value);
+}
 
 }  // namespace
 
@@ -93,8 +95,9 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
         // Only a mechanical report can read like this: it names the branch.
         if (!reports_mechanical_ && ++beyond_display_readings_ >= mechanical_proof_readings) {
             reports_mechanical_ = true;
-            emit(log_, LogLevel::verbose, "the dish reports its mechanical azimuth (read " + degrees_text(reported) +
-                                              "): readings are taken literally");
+            emit(log_, LogLevel::verbose,
+                 "the dish reports its mechanical azimuth (read " + degrees_text(reported) +
+                     "): readings are taken literally");
         }
         mechanical_ = reported;
         recheck_branch_ = false;
@@ -147,8 +150,8 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
 // Continuity is measured from the branch of the previous target (not the dish's momentary
 // position, which may be half-way through a long slew to it), else where the azimuth leg in
 // flight ends, else the estimated mechanical azimuth, else the last command.
-double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps,
-                                  double el_min, std::optional<double> leg_end, std::optional<double> commanded,
+double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previous, double az_rate_dps, double el_min,
+                                  std::optional<double> leg_end, std::optional<double> commanded,
                                   const std::optional<wrap::PassAhead>& ahead) {
     int direction = az_rate_dps > 0.0 ? 1 : (az_rate_dps < 0.0 ? -1 : 0);
     const bool jumped = previous && std::fabs(azimuth_difference(previous->az, wanted.az)) > new_pass_jump_degrees;
@@ -216,8 +219,8 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
         pass_.culmination_checked = true;
         const double at_top = culmination_travel(pass_.near_top, pass_.travelled_at_top_deg);
         const double to_go = std::max(0.0, 2.0 * at_top - pass_.travelled_deg);
-        if (const auto branch = wrap::culmination_branch(wanted.az, continuous, direction, to_go, plan,
-                                                         culmination_slack_degrees)) {
+        if (const auto branch =
+                wrap::culmination_branch(wanted.az, continuous, direction, to_go, plan, culmination_slack_degrees)) {
             emit(log_, LogLevel::verbose,
                  "azimuth " + degrees_text(wanted.az) + ": mechanical " + degrees_text(*branch) + " instead of " +
                      degrees_text(continuous) + " (" + std::string(wrap::reason_text(wrap::Reason::culmination)) +
@@ -251,9 +254,9 @@ double WrapTracker::choose_branch(AzEl wanted, const std::optional<AzEl>& previo
     }
     const wrap::Choice choice = wrap::choose_branch(wanted.az, from, direction, pass_starting, plan);
     if (choice.reason != wrap::Reason::continuous) {
-        std::string message = "azimuth " + degrees_text(wanted.az) + ": mechanical " +
-                              degrees_text(choice.mechanical) + " instead of " + degrees_text(choice.continuous) +
-                              " (" + std::string(wrap::reason_text(choice.reason));
+        std::string message = "azimuth " + degrees_text(wanted.az) + ": mechanical " + degrees_text(choice.mechanical) +
+                              " instead of " + degrees_text(choice.continuous) + " (" +
+                              std::string(wrap::reason_text(choice.reason));
         if (direction != 0) {
             message += "; " + degrees_text(wrap::room_ahead(choice.mechanical, direction, plan)) +
                        " deg of room ahead " + (direction > 0 ? "clockwise" : "anticlockwise");

@@ -8,14 +8,14 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
-#include <string>
 
-#include "tracking/az_mapping.hpp"
 #include "base/azel.hpp"
 #include "base/clock.hpp"
 #include "base/log.hpp"
+#include "tracking/az_mapping.hpp"
 #include "tracking/wrap.hpp"
 
 namespace birdcage {
@@ -36,7 +36,7 @@ public:
     // The mechanical azimuth estimate; nullopt before the first reading.
     std::optional<double> mechanical() const { return mechanical_; }
     std::optional<Clock::time_point> reading_at() const { return reading_at_; }
-    unsigned readings() const { return readings_; }   // how many note_reading() calls so far
+    unsigned readings() const { return readings_; }  // how many note_reading() calls so far
     // Readings beyond 0..360 proved the dish reports mechanical angles (they name the branch).
     bool reports_mechanical() const { return reports_mechanical_; }
     // A reading that turned out to be line noise is taken back.
@@ -73,23 +73,23 @@ private:
                                                  const wrap::Window& plan);
 
     azmap::Travel travel_;
-    wrap::Window usable_;   // the travel less the limit margins: never commanded outside
+    wrap::Window usable_;  // the travel less the limit margins: never commanded outside
     azmap::Learner learner_;
     LogSink log_;
     std::optional<double> mechanical_;
     std::optional<Clock::time_point> reading_at_;
     unsigned readings_ = 0;
     bool reports_mechanical_ = false;
-    int beyond_display_readings_ = 0;   // consecutive readings outside 0..360 (2 prove it)
+    int beyond_display_readings_ = 0;  // consecutive readings outside 0..360 (2 prove it)
     bool recheck_branch_ = false;
     std::optional<double> target_mechanical_;
-    std::optional<int> pass_direction_;   // azimuth direction of the pass being followed (+1/-1)
-    double pass_furthest_az_ = 0.0;       // display azimuth of the furthest target along it so far
+    std::optional<int> pass_direction_;  // azimuth direction of the pass being followed (+1/-1)
+    double pass_furthest_az_ = 0.0;      // display azimuth of the furthest target along it so far
     // The pass being followed as its targets show it, for the unwind at its culmination.
     struct PassProgress {
-        bool seen_from_start = false;     // its first target was near el_min, rising
-        double travelled_deg = 0.0;       // azimuth covered so far, in its direction
-        double top_el = -90.0;            // the highest target elevation so far
+        bool seen_from_start = false;  // its first target was near el_min, rising
+        double travelled_deg = 0.0;    // azimuth covered so far, in its direction
+        double top_el = -90.0;         // the highest target elevation so far
         double travelled_at_top_deg = 0.0;
         // (azimuth travelled, elevation) of the targets within a few degrees of the top: where
         // the culmination lies between sparse targets.

@@ -8,10 +8,10 @@
 #include "winegard.h"
 #include "winegard_priv.hpp"
 
+#include <dlfcn.h>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
-#include <dlfcn.h>
 
 extern "C" int initrots4_winegard(void* be_handle);
 
@@ -44,12 +44,14 @@ rig_debug_level_e current_debug_level() {
 __attribute__((constructor)) void winegard_preload_register() {
     // Registering caps built for another Hamlib ABI would let Hamlib write through a struct s_rot
     // of another shape: refuse before touching anything, in one line naming both.
-    const birdcage::hamlib::AbiVerdict abi = birdcage::hamlib::check_abi(
-        BIRDCAGE_HAMLIB_BUILT_VERSION, BIRDCAGE_HAMLIB_BUILT_SONAME, hamlib_version2 != nullptr ? hamlib_version2 : "",
-        running_hamlib_soname());
+    const birdcage::hamlib::AbiVerdict abi =
+        birdcage::hamlib::check_abi(BIRDCAGE_HAMLIB_BUILT_VERSION, BIRDCAGE_HAMLIB_BUILT_SONAME,
+                                    hamlib_version2 != nullptr ? hamlib_version2 : "", running_hamlib_soname());
     if (!abi.compatible) {
-        std::fprintf(stderr, "hamlib-winegard: %s; the Winegard models are not registered (rebuild the backend for this Hamlib)\n",
-                     abi.message.c_str());
+        std::fprintf(
+            stderr,
+            "hamlib-winegard: %s; the Winegard models are not registered (rebuild the backend for this Hamlib)\n",
+            abi.message.c_str());
         return;
     }
     birdcage::hamlib::load_note() = abi.message;

@@ -10,8 +10,8 @@
 #ifndef BIRDCAGE_PRELOAD_REGISTER_H
 #define BIRDCAGE_PRELOAD_REGISTER_H
 
-#define DECLARE_INITROT_BACKEND(backend) \
-    __attribute__((visibility("default"))) int initrots4_##backend(void *be_handle); \
-    int initrots4_##backend(void *be_handle __attribute__((unused)))
+#define DECLARE_INITROT_BACKEND(backend)                                             \
+    __attribute__((visibility("default"))) int initrots4_##backend(void* be_handle); \
+    int initrots4_##backend(void* be_handle __attribute__((unused)))
 
 #endif

@@ -366,3 +366,49 @@ TEST_CASE("service worker: what was learnt about the dish and the client survive
     CHECK(after->az_rate == Approx(0.5).margin(0.05));
     CHECK(after->position.az == Approx(sat.az).margin(1.0));
 }
+
+// A Gpredict-like client leading by 2 deg compares the satellite with the position `p` last
+// answered, and its timer may tick again before its I/O loop has read the dish's move: it then
+// re-sends, just past 2 s after its target, a target computed against the old reading. The lead is
+// the gap to what the client read back; measured against the dish's reading when the re-send
+// arrives (the dish is at the previous target by then) it would be a lead of almost nothing.
+TEST_CASE("service worker: the client's lead is learnt from the position p last answered, not the dish now") {
+    HandDrivenService service;
+    constexpr double lead = 2.0, rate = 0.5;  // deg, deg/s in azimuth
+    const Clock::time_point start = service.now;
+    auto elapsed = [&] { return std::chrono::duration<double>(service.now - start).count(); };
+    auto satellite = [&] { return AzEl{190.0 + rate * elapsed(), 45.0}; };
+    auto ahead = [&] { return AzEl{satellite().az + lead, 45.0}; };
+    REQUIRE(service.mailbox.post_target(ahead(), service.now));
+    service.drain();
+
+    std::optional<double> resend_at;  // a re-send due before the client reads `p` again
+    int targets = 1, resends = 0;
+    while (elapsed() < 120.0) {
+        if (resend_at && elapsed() >= *resend_at) {
+            REQUIRE(service.mailbox.post_target(ahead(), service.now));
+            resend_at.reset();
+            ++targets;
+            ++resends;
+        } else if (!resend_at) {
+            const auto reading = service.mailbox.view().dish.position;
+            REQUIRE(reading);
+            service.mailbox.note_reported(*reading);  // what RotatorService::position() answers
+            if (satellite().az - reading->az > lead) {
+                REQUIRE(service.mailbox.post_target(ahead(), service.now));
+                resend_at = elapsed() + 2.2;
+                ++targets;
+            }
+        }
+        for (int i = 0; i < 3; ++i) {
+            (void)service.worker->step();
+        }
+        service.now += 100ms;
+    }
+    const auto learnt = service.worker->predictor().lead_threshold_deg();
+    INFO(targets << " targets (" << resends << " re-sends): " << service.worker->predictor().describe());
+    REQUIRE(resends >= 5);
+    REQUIRE(learnt);
+    // Each gap to `p` is 2 leads (a re-send's a little more); to the dish now, a re-send's is 1.1 deg.
+    CHECK(*learnt == Approx(lead).margin(0.6));
+}

@@ -94,6 +94,49 @@ TEST_CASE("steering: the deadband grows to a share of the client's own threshold
           Approx((1.0 - PointingOptions{}.deadband_deg) / std::cos(36.0 * M_PI / 180.0)).margin(0.15));
 }
 
+TEST_CASE("steering: a client without look-ahead sets the deadband by its step, not by the gaps' small lead") {
+    // A client that sends the satellite as it is each time it has moved 5 deg (no look-ahead, here
+    // every 5 s): its steps are 5 deg whatever the dish does. The dish reports 0.76 deg short of
+    // each target, so the gaps teach a lead of 0.38 deg (the orbit leading the dish leaves no more):
+    // under a fifth of the half step, which then stands for the client's coarseness.
+    PredictorSettings gaps_only;
+    gaps_only.use_pass_model = false;
+    TargetPredictor predictor(gaps_only);
+    for (double t = 0.0; t <= 40.0 + 1e-9; t += 5.0) {
+        predictor.observe(at(t), satellite(t), satellite(t - 0.76));
+    }
+    REQUIRE(predictor.lead_threshold_deg());
+    CHECK(*predictor.lead_threshold_deg() == Approx(0.38).margin(0.05));
+    REQUIRE(predictor.client_coarseness_deg());
+    CHECK(*predictor.client_coarseness_deg() == Approx(2.5).margin(0.05));
+    auto lead_with = [&](double share) {
+        SteeringInput in = input_at(40.0, predictor, std::nullopt);
+        in.pointing.client_threshold_share = share;
+        const auto aim = next_aim(in);
+        REQUIRE(aim);
+        return azimuth_difference(satellite(40.0).az, aim->aim.az);
+    };
+    // Half of 2.5 deg is capped at 1 deg (on the sky; in azimuth / cos(el), el 38 deg here); the
+    // gaps' 0.38 deg would leave the deadband at its minimum.
+    CHECK(lead_with(0.5) - lead_with(0.0) ==
+          Approx((1.0 - PointingOptions{}.deadband_deg) / std::cos(38.0 * M_PI / 180.0)).margin(0.15));
+}
+
+TEST_CASE("steering: a client that leads by its threshold keeps it as its coarseness, whatever its step") {
+    // A client that leads by 1 deg and steps by 5 (half step 2.5): its lead is no share of the
+    // step a client without look-ahead shows, so the lead stays the coarseness.
+    PredictorSettings gaps_only;
+    gaps_only.use_pass_model = false;
+    TargetPredictor predictor(gaps_only);
+    for (double t = 0.0; t <= 40.0 + 1e-9; t += 5.0) {
+        predictor.observe(at(t), satellite(t), satellite(t - 2.0));
+    }
+    REQUIRE(predictor.lead_threshold_deg());
+    CHECK(*predictor.lead_threshold_deg() == Approx(1.0).margin(0.05));
+    REQUIRE(predictor.client_coarseness_deg());
+    CHECK(*predictor.client_coarseness_deg() == Approx(1.0).margin(0.05));
+}
+
 TEST_CASE("steering: a stationary target is held without lead, once") {
     TargetPredictor predictor;
     for (double t = 0.0; t <= 3.0; t += 1.0) {

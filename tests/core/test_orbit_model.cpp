@@ -294,7 +294,8 @@ TEST_CASE("orbit model: the rest of a pass above the dish's floor, for its cable
     }
 }
 
-TEST_CASE("orbit model: a Gpredict-like client's look-ahead targets give the satellite within tenths of a degree") {
+TEST_CASE("orbit model: a Gpredict-like client's look-ahead targets give the satellite within tenths of a degree",
+          "[figures]") {
     struct Setting {
         double threshold;
         double client_min_el, client_max_el;
@@ -440,7 +441,7 @@ PredictorRun run_predictor(const TruePass& pass, double threshold, bool use_orbi
 
 }  // namespace
 
-TEST_CASE("orbit model: the predictor follows the orbit and beats its local estimate") {
+TEST_CASE("orbit model: the predictor follows the orbit and beats its local estimate", "[figures]") {
     // Measured when written (mean over the 9 passes of each pass's RMS, the satellite now / 30 s
     // ahead): at 5 deg 1.71 / 5.3 against the local estimate's 2.81 / 8.1; at 0.5 deg 0.19 / 1.5
     // against 0.30 / 8.3. The orbit is in use 40-77% of the time at 5 deg (the first targets above
@@ -469,7 +470,7 @@ TEST_CASE("orbit model: the predictor follows the orbit and beats its local esti
     }
 }
 
-TEST_CASE("orbit model: a client without look-ahead is followed as sent, its lead learnt as none") {
+TEST_CASE("orbit model: a client without look-ahead is followed as sent, its lead learnt as none", "[figures]") {
     // A client that sends the satellite's direction as it is, each time it moved a threshold from
     // its last target (no look-ahead): what a new user may try before Gpredict. The dish's gaps
     // say it leads by half its threshold (2.5 deg at 5 deg); the orbit's targets say it does not.

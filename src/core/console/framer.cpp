@@ -27,15 +27,13 @@
 //     `Motor Home Failure` lines are fault lines. Both can arrive at any time, unsolicited.
 #include "console/framer.hpp"
 
+#include "firmware/words.hpp"
+
 #include <array>
 #include <optional>
 
 namespace birdcage {
 namespace {
-
-bool is_text_byte(unsigned char byte) {
-    return (byte >= 0x20 && byte < 0x7f) || byte == '\t';
-}
 
 constexpr std::array<std::string_view, 2> fault_markers{"MOTOR STALLED", "Motor Home Failure"};
 

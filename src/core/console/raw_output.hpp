@@ -10,15 +10,9 @@
 #include <string_view>
 #include <vector>
 
-namespace birdcage {
+#include "firmware/words.hpp"
 
-// A byte a console prints as text (printable ASCII or TAB), and a line end.
-inline bool is_text_byte(unsigned char byte) {
-    return (byte >= 0x20 && byte < 0x7f) || byte == '\t';
-}
-inline bool is_line_end(char c) {
-    return c == '\r' || c == '\n';
-}
+namespace birdcage {
 
 // A line of console text rather than line noise: an idle RS-485 bus can produce random bytes
 // without end, a third of them printable by chance, and once in a while a CR or LF among them. A

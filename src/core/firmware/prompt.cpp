@@ -3,12 +3,11 @@
 
 #include "firmware/prompt.hpp"
 
+#include "firmware/words.hpp"
+
 namespace birdcage {
 namespace {
 
-bool is_text_byte(unsigned char byte) {
-    return (byte >= 0x20 && byte < 0x7f) || byte == '\t';
-}
 bool is_prompt_word_char(char c) {
     return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
 }

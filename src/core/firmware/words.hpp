@@ -11,6 +11,14 @@
 
 namespace birdcage {
 
+// A byte a console prints as text (printable ASCII or TAB), and a line end.
+inline bool is_text_byte(unsigned char byte) {
+    return (byte >= 0x20 && byte < 0x7f) || byte == '\t';
+}
+inline bool is_line_end(char c) {
+    return c == '\r' || c == '\n';
+}
+
 std::vector<std::string_view> split_words(std::string_view text);
 
 }  // namespace birdcage

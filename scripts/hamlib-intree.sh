@@ -78,6 +78,7 @@ if [[ -z $sim ]]; then
     sim=$project/sim/birdcage-sim
 fi
 [[ -x $sim ]] || fail "no emulator at $sim"
+sim=$(cd "$(dirname "$sim")" && pwd)/$(basename "$sim")
 
 # ---- 1. the pristine tree -----------------------------------------------------------------------
 say "unpacking $tarball into $tree"

@@ -109,7 +109,7 @@ def die(message):
     sys.exit(1)
 
 # Where a project file goes in the backend's directory: the caps and the C++ of src/hamlib at its
-# top, as every Hamlib backend is laid out; the core keeps its paths below src/ and include/.
+# top, as every Hamlib backend is laid out; the core keeps its paths below src/ (core/...).
 def tree_path(rel):
     if rel.startswith("src/hamlib/"):
         return rel[len("src/hamlib/"):]
@@ -130,8 +130,6 @@ def project_files(top, suffixes):
 files = [os.path.join("src/hamlib", n) for n in sorted(os.listdir(os.path.join(root, "src/hamlib")))
           if n.endswith((".c", ".cpp", ".h", ".hpp"))]
 core = project_files("src/core", (".cpp", ".hpp", ".h"))
-if os.path.isdir(os.path.join(root, "include")):
-    core += project_files("include", (".hpp", ".h"))
 skipped = [f for f in core if f.endswith(".cpp") and "<libserialport.h>" in open(os.path.join(root, f)).read()]
 files += [f for f in core if f not in skipped]
 

@@ -82,6 +82,8 @@ struct Residuals {
     double exact_sum = 0.0;
     double normalised_sum = 0.0;  // each exact target's miss over the scatter expected of it
     std::size_t exact_count = 0;
+    double check_sum = 0.0;  // the same for each clamped target above the horizon
+    std::size_t check_count = 0;
 };
 
 // kind: 0 exact, 1 clamped, 2 before rise (OrbitModel::Kind).
@@ -129,15 +131,18 @@ Residuals residuals_of(const Orbit& orbit, const Earth& earth, const Targets& ta
             out.values.push_back(weight * component / deg);
             out.smooth.push_back(target.kind == 0 ? 1 : 0);
         }
+        const double angle = angle_deg(there, seen);
+        // Sent up to 0.8 s after it was computed (uniform: 0.23 s standard deviation) and cut
+        // at a quarter cycle: the faster the satellite, the more a target scatters.
+        const double sky_rate = angle_deg(model.direction(target.t), model.direction(target.t + 1.0));
+        const double scatter = std::hypot(target_scatter_deg, send_jitter_sd_s * sky_rate);
         if (target.kind == 0) {
-            const double angle = angle_deg(there, seen);
             out.exact_sum += angle * angle;
-            // Sent up to 0.8 s after it was computed (uniform: 0.23 s standard deviation) and cut
-            // at a quarter cycle: the faster the satellite, the more a target scatters.
-            const double sky_rate = angle_deg(model.direction(target.t), model.direction(target.t + 1.0));
-            const double scatter = std::hypot(target_scatter_deg, send_jitter_sd_s * sky_rate);
             out.normalised_sum += angle * angle / (scatter * scatter);
             ++out.exact_count;
+        } else {
+            out.check_sum += angle * angle / (scatter * scatter);
+            ++out.check_count;
         }
     }
     return out;
@@ -180,7 +185,9 @@ void OrbitModel::question_lead() {
         return;
     }
     const std::size_t exact = residual_.exact_count;
-    if (exact < lead_none_question_min_targets ||
+    // Two exact targets fit any lead exactly: only a clamped target can tell the two readings apart.
+    const bool checked_pair = exact >= settings_.min_exact_targets_checked && residual_.check_count > 0;
+    if ((exact < lead_none_question_min_targets && !checked_pair) ||
         (exact >= lead_question_every_target_below && exact < next_lead_question_)) {
         return;
     }
@@ -192,10 +199,14 @@ void OrbitModel::question_lead() {
     if (*lead_hint_deg_ >= lead_none_min_hint_deg) {
         Orbit none = *orbit_;
         const FitResidual without = refine(none, warm_iterations, 0.0);
+        // Below three exact targets they fit either lead exactly: the clamped ones decide.
+        const bool few = exact < lead_none_question_min_targets;
+        const double hint_miss = few ? with_hint.overall() : with_hint.normalised;
+        const double none_miss = few ? without.overall() : without.normalised;
         lead_none_despite_hint_ = lead_none_despite_hint_
-                                      ? !(with_hint.normalised < lead_question_gain * without.normalised)
-                                      : exact < settings_.min_exact_targets_fitted_lead && with_hint.normalised > 1.0 &&
-                                            without.normalised < lead_question_gain * with_hint.normalised;
+                                      ? !(hint_miss < lead_question_gain * none_miss)
+                                      : exact < settings_.min_exact_targets_fitted_lead && hint_miss > 1.0 &&
+                                            none_miss < lead_question_gain * hint_miss;
         if (lead_none_despite_hint_) {
             lead_fitted_despite_hint_ = false;
             orbit_ = none;
@@ -354,7 +365,17 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::op
         return {};
     }
     const double count = static_cast<double>(current.exact_count);
-    return {std::sqrt(current.exact_sum / count), std::sqrt(current.normalised_sum / count), current.exact_count};
+    const double checks = static_cast<double>(current.check_count);
+    return {std::sqrt(current.exact_sum / count), std::sqrt(current.normalised_sum / count), current.exact_count,
+            current.check_count ? std::sqrt(current.check_sum / checks) : 0.0, current.check_count};
+}
+
+double OrbitModel::FitResidual::overall() const {
+    const double exact = static_cast<double>(exact_count), checks = static_cast<double>(check_count);
+    return exact + checks > 0.0 ? std::sqrt((normalised * normalised * exact +
+                                             check_normalised * check_normalised * checks) /
+                                            (exact + checks))
+                                : 0.0;
 }
 
 bool OrbitModel::initialise() {
@@ -470,6 +491,16 @@ void OrbitModel::refit(bool from_scratch) {
     }
     question_lead();
     judge();
+}
+
+void OrbitModel::relead(std::optional<double> lead_hint_deg) {
+    if (lead_hint_deg == lead_hint_deg_) {
+        return;
+    }
+    lead_hint_deg_ = lead_hint_deg;
+    if (orbit_ && !trusted_) {
+        refit(false);
+    }
 }
 
 }  // namespace birdcage

@@ -265,24 +265,38 @@ void OrbitModel::judge() {
     }
     const double arc = first ? angle_deg(unit_vector(first->direction), unit_vector(last->direction)) : 0.0;
     const double span = first ? last->t - first->t : 0.0;
-    char sigma[48];
-    std::snprintf(sigma, sizeof sigma, "fitted, +-%.2f", orbit_->lead_sigma_deg);
-    char overridden[96] = "";
-    if (lead_from_targets()) {
-        std::snprintf(overridden, sizeof overridden, "; the dish's gaps said %.2f", *lead_hint_deg_);
+    // What the fit holds as the client's lead: the caller's hint, none (the targets showed the
+    // hint to be the dish's gaps misread), or a lead fitted with the orbit.
+    char lead_source[128];
+    if (lead_hint_deg_ && lead_none_despite_hint_) {
+        std::snprintf(lead_source, sizeof lead_source, "none: the targets fit it better than the dish's gaps' %.2f",
+                      *lead_hint_deg_);
+    } else if (lead_hint_deg_ && lead_fitted_despite_hint_) {
+        std::snprintf(lead_source, sizeof lead_source, "fitted, +-%.2f; the dish's gaps said %.2f",
+                      orbit_->lead_sigma_deg, *lead_hint_deg_);
+    } else if (lead_hint_deg_) {
+        std::snprintf(lead_source, sizeof lead_source, "learnt from the dish");
+    } else {
+        std::snprintf(lead_source, sizeof lead_source, "fitted, +-%.2f", orbit_->lead_sigma_deg);
     }
-    const std::string lead_source =
-        lead_hint_deg_ && !lead_from_targets() ? std::string("learnt from the dish") : std::string(sigma) + overridden;
-    char text[256];
+    char checks[64] = "";
+    if (residual_.check_count) {
+        std::snprintf(checks, sizeof checks, ", %zu clamped at %.1f", residual_.check_count,
+                      residual_.check_normalised);
+    }
+    char text[384];
     std::snprintf(text, sizeof text,
                   "orbit %.0f km, client lead %.2f deg (%s), %zu targets (%zu exact over %.1f deg, %.0f s), RMS %.3f "
-                  "deg (%.1f of the expected scatter)%s",
-                  orbit_->altitude_km, client_view().threshold, lead_source.c_str(), targets_.size(), exact, arc, span,
-                  residual_.rms_deg, residual_.normalised,
+                  "deg (%.1f of the expected scatter%s)%s",
+                  orbit_->altitude_km, client_view().threshold, lead_source, targets_.size(), exact, arc, span,
+                  residual_.rms_deg, residual_.normalised, checks,
                   settings_.latitude_deg ? "" : ", Earth taken as still (no latitude)");
     description_ = text;
     const char* why = nullptr;
-    if (exact < settings_.min_exact_targets) {
+    // Two exact targets fit any orbit through them; only the clamped targets test it then.
+    const bool checked = exact >= settings_.min_exact_targets_checked && residual_.check_count > 0 &&
+                         residual_.check_normalised <= settings_.max_normalised_residual;
+    if (exact < settings_.min_exact_targets && !checked) {
         why = "too few targets";
     } else if (arc < settings_.min_arc_deg || span < settings_.min_span_s) {
         why = "targets too close together";

@@ -59,6 +59,10 @@ struct OrbitModelSettings {
     double min_altitude_km = 150.0, max_altitude_km = 2000.0;
     // Trust: this many unclamped targets, over this arc of sky and this much time, within this RMS
     std::size_t min_exact_targets = 3;
+    // ... or this many, where a target clamped to the dish's limits (above the horizon) checks the
+    // fit: two directions and their times fix the four unknowns, and the clamped azimuth, which a
+    // fit of a manual jog or the wrong lead misses, is the test (docs/tracking.md §6).
+    std::size_t min_exact_targets_checked = 2;
     double min_arc_deg = 2.0;
     // (the time as long as a manual track needs to count as one: docs/tracking.md §7)
     double min_span_s = 20.0;
@@ -100,6 +104,9 @@ public:
     // down. Returns false when a trusted model did not expect the target (the
     // innovation gate); the target is kept either way and the model refitted.
     bool add(double t, AzEl target, std::optional<double> lead_hint_deg);
+    // The caller learnt the client's lead anew after add() (from the gap the target just showed):
+    // an untrusted fit is judged again with it, rather than one target later.
+    void relead(std::optional<double> lead_hint_deg);
 
     bool trusted() const { return trusted_; }
     std::size_t targets() const { return targets_.size(); }
@@ -160,6 +167,12 @@ private:
         double rms_deg = 0.0;     // of the unclamped targets
         double normalised = 0.0;  // the same over the scatter expected of each (1: as expected)
         std::size_t exact_count = 0;
+        // The clamped targets above the horizon, which check a fit of few unclamped ones: their
+        // RMS miss over the scatter expected of each, and how many.
+        double check_normalised = 0.0;
+        std::size_t check_count = 0;
+        // Exact and check targets together, as the one figure two leads are compared by.
+        double overall() const;
     };
     FitResidual refine(Orbit& orbit, int iterations) const;
     FitResidual refine(Orbit& orbit, int iterations, std::optional<double> fixed_lead) const;

@@ -305,6 +305,11 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // The rates at the anchor's time, not the target's.
     az_rate_ -= az_accel_ * lead_s;
     el_rate_ -= el_accel_ * lead_s;
+    // The orbit saw this target with the lead learnt before it: with two unclamped targets and a
+    // clamped one the lead this target's gap teaches may already decide whether it is followed.
+    if (settings_.use_pass_model) {
+        orbit_.relead(lead_threshold_);
+    }
 }
 
 std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const {

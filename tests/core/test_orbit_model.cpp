@@ -655,3 +655,27 @@ TEST_CASE("orbit model: two unclamped targets are followed where a clamped one c
         CHECK_FALSE(model.trusted());
     }
 }
+
+TEST_CASE("orbit model: the predictor follows two checked targets with the lead the second one teaches") {
+    // The second unclamped target's gap is the first the dish shows (it waited on its floor before):
+    // the orbit saw that target without a lead, could not trust a free one, and is judged again once
+    // the gap has taught one. Measured when written: followed from the second target (27 deg).
+    const TruePass pass = TruePass::load("heldout-iss-60");
+    PredictorSettings settings;
+    settings.orbit.latitude_deg = 40.0;  // bench/generate_heldout_pass.py
+    TargetPredictor predictor(settings);
+    predictor.set_dish_limits(18.0, 65.0);
+    GpredictLikeClient client(pass, 5.0, 18.0, 65.0, false);
+    AzEl dish{client.aos_az() + 40.0, 18.0};
+    std::size_t unclamped = 0;
+    for (double now = pass.rise() - 60.0; now < client.end() && unclamped < 2; now += 1.0) {
+        if (const auto sent = client.tick(now, dish)) {
+            predictor.observe(at(sent->arrival), sent->target, dish);
+            dish = sent->target;
+            unclamped += sent->target.el > 18.0 && sent->target.el < 65.0 ? 1 : 0;
+        }
+    }
+    REQUIRE(unclamped == 2);
+    INFO(predictor.describe());
+    CHECK(predictor.pass_model_in_use());
+}

@@ -372,10 +372,10 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::op
 
 double OrbitModel::FitResidual::overall() const {
     const double exact = static_cast<double>(exact_count), checks = static_cast<double>(check_count);
-    return exact + checks > 0.0 ? std::sqrt((normalised * normalised * exact +
-                                             check_normalised * check_normalised * checks) /
-                                            (exact + checks))
-                                : 0.0;
+    return exact + checks > 0.0
+               ? std::sqrt((normalised * normalised * exact + check_normalised * check_normalised * checks) /
+                           (exact + checks))
+               : 0.0;
 }
 
 bool OrbitModel::initialise() {

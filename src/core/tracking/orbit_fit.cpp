@@ -21,6 +21,7 @@ constexpr double scan_step_km = 10.0;
 // Levenberg–Marquardt.
 constexpr int initial_iterations = 40;
 constexpr int warm_iterations = 10;
+constexpr double relative_convergence = 1e-4;
 // The scatter of a target about the orbit, at least (degrees): a client's tick and I/O loop put up to
 // 0.8 s between computing a target and sending it, and Gpredict's search stops within a quarter cycle.
 constexpr double target_scatter_deg = 0.1;
@@ -338,7 +339,11 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations, std::op
                 cost = trial_cost;
                 lambda = std::max(lambda * 0.3, 1e-9);
                 improved = true;
-                if (gain < 1e-10 * std::max(cost, 1e-12)) {
+                // Converged: a step that gains a ten-thousandth of the cost moves the orbit by
+                // nothing a dish sees. Each new target starts from the last fit, and once that holds
+                // many targets it is there after a step or two: the rest of the iterations were most
+                // of the backend's CPU (docs/tracking.md §6, "Fitting").
+                if (gain < relative_convergence * std::max(cost, 1e-12)) {
                     iteration = iterations;
                 }
             } else {

@@ -7,7 +7,8 @@
 // Measures and reports; asserts nothing. See docs/benchmarks.md.
 //
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
-//                  [--modes none,leapfrog,predictive,oracle] [--thresholds 0.5,5] [--window SECONDS]
+//                  [--modes none,leapfrog,predictive,auto,oracle,oracle-motor] [--thresholds 0.5,5]
+//                  [--window SECONDS]
 //                  [--mappings nearest,literal,wrap_manager] [--client-limits dish,wide] [--out DIR]
 //                  [--client gpredict|current]
 //                  [--passes-dir DIR]
@@ -15,6 +16,9 @@
 //
 // The --motor-* options give every run the emulator's motor dynamics switches (sim/README.md,
 // "motor"): e.g. a Trav'ler that meets the documented timings but starts seconds after each command.
+// Mode oracle-motor is the oracle with the backend also told that motor (conf motor=delay,speed,accel,
+// the azimuth speed): the aim a backend that knew the motor exactly would take. It needs --motor-speed
+// and --motor-accel (the emulator's default Trav'ler is 20,20 and 2).
 //
 // --client-limits sets the rotator limits the Gpredict-like client clamps its targets to (Gpredict's
 // MinEl/MaxEl, docs/gpredict.md): `dish` = the dish's elevation range (what README advised before the orbit model), so the
@@ -101,7 +105,8 @@ struct ModeRow {
     const char* key;
     const char* label;
     std::vector<std::string> rotctld_args;
-    bool oracle = false;  // the client posts the true position every cycle; run once, threshold 0
+    bool oracle = false;       // the client posts the true position every cycle; run once, threshold 0
+    bool knows_motor = false;  // the backend is told the emulated motor (conf motor, from --motor-*)
 };
 const std::vector<ModeRow> mode_rows = {
     {"none", "no compensation", {"-C", "pointing=none"}},
@@ -109,6 +114,11 @@ const std::vector<ModeRow> mode_rows = {
     {"predictive", "predictive (target motion from the P stream)", {"-C", "pointing=predictive"}},
     {"auto", "pointing unset: the variant's first guess, then what the dish's own step times say", {}},
     {"oracle", "oracle: predictive fed the true position every second", {"-C", "pointing=predictive"}, true},
+    {"oracle-motor",
+     "oracle that knows the motor: the oracle, the backend told the motor's delay, speed, accel",
+     {"-C", "pointing=predictive"},
+     true,
+     true},
 };
 
 // Re-acquired after the elevation cap: the first moment the error is back within this.
@@ -320,6 +330,12 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     char latitude_text[48];
     std::snprintf(latitude_text, sizeof latitude_text, "latitude=%.4f", spec.pass->site_latitude());
     rotctld_args.insert(rotctld_args.end(), {"-C", latitude_text});
+    if (spec.mode->knows_motor) {
+        char motor_text[96];
+        std::snprintf(motor_text, sizeof motor_text, "motor=%g,%g,%g", options.motor.startup_delay,
+                      options.motor.az_velocity.value_or(0.0), options.motor.accel.value_or(0.0));
+        rotctld_args.insert(rotctld_args.end(), {"-C", motor_text});
+    }
     for (const std::string& conf : options.extra_conf) {
         rotctld_args.insert(rotctld_args.end(), {"-C", conf});
     }
@@ -611,6 +627,13 @@ int main(int argc, char** argv) {
                     std::find_if(mode_rows.begin(), mode_rows.end(), [&](const ModeRow& r) { return mk == r.key; });
                 if (m == mode_rows.end()) {
                     std::fprintf(stderr, "tracking_bench: unknown mode %s\n", mk.c_str());
+                    return 2;
+                }
+                if (m->knows_motor && (!options.motor.az_velocity || !options.motor.accel)) {
+                    std::fprintf(stderr,
+                                 "tracking_bench: mode %s needs --motor-speed and --motor-accel (the "
+                                 "motor it tells the backend)\n",
+                                 mk.c_str());
                     return 2;
                 }
                 for (const std::string& mapping_name : options.mappings) {

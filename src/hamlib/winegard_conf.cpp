@@ -297,6 +297,36 @@ const ConfParam kConfParams[] = {
          const auto& latitude = priv.pointing.predictor.orbit.latitude_deg;
          return latitude ? format_number(*latitude) : std::string("none");
      }},
+    {16,
+     "motor",
+     "Known motor",
+     "Predictive mode: the motors' start-up delay (s), top speed (deg/s) and acceleration (deg/s^2) as "
+     "delay,speed,accel, used instead of what the legs show (none: learn them from the legs)",
+     RIG_CONF_STRING,
+     {},
+     [](const birdcage::FirmwareProfile&) { return std::string("none"); },
+     [](const char* text, WinegardPriv& priv) {
+         if (std::strcmp(text, "none") == 0) {
+             priv.pointing.known_motor.reset();
+             return true;
+         }
+         birdcage::KnownMotor motor;
+         char tail = '\0';
+         if (std::sscanf(text, "%lf,%lf,%lf%c", &motor.startup_s, &motor.speed_dps, &motor.accel_dps2, &tail) != 3 ||
+             !PointingOptions::known_startup_range_s.contains(motor.startup_s) ||
+             !PointingOptions::known_rate_range.contains(motor.speed_dps) ||
+             !PointingOptions::known_rate_range.contains(motor.accel_dps2)) {
+             return false;
+         }
+         priv.pointing.known_motor = motor;
+         return true;
+     },
+     [](const WinegardPriv& priv) {
+         const auto& motor = priv.pointing.known_motor;
+         return motor ? format_number(motor->startup_s) + "," + format_number(motor->speed_dps) + "," +
+                            format_number(motor->accel_dps2)
+                      : std::string("none");
+     }},
 };
 constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
 const ConfParam* conf_param(hamlib_token_t token) {

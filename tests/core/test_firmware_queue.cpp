@@ -14,11 +14,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "dish/controller.hpp"
 #include "emulated_console.hpp"
+#include "firmware/variants.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;
@@ -116,4 +118,33 @@ TEST_CASE("firmware queue: an azimuth leg queued behind an elevation leg that en
     CHECK(rig.dish.console().position().el == Approx(start_el - 0.15).margin(0.05));
     // Nothing after the first leg taught a start-up delay: the queued leg's start is not its own.
     CHECK(rig.count(" ms after its command") == 1);
+}
+
+TEST_CASE("firmware queue: a motor starting 2 s late teaches its delay and its travel per leg length",
+          "[firmware_queue]") {
+    // A draw of the dialect generator's kind: 10 deg in about 6 s, 90 deg in about 13.5 s, of which
+    // 2 s are the start-up delay (sim/src/motor.cpp, Axis::move_time).
+    sim::Options options = late_motor();
+    options.motor.startup_delay = 2.0;
+    options.motor.az_velocity = options.motor.el_velocity = 15.4;
+    options.motor.accel = 2.64;
+    Rig rig(options);
+    const FirmwareProfile& dish = profile(VariantId::travler_hal205);
+    // Before any leg: nothing learnt, the variant's curve as it is.
+    CHECK(rig.controller->learnt_motor().startup_s[0] == 0.0);
+    CHECK(rig.controller->learnt_motor().paces.pace(Axis::azimuth, 2.0) == 1.0);
+
+    double az = start_az;
+    for (int leg = 0; leg < 8; ++leg) {
+        az += 2.0;
+        REQUIRE(rig.controller->set_target({az, start_el}));
+        rig.until_still();
+    }
+    CHECK(rig.count("short of") == 0);
+    const MotorTiming learnt = rig.controller->learnt_motor();
+    CHECK(learnt.startup_s[static_cast<std::size_t>(Axis::azimuth)] == Approx(2.0).margin(0.25));
+    // A 2 deg leg of that motor runs 2 sqrt(2 / 2.64) = 1.74 s once under way (triangular).
+    const double curve_s = std::chrono::duration<double>(estimated_move_time(dish, Axis::azimuth, 2.0)).count();
+    const double travel_s = curve_s / learnt.paces.pace(Axis::azimuth, 2.0);
+    CHECK(travel_s == Approx(2.0 * std::sqrt(2.0 / 2.64)).epsilon(0.2));
 }

@@ -40,8 +40,8 @@ TargetPredictor fed_until(double last_t) {
 }
 
 SteeringInput input_at(double t, const TargetPredictor& predictor, std::optional<AzEl> aim) {
-    return SteeringInput{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{},
-                         0.0,   aim,       satellite(std::floor(t)),        aim};
+    return SteeringInput{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0,         PointingOptions{},
+                         0.0,   aim,       satellite(std::floor(t)),        aim,  MotorTiming{}};
 }
 
 }  // namespace
@@ -151,7 +151,8 @@ TEST_CASE("steering: a stationary target is held without lead, once") {
                                     0.0,
                                     std::nullopt,
                                     AzEl{200.0, 40.0},
-                                    AzEl{180.0, 30.0}};
+                                    AzEl{180.0, 30.0},
+                                    MotorTiming{}};
     const auto hold = next_aim(first_input);
     REQUIRE(hold);
     CHECK(hold->holding);
@@ -167,10 +168,10 @@ TEST_CASE("steering: above the elevation cap the dish holds the cap and follows 
     for (double t = 0.0; t <= 10.0; t += 1.0) {
         predictor.observe(at(t), {normalize_azimuth(100.0 + 2.0 * t), 66.0 + 0.3 * t}, std::nullopt);
     }
-    const SteeringInput in{at(10.0),    predictor,    profile(VariantId::carryout_g2),
-                           18.0,        65.0,         PointingOptions{},
-                           0.0,         std::nullopt, AzEl{120.0, 69.0},
-                           std::nullopt};
+    const SteeringInput in{at(10.0),     predictor,    profile(VariantId::carryout_g2),
+                           18.0,         65.0,         PointingOptions{},
+                           0.0,          std::nullopt, AzEl{120.0, 69.0},
+                           std::nullopt, MotorTiming{}};
     const auto decision = next_aim(in);
     REQUIRE(decision);
     CHECK(decision->aim.el == Approx(65.0));
@@ -179,9 +180,10 @@ TEST_CASE("steering: above the elevation cap the dish holds the cap and follows 
 
 TEST_CASE("steering: nothing to steer by before any target") {
     const TargetPredictor predictor;
-    const SteeringInput in{
-        at(0.0),      predictor,   profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0, std::nullopt,
-        std::nullopt, std::nullopt};
+    const SteeringInput in{at(0.0),      predictor,    profile(VariantId::carryout_g2),
+                           18.0,         65.0,         PointingOptions{},
+                           0.0,          std::nullopt, std::nullopt,
+                           std::nullopt, MotorTiming{}};
     CHECK_FALSE(next_aim(in));
 }
 
@@ -286,7 +288,8 @@ struct ManualRun {
                 ++next;
             }
             const SteeringInput in{
-                at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0, pointing, 0.0, aim, last_target, aim};
+                at(t), predictor,    profile(VariantId::carryout_g2), 18.0, 65.0, pointing, 0.0, aim, last_target,
+                aim,   MotorTiming{}};
             if (const auto decision = next_aim(in)) {
                 aim = decision->aim;
                 const double outside =
@@ -402,9 +405,10 @@ TEST_CASE("steering: a Gpredict-like pass after manual moves still gets predicti
                     aim = last_target;
                 }
             }
-            const SteeringInput in{
-                at(t),       predictor, profile(VariantId::carryout_g2), 18.0, 65.0, PointingOptions{}, 0.0, aim,
-                last_target, aim};
+            const SteeringInput in{at(t), predictor,    profile(VariantId::carryout_g2),
+                                   18.0,  65.0,         PointingOptions{},
+                                   0.0,   aim,          last_target,
+                                   aim,   MotorTiming{}};
             if (const auto decision = next_aim(in); decision && predictive) {
                 aim = decision->aim;
                 result.leading += azimuth_difference(last_target->az, aim->az) > 0.01 ? 1 : 0;
@@ -426,4 +430,88 @@ TEST_CASE("steering: a Gpredict-like pass after manual moves still gets predicti
     CHECK(predictive.error.rms() < 0.9 * as_sent.error.rms());
     CHECK(predictive.targets < as_sent.targets / 2);
     CHECK(predictive.error.max < 2 * threshold);
+}
+
+namespace {
+
+// Where the first aim lands with the dish on the satellite at `t`: the leg ends `lead` seconds
+// later, where lead = overhead + start-up + travel(the leg's length), and the length runs from the
+// dish to a deadband past the satellite then. Solved by iteration, from the truth.
+struct ExpectedAim {
+    double lead_s;
+    double az;
+};
+
+template <typename Travel>
+ExpectedAim expected_first_aim(double t, double overhead_s, double deadband_az, Travel travel_s) {
+    double lead = 0.0;
+    for (int round = 0; round < 50; ++round) {
+        const double length = std::fabs(azimuth_difference(satellite(t).az, satellite(t + lead).az) + deadband_az);
+        lead = overhead_s + travel_s(length);
+    }
+    return {lead, normalize_azimuth(satellite(t + lead).az + deadband_az)};
+}
+
+}  // namespace
+
+TEST_CASE("steering: a motor that starts late is aimed where the satellite is once its leg ends") {
+    const TargetPredictor predictor = fed_until(30.0);
+    PointingOptions pointing;
+    pointing.deadband_deg = pointing.max_deadband_deg = 0.1;  // no widening: the lead alone is tested
+    pointing.client_threshold_share = 0.0;
+    const FirmwareProfile& dish = profile(VariantId::carryout_g2);
+    SteeringInput in{at(30.0),        predictor,       dish,         18.0, 65.0, pointing, 0.0, std::nullopt,
+                     satellite(30.0), satellite(30.0), MotorTiming{}};
+    const double deadband_az = 0.1 / std::cos(satellite(30.0).el * M_PI / 180.0);
+    auto curve_s = [&](double degrees) {
+        return std::chrono::duration<double>(estimated_move_time(dish, Axis::azimuth, degrees)).count();
+    };
+
+    const auto prompt = next_aim(in);
+    REQUIRE(prompt);
+    in.motor.startup_s = {2.0, 2.0};
+    const auto late = next_aim(in);
+    REQUIRE(late);
+
+    SECTION("the learnt start-up delay, then the variant's curve over the leg's length") {
+        const ExpectedAim expected = expected_first_aim(30.0, pointing.command_overhead_s, deadband_az,
+                                                        [&](double d) { return 2.0 + curve_s(d); });
+        INFO("lead " << expected.lead_s << " s");
+        CHECK(expected.lead_s > 2.1);
+        CHECK(azimuth_difference(expected.az, late->aim.az) == Approx(0.0).margin(0.05));
+        // 2 s of delay at 1 deg/s: 2 deg further ahead than on a motor that starts at once.
+        CHECK(azimuth_difference(prompt->aim.az, late->aim.az) == Approx(2.0).margin(0.15));
+    }
+    SECTION("a learnt pace: twice as fast through the curve on legs that long") {
+        for (int i = 0; i < 3; ++i) {
+            for (double d : {0.2, 0.4, 1.0, 2.0, 4.0}) {
+                in.motor.paces.learn(Axis::azimuth, d, 2.0);
+            }
+        }
+        const auto brisk = next_aim(in);
+        REQUIRE(brisk);
+        const ExpectedAim expected = expected_first_aim(30.0, pointing.command_overhead_s, deadband_az,
+                                                        [&](double d) { return 2.0 + curve_s(d) / 2.0; });
+        CHECK(azimuth_difference(expected.az, brisk->aim.az) == Approx(0.0).margin(0.05));
+        CHECK(azimuth_difference(brisk->aim.az, late->aim.az) > 0.0);
+    }
+    SECTION("a motor told outright: its delay, then a trapezoid of its speed and acceleration") {
+        in.motor = MotorTiming{};
+        in.pointing.known_motor = KnownMotor{2.0, 10.0, 5.0};
+        const auto known = next_aim(in);
+        REQUIRE(known);
+        const ExpectedAim expected = expected_first_aim(30.0, pointing.command_overhead_s, deadband_az, [](double d) {
+            return 2.0 + (d < 10.0 * 10.0 / 5.0 ? 2.0 * std::sqrt(d / 5.0) : d / 10.0 + 10.0 / 5.0);
+        });
+        CHECK(azimuth_difference(expected.az, known->aim.az) == Approx(0.0).margin(0.05));
+    }
+    SECTION("a re-aim times its legs with their start-up delays") {
+        in.aim = late->aim;
+        in.dish_position = late->aim;
+        in.now = at(36.0);
+        const auto again = next_aim(in);
+        REQUIRE(again);
+        REQUIRE(again->legs >= 1);
+        CHECK(again->motion_s >= 2.0 * again->legs);
+    }
 }

@@ -51,7 +51,8 @@ CONF_FROM_INFO = {
     "az_mapping": (r"; azimuth mapping (\w+)", lambda m: m.group(1)),
 }
 ConfKey = Literal["variant", "pointing", "deadband", "deadband_share", "leapfrog", "time_scale", "az_mapping",
-                  "pass_model", "latitude", "boot_timeout", "skip_init", "el_min", "el_max", "az_min", "az_max"]
+                  "pass_model", "latitude", "motor", "boot_timeout", "skip_init", "el_min", "el_max", "az_min",
+                  "az_max"]
 Volts = Literal[13, 18]
 
 # What each tool does to the dish, for the client (MCP tool annotations). Reading tools change

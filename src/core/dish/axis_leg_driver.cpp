@@ -549,6 +549,10 @@ void AxisLegDriver::take_learning_from(const MoveDriver& before) {
     }
 }
 
+MotorTiming AxisLegDriver::learnt_motor() const {
+    return MotorTiming{{startup_.delay(Axis::azimuth), startup_.delay(Axis::elevation)}, paces_};
+}
+
 std::optional<double> AxisLegDriver::learnt_step_seconds(Axis axis) const {
     if (!step_times_.learnt(axis)) {
         return std::nullopt;

@@ -401,6 +401,10 @@ std::string Controller::describe() const {
     return text;
 }
 
+MotorTiming Controller::learnt_motor() const {
+    return driver_->learnt_motor();
+}
+
 std::optional<double> Controller::learnt_step_seconds(Axis axis) const {
     return driver_->learnt_step_seconds(axis);
 }

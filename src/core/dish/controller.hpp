@@ -108,6 +108,8 @@ public:
     bool idle() const;
     // How long a small step takes this dish, as its own legs timed it (MoveDriver).
     std::optional<double> learnt_step_seconds(Axis axis) const;
+    // The motors' start-up delays and paces, as the legs timed them (MoveDriver).
+    MotorTiming learnt_motor() const;
     std::optional<AzEl> last_position() const { return state_.last_position; }
     // When last_position() was read or inferred (the options' dish clock); none before the first.
     std::optional<Clock::time_point> last_position_at() const { return state_.last_position_at; }

@@ -19,6 +19,7 @@
 #include "console/session.hpp"
 #include "dish/dish_state.hpp"
 #include "firmware/variants.hpp"
+#include "tracking/position_model.hpp"
 #include "tracking/wrap_tracker.hpp"
 
 namespace birdcage {
@@ -63,6 +64,9 @@ public:
     // reading that shows it there, once its own legs have timed it; nullopt before (or where the
     // driver cannot time legs).
     virtual std::optional<double> learnt_step_seconds(Axis) const { return std::nullopt; }
+    // The motors' start-up delays and paces as the legs' readings showed them (default: nothing
+    // learnt, the variant's motion curve).
+    virtual MotorTiming learnt_motor() const { return {}; }
     // Takes over what `before` (the driver of the controller this one replaces, over a reopened
     // port) learnt of the motors: facts about the dish, which an unplugged adapter does not change.
     virtual void take_learning_from(const MoveDriver& before) { (void)before; }

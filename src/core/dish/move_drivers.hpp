@@ -29,6 +29,7 @@ public:
     MovingAxes moving_axes() const override;
     bool sync_lost() const override { return false; }
     std::optional<double> learnt_step_seconds(Axis axis) const override;
+    MotorTiming learnt_motor() const override;
     void take_learning_from(const MoveDriver& before) override;
     void recovered() override { farther_axis_first_ = true; }
 

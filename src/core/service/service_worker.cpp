@@ -395,7 +395,8 @@ Status ServiceWorker::steer() {
                               leg_overhead_.overhead_s().value_or(0.0),
                               aim_,
                               client_target_,
-                              controller_->last_position()};
+                              controller_->last_position(),
+                              controller_->learnt_motor()};
     const std::optional<SteeringDecision> decision = next_aim(input);
     if (!decision) {
         return Status::ok();

@@ -71,4 +71,13 @@ private:
     std::array<std::optional<double>, 2> delays_{};
 };
 
+// What the dish's own legs have shown of its motors (the move driver learns it, docs/tracking.md
+// §1.5): per axis the start-up delay, and how fast the axis runs through the variant's motion curve
+// per leg length once under way. A leg of d degrees then ends the delay plus the curve's time for d
+// over that pace after its command. Default: no delay, the variant's curve as it is.
+struct MotorTiming {
+    std::array<double, 2> startup_s{};
+    AxisPaces paces;
+};
+
 }  // namespace birdcage

@@ -41,6 +41,11 @@ constexpr double max_aim_ahead_s = 20.0;
 // The azimuth deadband (degrees) while the dish waits at its floor for the satellite to rise.
 constexpr double waiting_deadband_deg = 2.0;
 constexpr int extent_samples = 8;
+// Floors for a known motor's speed and acceleration (a zero would make every move endless).
+constexpr double min_speed_dps = 0.01, min_accel_dps2 = 0.01;
+// Rounds of "when does the leg end, so where is the aim, so how long is the leg": the travel grows
+// with the root of the length or slower, so a mount that keeps up settles within a few.
+constexpr int lead_rounds = 3;
 // Weight of the newest measurement in the leg-overhead average (an EMA over about five steps).
 constexpr double overhead_smoothing = 0.2;
 
@@ -65,8 +70,20 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         return SteeringDecision{hold, 0.0, true, 0, 0.0};
     }
     const double overhead_s = std::max(in.pointing.command_overhead_s, in.measured_overhead_s);
+    // A leg from its command to its end: the motor's start-up delay, then its travel over the
+    // leg's length (as known, or the variant's curve at the pace the axis has shown on legs that long).
     auto move_time = [&](Axis axis, double degrees) {
-        return std::chrono::duration<double>(estimated_move_time(in.dish, axis, degrees)).count();
+        if (degrees < same_angle_degrees) {
+            return 0.0;
+        }
+        if (const auto& known = in.pointing.known_motor) {
+            const double a = std::max(known->accel_dps2, min_accel_dps2);
+            const double v = std::max(known->speed_dps, min_speed_dps);
+            const double travel = degrees < v * v / a ? 2.0 * std::sqrt(degrees / a) : degrees / v + v / a;
+            return std::max(known->startup_s, 0.0) + travel;
+        }
+        const double curve_s = std::chrono::duration<double>(estimated_move_time(in.dish, axis, degrees)).count();
+        return in.motor.startup_s[static_cast<std::size_t>(axis)] + curve_s / in.motor.paces.pace(axis, degrees);
     };
     auto step_time = [&](Axis axis, double degrees) { return move_time(axis, degrees) + overhead_s; };
     const double cos_el = std::max(std::cos(clamp_el(current->position.el) * M_PI / 180.0), min_cos_el);
@@ -103,12 +120,34 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
     if (current->position.el < in.el_min - deadband_el) {
         deadband_az = std::max(deadband_az, waiting_deadband_deg);
     }
-    const auto az_at = in.predictor.predict(in.now + seconds(step_time(Axis::azimuth, 2 * deadband_az)));
-    const auto el_at = in.predictor.predict(in.now + seconds(step_time(Axis::elevation, 2 * deadband_el)));
+    AzEl next = in.aim.value_or(in.dish_position.value_or(current->position));
+    // When a leg started now ends: it runs from where the dish is to a deadband past where the
+    // satellite will be then, and its length sets its time. A dish still short of its aim (a late
+    // start, a slow leg) has further to go, and so aims further ahead.
+    const AzEl from = in.dish_position.value_or(next);
+    const double az_sign = current->az_rate >= 0 ? 1.0 : -1.0;
+    const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
+    auto lead_s = [&](Axis axis, double deadband) {
+        double lead = step_time(axis, 2 * deadband);
+        for (int round = 0; round < lead_rounds; ++round) {
+            const auto then = in.predictor.predict(in.now + seconds(lead));
+            if (!then) {
+                break;
+            }
+            const double length = axis == Axis::azimuth
+                                      ? std::fabs(azimuth_difference(from.az, then->position.az) + az_sign * deadband)
+                                      : std::fabs(clamp_el(then->position.el + el_sign * deadband) - from.el);
+            lead = step_time(axis, length);
+        }
+        return std::min(lead, max_aim_ahead_s);
+    };
+    const double az_lead = lead_s(Axis::azimuth, deadband_az);
+    const double el_lead = lead_s(Axis::elevation, deadband_el);
+    const auto az_at = in.predictor.predict(in.now + seconds(az_lead));
+    const auto el_at = in.predictor.predict(in.now + seconds(el_lead));
     if (!az_at || !el_at) {
         return std::nullopt;
     }
-    AzEl next = in.aim.value_or(in.dish_position.value_or(current->position));
     bool changed = !in.aim;
     // Signed along-motion distance of the satellite past the aim: re-aim at +deadband, or when
     // the estimate jumped so that the aim is far off either way.
@@ -129,25 +168,23 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         if (rate < still_rate_dps) {
             return std::nullopt;
         }
-        const auto beyond =
-            in.predictor.predict(in.now + seconds(step_time(axis, 2 * deadband) + time_to_cover(deadband, rate)));
+        const double lead = axis == Axis::azimuth ? az_lead : el_lead;
+        const auto beyond = in.predictor.predict(in.now + seconds(lead + time_to_cover(deadband, rate)));
         return beyond && !beyond->moving ? beyond : std::nullopt;
     };
     // The elevation the satellite reaches while the aim holds: the aim goes no higher than a
     // culmination and no lower than a low point, so the dish waits there instead of overshooting.
     auto el_reached = [&](double deadband, double rate) {
-        const double from = step_time(Axis::elevation, 2 * deadband);
         const double span = time_to_cover(deadband, std::max(rate, still_rate_dps));
         double lo = HUGE_VAL, hi = -HUGE_VAL;
         for (int k = 0; k <= extent_samples; ++k) {
-            if (const auto p = in.predictor.predict(in.now + seconds(from + span * k / extent_samples))) {
+            if (const auto p = in.predictor.predict(in.now + seconds(el_lead + span * k / extent_samples))) {
                 lo = std::min(lo, p->position.el);
                 hi = std::max(hi, p->position.el);
             }
         }
         return std::pair{lo, hi};
     };
-    const double az_sign = current->az_rate >= 0 ? 1.0 : -1.0;
     const double az_past = azimuth_difference(next.az, az_at->position.az) * az_sign;
     if (changed || re_aim(az_past, az_rate, deadband_az)) {
         if (az_rate < still_rate_dps) {
@@ -159,7 +196,6 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         }
         changed = true;
     }
-    const double el_sign = current->el_rate >= 0 ? 1.0 : -1.0;
     const double el_wanted = above_cap ? in.el_max : clamp_el(el_at->position.el);
     const double el_past = (el_wanted - next.el) * el_sign;
     if (!in.aim || re_aim(el_past, el_rate, deadband_el)) {

@@ -14,12 +14,22 @@
 #include "base/plain_types.hpp"
 #include "firmware/variants.hpp"
 #include "tracking/pointing.hpp"
+#include "tracking/position_model.hpp"
 
 namespace birdcage {
+
+// A motor described outright rather than learnt: its start-up delay (seconds from the command to
+// the first motion), top speed (deg/s) and acceleration (deg/s^2), on a trapezoidal profile. The
+// backend never assumes one; a caller that knows the motor (the benchmark's oracle) may say so.
+struct KnownMotor {
+    double startup_s = 0.0, speed_dps = 1.0, accel_dps2 = 1.0;
+};
 
 struct PointingOptions {
     static constexpr OptionRange deadband_range_deg{0.01, 5.0, 0.01};
     static constexpr OptionRange client_threshold_share_range{0.0, 1.0, 0.05};
+    static constexpr OptionRange known_startup_range_s{0.0, 30.0, 0.1};
+    static constexpr OptionRange known_rate_range{0.01, 1000.0, 0.01};  // deg/s, deg/s^2
 
     // Unset: the variant's default (FirmwareProfile::predictive_by_default), resolved at start()
     // once the variant is known. Leapfrog is applied by the Controller (its option).
@@ -42,6 +52,7 @@ struct PointingOptions {
     // same RMS (docs/benchmarks.md).
     double client_threshold_share = 0.5;
     double max_client_deadband_deg = 1.0;
+    std::optional<KnownMotor> known_motor;  // unset: the motor as the legs' readings show it
     PredictorSettings predictor;
 };
 
@@ -51,10 +62,11 @@ struct SteeringInput {
     const FirmwareProfile& dish;
     double el_min = 0.0, el_max = 90.0;  // the controller's effective limits
     PointingOptions pointing;
-    double measured_overhead_s = 0.0;   // per leg beyond the motion, as measured (0: unknown)
+    double measured_overhead_s = 0.0;   // per leg beyond start-up and motion, as measured (0: unknown)
     std::optional<AzEl> aim;            // what was last handed to the controller
     std::optional<AzEl> client_target;  // the client's last target, as sent
     std::optional<AzEl> dish_position;  // the dish's last reading
+    MotorTiming motor;                  // start-up and motion per leg, as learnt
 };
 
 struct SteeringDecision {
@@ -64,10 +76,11 @@ struct SteeringDecision {
     double az_rate = 0.0;
     bool holding = false;   // a stationary target: aim at it, no lead
     int legs = 0;           // axes that move (for timing the step); 0 on the first aim
-    double motion_s = 0.0;  // their estimated motor time
+    double motion_s = 0.0;  // their estimated motor time, start-up delays included
 };
 
-// Aims each axis `deadband` ahead of where the satellite will be when the move completes, and
+// Aims each axis `deadband` ahead of where the satellite will be when the move completes (its
+// start-up delay and its travel over the move's length, iterated: the length depends on the aim), and
 // moves it again once the satellite is `deadband` past that aim, so the error sweeps
 // -deadband..+deadband around zero instead of trailing. nullopt: keep the current aim.
 std::optional<SteeringDecision> next_aim(const SteeringInput& input);
@@ -83,9 +96,10 @@ namespace birdcage {
 double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
                               const std::optional<AzEl>& previous_target, AzEl target, double el_min);
 
-// What one leg costs beyond its motion (exchange, polling, the firmware's start-up delay), timed on
-// steered steps from the aim to the dish idle again, and smoothed. next_aim() aims that much
-// further ahead. Only a step the controller ran alone is timed: whatever else it was given
+// What one leg costs beyond its start-up delay and motion as learnt (exchange, polling, whatever the
+// learnt motor misses), timed on steered steps from the aim to the dish idle again, and smoothed.
+// next_aim() aims that much further ahead. The start-up delay and the travel are the driver's
+// (MotorTiming): counting them here as well would lead by them twice. Only a step the controller ran alone is timed: whatever else it was given
 // meanwhile (the client's targets as sent once the orbit lost trust, a re-aim before the dish was
 // idle, a receiver job, a stop, a recovery) would be counted as this step's overhead: one G2 step
 // can span 19 s of such legs, which would put the aims 16 deg ahead of the satellite

@@ -16,7 +16,7 @@
 //
 // The --motor-* options give every run the emulator's motor dynamics switches (sim/README.md,
 // "motor"): e.g. a Trav'ler that meets the documented timings but starts seconds after each command.
-// Mode oracle-motor is the oracle with the backend also told that motor (conf motor=delay,speed,accel,
+// Mode oracle-motor is the oracle with the backend also told that motor (conf motor=delay/speed/accel,
 // the azimuth speed): the aim a backend that knew the motor exactly would take. It needs --motor-speed
 // and --motor-accel (the emulator's default Trav'ler is 20,20 and 2).
 //
@@ -332,7 +332,7 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     rotctld_args.insert(rotctld_args.end(), {"-C", latitude_text});
     if (spec.mode->knows_motor) {
         char motor_text[96];
-        std::snprintf(motor_text, sizeof motor_text, "motor=%g,%g,%g", options.motor.startup_delay,
+        std::snprintf(motor_text, sizeof motor_text, "motor=%g/%g/%g", options.motor.startup_delay,
                       options.motor.az_velocity.value_or(0.0), options.motor.accel.value_or(0.0));
         rotctld_args.insert(rotctld_args.end(), {"-C", motor_text});
     }

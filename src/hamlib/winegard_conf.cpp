@@ -301,7 +301,8 @@ const ConfParam kConfParams[] = {
      "motor",
      "Known motor",
      "Predictive mode: the motors' start-up delay (s), top speed (deg/s) and acceleration (deg/s^2) as "
-     "delay,speed,accel, used instead of what the legs show (none: learn them from the legs)",
+     "delay/speed/accel (rotctld splits -C at commas), used instead of what the legs show (none: learn them from the "
+     "legs)",
      RIG_CONF_STRING,
      {},
      [](const birdcage::FirmwareProfile&) { return std::string("none"); },
@@ -312,7 +313,7 @@ const ConfParam kConfParams[] = {
          }
          birdcage::KnownMotor motor;
          char tail = '\0';
-         if (std::sscanf(text, "%lf,%lf,%lf%c", &motor.startup_s, &motor.speed_dps, &motor.accel_dps2, &tail) != 3 ||
+         if (std::sscanf(text, "%lf/%lf/%lf%c", &motor.startup_s, &motor.speed_dps, &motor.accel_dps2, &tail) != 3 ||
              !PointingOptions::known_startup_range_s.contains(motor.startup_s) ||
              !PointingOptions::known_rate_range.contains(motor.speed_dps) ||
              !PointingOptions::known_rate_range.contains(motor.accel_dps2)) {
@@ -323,7 +324,7 @@ const ConfParam kConfParams[] = {
      },
      [](const WinegardPriv& priv) {
          const auto& motor = priv.pointing.known_motor;
-         return motor ? format_number(motor->startup_s) + "," + format_number(motor->speed_dps) + "," +
+         return motor ? format_number(motor->startup_s) + "/" + format_number(motor->speed_dps) + "/" +
                             format_number(motor->accel_dps2)
                       : std::string("none");
      }},

@@ -34,10 +34,10 @@ constexpr std::uint32_t dialect_seed = 17;
 }  // namespace
 
 TEST_CASE("start at rest: a dish still moving when the backend starts ends on the target", "[start_rest]") {
-    const sim::TravlerBootMoves boot_moves = GENERATE(sim::TravlerBootMoves::park, sim::TravlerBootMoves::home_return,
-                                                      sim::TravlerBootMoves::none);
+    const sim::TravlerBootMoves boot_moves =
+        GENERATE(sim::TravlerBootMoves::park, sim::TravlerBootMoves::home_return, sim::TravlerBootMoves::none);
     const int search_ms = GENERATE(range(1, 12)) * 1700;  // how long the search runs before the backend starts
-    const int idle_steps = GENERATE(0, 10);                // worker steps between the start and the target
+    const int idle_steps = GENERATE(0, 10);               // worker steps between the start and the target
     INFO("boot moves " << sim::travler_boot_moves_name(boot_moves) << ", search for " << search_ms << " ms, "
                        << idle_steps << " idle steps");
     sim::Options o = sim::draw_dialect(sim::Variant::travler_pro, dialect_seed).options;

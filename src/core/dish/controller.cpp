@@ -17,6 +17,13 @@ using namespace std::chrono_literals;
 
 constexpr auto skip_init_sync_budget = 5000ms;     // skip_init: the dish is said to be up already
 constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
+// Two readings closer than this are of a dish at rest (replies print two decimals).
+constexpr double at_rest_degrees = 0.02;
+// How often a dish seen moving after initialisation is read until it rests (as a leg is followed).
+constexpr auto start_motion_poll = 100ms;
+// Beyond what crossing its whole travel on both axes takes, how long a dish that moves on its own
+// after initialisation is waited for before the backend moves it from wherever it is.
+constexpr auto start_motion_margin = 3000ms;
 
 std::string degrees_text(double value) {
     return format_degrees(value);
@@ -212,8 +219,12 @@ Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
                                           ", console shows " + session_.last_prompt()};
     }
     session_.clear_reboot_seen();
+    start_rest_.reset();
     if (!profile_.position_query.empty()) {
         const auto position = reader_.ask(query_timeout);
+        if (position) {
+            start_rest_ = StartRest{position.value};
+        }
         if (!position && position.status.code != Errc::not_homed) {
             if (position.status.code == Errc::disconnected || position.status.code == Errc::io) {
                 return position.status;
@@ -258,6 +269,12 @@ Result<AzEl> Controller::query_position() {
         if (!again || moved_on_its_own(first, again.value)) {
             state_.last_position = before;
             wrap_.restore_mechanical(mech_before);
+            if (start_rest_ && !start_rest_->moving) {
+                // Right after initialisation this may also be a dish still moving fast: either
+                // way only two readings that agree tell where it is (note_start_reading()).
+                start_rest_->moving = true;
+                start_rest_->since = start_rest_->polled = now();
+            }
             return {*before, Status{Errc::protocol, "inconsistent position readings (az " + degrees_text(first.az) +
                                                         " el " + degrees_text(first.el) +
                                                         ", then not repeated): line noise? keeping the last position"}};
@@ -274,7 +291,78 @@ Result<AzEl> Controller::query_position() {
             return {position.value, checked};
         }
     }
+    if (position) {
+        note_start_reading(position.value);
+    }
     return position;
+}
+
+// The first reading after initialisation may be of a dish still moving: a search stopped just
+// before brakes for seconds, a boot move may still run. A leg sent then is misjudged (the firmware
+// runs it only once the axis has stopped, so it looks stopped short, and the azimuth mapping
+// learnt from it is wrong), and a branch assumed from a reading in motion is not where the dish
+// rests. So the first two readings in a row that agree end the question; a difference makes the
+// dish "moving since the start": idle() is false, legs wait, service() reads it until it rests.
+void Controller::note_start_reading(const AzEl& reading) {
+    if (!start_rest_) {
+        return;
+    }
+    StartRest& rest = *start_rest_;
+    const bool same = std::fabs(azimuth_difference(rest.last.az, reading.az)) < at_rest_degrees &&
+                      std::fabs(rest.last.el - reading.el) < at_rest_degrees;
+    if (same) {
+        if (rest.moving) {
+            emit(options_.log, LogLevel::verbose,
+                 "the dish is at rest at az " + degrees_text(reading.az) + " el " + degrees_text(reading.el));
+            wrap_.judge_branch_at_rest();
+        }
+        start_rest_.reset();
+        return;
+    }
+    if (!rest.moving) {
+        rest.moving = true;
+        rest.since = rest.polled = now();
+        emit(options_.log, LogLevel::verbose,
+             "the dish still moves after initialisation (az " + degrees_text(rest.last.az) + " el " +
+                 degrees_text(rest.last.el) + ", then az " + degrees_text(reading.az) + " el " +
+                 degrees_text(reading.el) + "): moves wait until it is at rest");
+    }
+    rest.last = reading;
+}
+
+// A dish seen moving since initialisation, read until it rests; bounded: one that moves on its
+// own for longer (a TV search the firmware keeps running) is moved from wherever it is.
+Status Controller::service_start_motion() {
+    const auto t = now();
+    const auto budget = estimated_move_time(profile_, Axis::azimuth, profile_.az_max - profile_.az_min) +
+                        estimated_move_time(profile_, Axis::elevation, el_max_ - el_min_) + start_motion_margin;
+    if (t - start_rest_->since > budget) {
+        emit(options_.log, LogLevel::warning,
+             "the dish keeps moving on its own at az " + degrees_text(start_rest_->last.az) + " el " +
+                 degrees_text(start_rest_->last.el) + ": moving it from wherever it is");
+        start_rest_.reset();
+        return Status::ok();
+    }
+    if (t - start_rest_->polled < start_motion_poll) {
+        return Status::ok();
+    }
+    start_rest_->polled = t;
+    const auto position = reader_.ask(query_timeout);
+    if (!position) {
+        return position.status;
+    }
+    note_start_reading(position.value);
+    // Still moving: a G2 whose TV search is enabled never rests on its own (docs/firmware.md 6.2).
+    if (start_rest_ && profile_.tracker_disable_nvs_index >= 0 && !tracker_checked_) {
+        if (Status checked = check_tracker_disabled(); !checked) {
+            return checked;
+        }
+        if (tracker_enabled_) {
+            emit(options_.log, LogLevel::warning, "the TV search keeps the dish moving: moving it from wherever it is");
+            start_rest_.reset();
+        }
+    }
+    return Status::ok();
 }
 
 Status Controller::set_target(AzEl target, double az_rate_dps, const std::optional<wrap::PassAhead>& ahead) {
@@ -335,6 +423,12 @@ Status Controller::service() {
     if (homing_) {
         return service_homing();
     }
+    if (start_rest_ && start_rest_->moving) {
+        return service_start_motion();
+    }
+    if (start_rest_ && !driver_->idle()) {
+        start_rest_.reset();  // the backend's own moves from here: their readings follow them
+    }
     return driver_->service();
 }
 
@@ -351,7 +445,7 @@ bool Controller::needs_reinit() const {
 }
 
 bool Controller::idle() const {
-    return !homing_ && driver_->idle();
+    return !homing_ && !(start_rest_ && start_rest_->moving) && driver_->idle();
 }
 
 // Homing holds the shell like a leg does: the console must stay in the motor menu.

@@ -105,6 +105,7 @@ public:
     bool homing() const { return homing_.has_value(); }
     Status home();  // start_home(), then service() until it ends (blocking)
     bool unhomed() const { return state_.unhomed; }
+    // False also while the dish, seen moving since initialisation, has not come to rest.
     bool idle() const;
     // How long a small step takes this dish, as its own legs timed it (MoveDriver).
     std::optional<double> learnt_step_seconds(Axis axis) const;
@@ -163,6 +164,9 @@ private:
     bool moved_on_its_own(const AzEl& before, const AzEl& now) const;
     Status service_homing();  // controller_homing.cpp, with start_home() and home()
     Status finish_homing();
+    // The dish at rest since initialisation: every reading until two in a row agree.
+    void note_start_reading(const AzEl& reading);
+    Status service_start_motion();
 
     const FirmwareProfile& profile_;
     ControllerOptions options_;
@@ -183,7 +187,17 @@ private:
     bool tracker_enabled_ = false;  // G2 NVS 20 "Disable Tracker Proc?" read FALSE (describe())
     bool tracker_checked_ = false;
     std::chrono::milliseconds boot_budget_{0};  // wait_for_boot()'s bound for this initialisation
-    std::string motor_menu_;                    // the session's menu at the end of initialize()
+    // Whether the dish is at rest after initialisation is unknown until two readings in a row agree
+    // (a stopped TV search brakes, a boot move may still run). Seen moving, it is polled until it
+    // rests: moves wait, and its cable-wrap branch is judged where it rests.
+    struct StartRest {
+        AzEl last;                   // the latest reading since initialisation
+        bool moving = false;         // two readings differed
+        Clock::time_point since{};   // when it was first seen moving
+        Clock::time_point polled{};  // the latest poll while it moves
+    };
+    std::optional<StartRest> start_rest_;
+    std::string motor_menu_;  // the session's menu at the end of initialize()
 };
 
 }  // namespace birdcage

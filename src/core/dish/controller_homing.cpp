@@ -41,6 +41,7 @@ Status Controller::start_home() {
     driver_->reset();
     forget_target();
     wrap_.forget_position();
+    start_rest_.reset();  // homing moves the dish and reads it at the end
     homing_ = HomingRun{};
     return Status::ok();
 }

@@ -101,6 +101,7 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
         }
         mechanical_ = reported;
         recheck_branch_ = false;
+        branch_assumed_ = false;
         return;
     }
     if (!beyond_display) {
@@ -109,6 +110,7 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
     if (reports_mechanical_ && inside_travel) {
         mechanical_ = reported;
         recheck_branch_ = false;
+        branch_assumed_ = false;
         return;
     }
     if (recheck_branch_ && mechanical_ &&
@@ -119,9 +121,11 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
         mechanical_.reset();
     }
     recheck_branch_ = false;
+    const bool ambiguous = wrap::branches(display, window).size() > 1;
     if (!mechanical_) {
         mechanical_ = wrap::start_branch(display, window);
-        if (wrap::branches(display, window).size() > 1) {
+        branch_assumed_ = ambiguous;
+        if (ambiguous) {
             emit(log_, LogLevel::verbose,
                  "azimuth " + degrees_text(display) + " has two cable-wrap branches; assuming mechanical " +
                      degrees_text(*mechanical_) + " (the one nearest AZ 0)");
@@ -129,6 +133,23 @@ void WrapTracker::note_reading(double reported, Clock::time_point at) {
         return;
     }
     mechanical_ = wrap::unwrap_reading(display, *mechanical_, window);
+    branch_assumed_ = branch_assumed_ && ambiguous;
+}
+
+void WrapTracker::judge_branch_at_rest() {
+    if (!mechanical_ || !branch_assumed_) {
+        return;
+    }
+    const double display = normalize_azimuth(*mechanical_);
+    const double assumed = wrap::start_branch(display, travel_.window);
+    if (std::fabs(assumed - *mechanical_) < 1e-6) {
+        return;
+    }
+    emit(log_, LogLevel::verbose,
+         "the dish came to rest at azimuth " + degrees_text(display) + ", read in motion on mechanical " +
+             degrees_text(*mechanical_) + " from an assumed branch; assuming mechanical " + degrees_text(assumed) +
+             " (the one nearest AZ 0)");
+    mechanical_ = assumed;
 }
 
 // The rule (docs/tracking.md §2.3: no avoidable unwinds; unwind, when unavoidable, away from the

@@ -46,6 +46,11 @@ public:
     void recheck_branch() { recheck_branch_ = true; }
     // Homing recalibrates the axis: the branch is the start assumption again (G2: AZ 0, 6.4).
     void forget_position() { mechanical_.reset(); }
+    // The dish, moving when first read, has come to rest: a branch still only assumed (no reading
+    // since named one) is assumed again where it rests, as for a dish read at rest first.
+    void judge_branch_at_rest();
+    // The branch is the start assumption, not yet confirmed by a reading that has only one branch.
+    bool branch_assumed() const { return branch_assumed_; }
 
     // The mechanical azimuth for `wanted` (see wrap_tracker.cpp for the rule); remembered as
     // target_mechanical(). `leg_end`: where an azimuth leg in flight ends; `commanded`: the
@@ -82,6 +87,7 @@ private:
     bool reports_mechanical_ = false;
     int beyond_display_readings_ = 0;  // consecutive readings outside 0..360 (2 prove it)
     bool recheck_branch_ = false;
+    bool branch_assumed_ = false;
     std::optional<double> target_mechanical_;
     std::optional<int> pass_direction_;  // azimuth direction of the pass being followed (+1/-1)
     double pass_furthest_az_ = 0.0;      // display azimuth of the furthest target along it so far

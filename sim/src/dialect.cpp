@@ -619,6 +619,13 @@ Dialect draw_dialect(Variant variant, std::uint32_t seed) {
     if (draw.chance(0.2))
         o.prompt_suffix = draw.pick<const char*>({">", "$", ":", "#"});
     said << "prompt_decoration: before \"" << o.prompt_prefix << "\", after \"" << o.prompt_suffix << "\"\n";
+    // What a Trav'ler's power-up calibration moves is not documented (§3.2, §5.2, §14 HAL0.9): each
+    // reading of the switch, after the decorations for the same reason.
+    if (is_travler(variant)) {
+        o.travler_boot_moves =
+            draw.pick({TravlerBootMoves::park, TravlerBootMoves::home_return, TravlerBootMoves::none});
+        said << "travler_boot_moves: " << travler_boot_moves_name(o.travler_boot_moves) << "\n";
+    }
     dialect.description = said.str();
     return dialect;
 }

@@ -704,3 +704,47 @@ TEST_CASE("orbit model: Gpredict's own lead is kept when two unclamped targets a
         });
     }
 }
+
+TEST_CASE("orbit model: before any gap, a coarse client's half step is put to the orbit as the gaps' lead") {
+    // HAL 2.05's floor (15 deg) on iss-45, the client without look-ahead at 5 deg, as the bench ran
+    // it: its first target above the floor came with the satellite a hundredth of a degree over
+    // it, so the dish stood on its floor at the first two unclamped targets and their gaps taught
+    // no lead. The client's half step between targets (2.5 deg) is the gaps' reading all the same,
+    // and the clamped target tells it from none. Measured when written: followed from the second
+    // unclamped target, as a client without look-ahead, the deadband's coarseness its half step.
+    constexpr double floor_el = 15.0, threshold = 5.0;
+    const TruePass pass = TruePass::load("iss-45");
+    auto moved = [&](AzEl from, AzEl to) {
+        return std::max(std::fabs(azimuth_difference(from.az, to.az)), std::fabs(to.el - from.el)) >= threshold;
+    };
+    double t1 = pass.rise();
+    while (pass.at(t1).el < floor_el + 0.01) {
+        t1 += 0.1;
+    }
+    double t0 = t1;
+    while (!moved(pass.at(t0), pass.at(t1))) {
+        t0 -= 1.0;
+    }
+    double t2 = t1;
+    while (!moved(pass.at(t1), pass.at(t2))) {
+        t2 += 1.0;
+    }
+    auto target = [&](double t) {
+        const AzEl sat = pass.at(t);
+        return AzEl{two_decimals(sat.az), two_decimals(std::max(sat.el, floor_el))};
+    };
+    PredictorSettings settings;
+    settings.orbit.latitude_deg = site_latitude;
+    TargetPredictor predictor(settings);
+    predictor.set_dish_limits(floor_el, 90.0);
+    predictor.observe(at(t0), target(t0), AzEl{target(t0).az + 40.0, floor_el});
+    predictor.observe(at(t1), target(t1), target(t0));
+    CHECK_FALSE(predictor.pass_model_in_use());
+    predictor.observe(at(t2), target(t2), target(t1));
+    INFO("targets at " << t0 << ", " << t1 << ", " << t2 << " s: " << predictor.describe());
+    CHECK(predictor.pass_model_in_use());
+    REQUIRE(predictor.lead_threshold_deg());
+    CHECK(*predictor.lead_threshold_deg() < 0.5);
+    REQUIRE(predictor.client_coarseness_deg());
+    CHECK(*predictor.client_coarseness_deg() > 2.0);
+}

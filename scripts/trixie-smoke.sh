@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Copyright (C) 2026 the birdcage authors
 # The backend built here, preloaded into Debian 13 (trixie)'s own rotctld (Hamlib 4.6), against the
-# emulated G2: `P` moves the dish and `p` follows it there. Nothing is installed: trixie's
+# emulated G2 and Trav'ler: lib.sh's dish_e2e (auto-detect, `_`, `P`/`p`, a tracked pass, `S`, no
+# hazardous command), the check every rotctld route passes. Nothing is installed: trixie's
 # libhamlib4t64, libhamlib-utils and the libraries they need are fetched with apt-get download
 # through a private apt configuration (its own sources and lists in a temporary directory), unpacked
 # with dpkg-deb -x and run with trixie's own loader:
@@ -97,35 +98,15 @@ if [[ $models -ne 6 ]]; then
 fi
 say "trixie's rotctld -l lists the 6 Winegard models"
 
-# ---- P / p against the emulated G2 ----------------------------------------------------------------
-time_scale=20
-dev=$work/g2.tty
-port=$(free_port 4600 4649)
-"$sim" --variant g2 --link "$dev" --time-scale "$time_scale" --az 100 --el 30 --trace >"$work/sim.log" 2>&1 &
-pids+=($!)
-wait_for 10 test -e "$dev" || { echo "trixie-smoke: FAIL: the emulator did not start" >&2; cat "$work/sim.log" >&2; exit 1; }
-# The loader itself in the background (not the trixie function's subshell), so that cleanup's
-# kill reaches rotctld.
-"$loader" --library-path "$libpath" --preload "$backend" "$rotctld" -m 90105 -r "$dev" -s 115200 -T 127.0.0.1 -t "$port" \
-    -C "time_scale=$time_scale" -vvvv >"$work/rotctld.log" 2>&1 &
-pids+=($!)
-if ! wait_for_listener 60 "$port" "${pids[-1]}"; then
-    echo "trixie-smoke: FAIL: trixie's rotctld did not listen; its log:" >&2
-    tail -20 "$work/rotctld.log" >&2
-    exit 1
-fi
-rc() { trixie "$rotctl" -m 2 -r "127.0.0.1:$port" "$@"; }
-say "rotctld (trixie) on 127.0.0.1:$port, emulated G2 on $dev (time x$time_scale)"
-say "_: $(rc _ | tr '\n' ' ')"
-
-for target in "200 40" "120 25"; do
-    # shellcheck disable=SC2086
-    rc P $target
-    say "P $target: sent"
-    # shellcheck disable=SC2086
-    arrive $target "$work/sim.log" "$work/rotctld.log" rc || exit 1
+# ---- the end-to-end check every rotctld route passes (lib.sh's dish_e2e) -------------------------
+# trixie's rotctld (through its loader, with the backend preloaded) and trixie's rotctl as client.
+e2e_sim=$sim e2e_work=$work
+e2e_client=("$loader" --library-path "$libpath" "$rotctl")
+for dish in "g2:Carryout G2" "hal205:Trav'ler HAL 2.05"; do
+    dish_e2e trixie "${dish%%:*}" "${dish#*:}" 90100 "$loader" --library-path "$libpath" --preload "$backend" "$rotctld" ||
+        { echo "trixie-smoke: FAIL: trixie's rotctld with the emulated ${dish%%:*}" >&2; exit 1; }
 done
 # The backend's load-time ABI check names both Hamlibs at open (-vvvv).
-note=$(grep -m1 -o "built for Hamlib.*" "$work/rotctld.log" || true)
+note=$(grep -m1 -o "built for Hamlib.*" "$work/trixie-g2.rotctld.log" || true)
 say "ABI check: ${note:-(no note: the same Hamlib release)}"
-say "PASS: $backend moves the emulated G2 under trixie's rotctld"
+say "PASS: $backend under trixie's rotctld: the emulated G2 and Trav'ler (auto-detect, P/p, a tracked pass, S)"

@@ -198,10 +198,12 @@ def server_command() -> tuple[str, list[str]]:
 
 
 @contextlib.asynccontextmanager
-async def session_for(port: int):
-    """A client session with birdcage-mcp spawned over stdio, talking to rotctld on `port`."""
+async def session_for(port: int, message_handler=None):
+    """A client session with birdcage-mcp spawned over stdio, talking to rotctld on `port`;
+    `message_handler` receives the server's notifications."""
     command, args = server_command()
     params = StdioServerParameters(command=command, args=[*args, "--host", "127.0.0.1", "--port", str(port)])
-    async with stdio_client(params) as (read, write), ClientSession(read, write) as session:
+    async with stdio_client(params) as (read, write), \
+            ClientSession(read, write, message_handler=message_handler) as session:
         await session.initialize()
         yield session

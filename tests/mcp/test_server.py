@@ -9,9 +9,10 @@ import csv
 import json
 import time
 
+import anyio
 import pytest
 
-from conftest import free_port, session_for
+from conftest import Rig, free_port, session_for
 
 pytestmark = pytest.mark.anyio
 
@@ -204,6 +205,44 @@ async def test_rotctld_down_is_a_clear_error_and_a_restart_is_picked_up(g2):
         finally:
             g2.restart_rotctld()
         assert set(await call(session, "get_position")) == {"azimuth", "elevation"}
+
+
+async def test_another_rotator_after_a_reconnect_is_announced_as_a_changed_tool_list(workdir):
+    """The server declares tools.listChanged and keeps the promise: when rotctld comes back on the
+    same port with another rotator (a Trav'ler, then a Carryout G2 with its tuner), the next tool
+    call sends notifications/tools/list_changed; calls with the same rotator send none."""
+    changed = []
+    announced = anyio.Event()
+
+    async def on_message(message):
+        if getattr(message, "method", None) == "notifications/tools/list_changed":
+            changed.append(message)
+            announced.set()
+
+    port = free_port()
+    travler = Rig(workdir, 90102, "hal205", port=port).start()
+    g2 = None
+    try:
+        async with session_for(port, on_message) as session:
+            initialised = await session.initialize()  # the session keeps the handshake's result
+            assert initialised.capabilities.tools.list_changed is True
+            listed = {t.name for t in (await session.list_tools()).tools}
+            assert "get_conf" in listed and not listed & {"read_signal", "set_lnb", "sky_scan"}, listed
+            await call(session, "get_position")
+            assert changed == []
+            travler.close()
+            assert "cannot reach rotctld" in await call_error(session, "get_position")
+            g2 = Rig(workdir, 90105, "g2", port=port).start()
+            await call(session, "get_position")
+            with anyio.fail_after(10):
+                await announced.wait()
+            assert {t.name for t in (await session.list_tools()).tools} == TOOLS
+            await call(session, "get_status")
+            assert len(changed) == 1
+    finally:
+        travler.close()
+        if g2:
+            g2.close()
 
 
 async def test_nothing_listening():

@@ -113,7 +113,7 @@ void TargetPredictor::restart(double t, AzEl target, bool keep_orbit) {
     // prediction back to it.
     if (!keep_orbit) {
         orbit_.clear();
-        orbit_.add(t, target, orbit_lead_hint());
+        orbit_.add(t, target, lead_threshold_);
     }
 }
 
@@ -170,7 +170,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // The orbit sees every target first: whether it expected this one decides what a restart of
     // the local estimate below forgets.
     const bool orbit_trusted = settings_.use_pass_model && orbit_.trusted();
-    const bool orbit_expected = settings_.use_pass_model && orbit_.add(t, target, orbit_lead_hint());
+    const bool orbit_expected = settings_.use_pass_model && orbit_.add(t, target, lead_threshold_);
     // A restart of the local estimate (a north crossing's jump in azimuth, a target it did not
     // expect) forgets the orbit only when a trusted orbit did not expect the target either: an orbit
     // still gathering targets sorts out on its own what is not one pass (OrbitModel::judge()).
@@ -308,23 +308,8 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // The orbit saw this target with the lead learnt before it: with two unclamped targets and a
     // clamped one the lead this target's gap teaches may already decide whether it is followed.
     if (settings_.use_pass_model) {
-        orbit_.relead(orbit_lead_hint());
+        orbit_.relead(lead_threshold_);
     }
-}
-
-std::optional<double> TargetPredictor::orbit_lead_hint() const {
-    if (lead_threshold_) {
-        return lead_threshold_;
-    }
-    // No gap yet (the dish sat on its floor at each target so far): a coarse client's half step
-    // between targets is the same reading the gaps would give (Gpredict leads by it; a client
-    // without look-ahead steps by twice it and leads by nothing), and the orbit puts it against
-    // none. A fine step is not offered: the two are then within the targets' scatter, and a
-    // client sending every cycle steps by its satellite's motion in a second, not its threshold.
-    if (half_step_ && *half_step_ >= coarse_half_step_deg) {
-        return half_step_;
-    }
-    return std::nullopt;
 }
 
 std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const {

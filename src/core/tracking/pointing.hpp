@@ -134,9 +134,8 @@ public:
         return lead_threshold_;
     }
     // How coarse the client's targets are, for the steering's deadband: half the gap the dish's lag
-    // shows (Gpredict: its threshold; a client without look-ahead: half its step), before any gap a
-    // coarse half step (orbit_lead_hint()), else the trusted orbit's lead. Not corrected by the
-    // orbit as the lead is: a client that sends a target every
+    // shows (Gpredict: its threshold; a client without look-ahead: half its step), else the trusted
+    // orbit's lead. Not corrected by the orbit as the lead is: a client that sends a target every
     // 5 deg without look-ahead leads by nothing, but its steps still ask for a coarse deadband
     // (with the lead's 0, the G2 made 624 motor starts on iss-45 at 5 deg).
     // A client's steps show its coarseness too: one without look-ahead steps by its threshold
@@ -145,8 +144,9 @@ public:
     // the lead in use is under a fifth of the client's half step (a client that leads by L steps
     // by about 2L, rarely much more), the half step stands for the coarseness.
     std::optional<double> client_coarseness_deg() const {
-        const std::optional<double> hint = orbit_lead_hint();
-        const std::optional<double> gaps = hint ? hint : pass_model_in_use() ? orbit_.lead_deg() : std::nullopt;
+        const std::optional<double> gaps = lead_threshold_       ? lead_threshold_
+                                           : pass_model_in_use() ? orbit_.lead_deg()
+                                                                 : std::nullopt;
         const std::optional<double> lead = lead_threshold_deg();
         if (half_step_ && half_steps_.size() >= min_half_steps && lead &&
             *lead < no_look_ahead_lead_share * *half_step_) {
@@ -172,8 +172,6 @@ private:
     std::vector<AzEl> sample_directions() const;
     // keep_orbit: the orbit model expected this target (a new pointing for the local estimate only).
     void restart(double t, AzEl target, bool keep_orbit);
-    // The client's lead as the orbit is told it: the gaps' reading, else a coarse half step.
-    std::optional<double> orbit_lead_hint() const;
 
     PredictorSettings settings_;
     Clock::time_point origin_{};
@@ -190,9 +188,6 @@ private:
     std::deque<double> half_steps_;
     static constexpr double no_look_ahead_lead_share = 0.2;
     static constexpr std::size_t min_half_steps = 3;
-    // The orbit questions a lead of 1 deg or more against none (orbit_fit.cpp): a half step from
-    // this on stands in for the gaps' lead until they show one.
-    static constexpr double coarse_half_step_deg = 1.0;
     // The estimated satellite position at anchor_t_ (the last target minus the lead).
     double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;
     double last_interval_s_ = 0.0;

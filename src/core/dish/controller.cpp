@@ -457,13 +457,13 @@ MovingAxes Controller::moving_axes() const {
     return driver_->moving_axes();
 }
 
+// The rate is the one the port was opened at. No word on the variant's usual rate: a dish that
+// answered runs at this one (or the line is a pty or a USB adapter that ignores it); the advice
+// belongs to a dish that does not answer, where the synchroniser gives it.
 std::string Controller::describe() const {
     std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +
                        std::string(profile_.short_name) + ", " +
                        std::to_string(options_.line_baud > 0 ? options_.line_baud : profile_.baud) + " baud";
-    if (options_.line_baud > 0 && options_.line_baud != profile_.baud) {
-        text += " (this firmware usually runs at " + std::to_string(profile_.baud) + ")";
-    }
     if (!session_.last_prompt().empty()) {
         text += ", prompt " + session_.last_prompt();
     }

@@ -8,7 +8,7 @@
 //
 //   tracking_bench [--scale K] [--jobs N] [--passes a,b] [--variants g2,hal205]
 //                  [--modes none,leapfrog,predictive,auto,oracle,oracle-motor] [--thresholds 0.5,5]
-//                  [--window SECONDS]
+//                  [--window SECONDS] [--engage S] [--measure FROM,TO]
 //                  [--mappings nearest,literal,wrap_manager] [--client-limits dish,wide] [--out DIR]
 //                  [--client gpredict|current]
 //                  [--passes-dir DIR]
@@ -26,6 +26,12 @@
 // the backend clamps instead and the client, seeing the dish held at its floor more than a threshold
 // off the satellite, sends a fresh target every cycle from AOS (a wide run starts at AOS, a dish run
 // 6 deg below the floor). Azimuth stays 0-360 in both. The oracle runs once, with the dish's limits.
+//
+// --engage S starts the client (and the run) at S on the pass clock (the pass file's t) instead;
+// --measure FROM,TO takes the error figures over that stretch of the pass clock only, and ends the
+// run at TO. Together they replay the real-Gpredict loop's schedule (scripts/gpredict-loop.sh; on
+// iss-45 its clock is the pass file's t minus 68 s): `--engage 108 --measure 248,428`
+// (docs/benchmarks.md, "The benchmark's Gpredict client against real Gpredict").
 //
 // --client current replaces the Gpredict-like client by one without look-ahead (testbed/gpredict_client.hpp,
 // ClientSettings::look_ahead): it sends the satellite's direction as it is whenever that has moved a
@@ -57,10 +63,12 @@
 #include <map>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -134,8 +142,10 @@ struct Options {
     std::vector<double> thresholds = {0.5, 5.0};
     std::vector<std::string> mappings = {"nearest"};
     std::vector<std::string> client_limits = {"dish"};
-    std::string client = "gpredict";  // or "current": see --client
-    double window_s = 0.0;            // > 0: only this many seconds around the TCA
+    std::string client = "gpredict";                   // or "current": see --client
+    double window_s = 0.0;                             // > 0: only this many seconds around the TCA
+    std::optional<double> engage_s;                    // --engage: the client starts here (pass clock)
+    std::optional<std::pair<double, double>> measure;  // --measure: the error's stretch (pass clock)
     std::string out = "bench-out";
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
     std::vector<std::string> extra_conf;  // --conf key=value: passed to every run as -C key=value
@@ -253,6 +263,14 @@ Options parse(int argc, char** argv) {
             }
         } else if (arg == "--window") {
             o.window_s = std::stod(value());
+        } else if (arg == "--engage") {
+            o.engage_s = std::stod(value());
+        } else if (arg == "--measure") {
+            const std::vector<std::string> span = split(value());
+            if (span.size() != 2 || std::stod(span[0]) >= std::stod(span[1])) {
+                throw std::runtime_error("--measure: expected FROM,TO with FROM < TO");
+            }
+            o.measure = std::make_pair(std::stod(span[0]), std::stod(span[1]));
         } else if (arg == "--out") {
             o.out = value();
         } else if (arg == "--passes-dir") {
@@ -309,6 +327,12 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
     if (options.window_s > 0.0) {
         start = std::max(start, pass.tca() - options.window_s / 2.0);
         end = std::min(end, pass.tca() + options.window_s / 2.0);
+    }
+    if (options.engage_s) {
+        start = *options.engage_s;
+    }
+    if (options.measure) {
+        end = options.measure->second;
     }
     const Direction at_start = pass.at(start);
     birdcage::sim::Options dish;
@@ -395,7 +419,12 @@ RunResult run_one(const RunSpec& spec, const Options& options) {
         const Direction sat = pass.at(t), pointing = dish_at(t);
         grid.push_back({t, sat, pointing, bench::angle_between(sat, pointing)});
     }
-    auto inside = [&v](const GridPoint& g) { return g.sat.el >= v.el_min && g.sat.el <= v.el_max; };
+    auto measured = [&options](const GridPoint& g) {
+        return !options.measure || (g.t >= options.measure->first && g.t <= options.measure->second);
+    };
+    auto inside = [&v, &measured](const GridPoint& g) {
+        return g.sat.el >= v.el_min && g.sat.el <= v.el_max && measured(g);
+    };
     auto risen = [&v](const GridPoint& g) { return g.sat.el >= v.el_min; };
     auto above_cap = [&v](const GridPoint& g) { return g.sat.el > v.el_max; };
 
@@ -673,6 +702,14 @@ int main(int argc, char** argv) {
         "parallel%s\n",
         specs.size(), options.scale, options.scale, options.jobs,
         options.window_s > 0 ? (", window " + std::to_string(options.window_s) + " s around TCA").c_str() : "");
+    if (options.engage_s || options.measure) {
+        std::printf(
+            "schedule: client engaged at %s, error measured over %s (pass clock, s)\n",
+            options.engage_s ? std::to_string(*options.engage_s).c_str() : "the default",
+            options.measure
+                ? (std::to_string(options.measure->first) + "-" + std::to_string(options.measure->second)).c_str()
+                : "the whole pass");
+    }
     if (options.client != "gpredict") {
         std::printf(
             "client: no look-ahead: the satellite's current direction each time it moved a threshold from "

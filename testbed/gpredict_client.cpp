@@ -69,6 +69,11 @@ Direction GpredictClient::lead_target(double now, Direction current) const {
 
 void GpredictClient::timer_tick() {
     const double now = pass_now();
+    // Gpredict's timer reads the time and the satellite the module computed at its last refresh.
+    double seen = now;
+    if (gpredict_timing() && settings_.module_refresh_s > 0.0) {
+        seen = engaged_at_ + std::floor((now - engaged_at_) / settings_.module_refresh_s) * settings_.module_refresh_s;
+    }
     {
         std::lock_guard lock(mutex_);
         if (!engaged_) {
@@ -89,12 +94,12 @@ void GpredictClient::timer_tick() {
             ++error_count_;
         }
     }
-    const Direction sat = pass_.at(now);
+    const Direction sat = pass_.at(seen);
     auto clamp_az = [this](double az) { return std::clamp(az, settings_.min_az, settings_.max_az); };
     auto clamp_el = [this](double el) { return std::clamp(el, settings_.min_el, settings_.max_el); };
     Direction set{};
     if (sat.el < 0.0) {
-        const bool before = now < pass_.aos();
+        const bool before = seen < pass_.aos();
         set = {clamp_az(before ? pass_.aos_az() : pass_.los_az()), clamp_el(0.0)};
     } else {
         set = {clamp_az(sat.az), clamp_el(sat.el)};
@@ -128,7 +133,7 @@ void GpredictClient::timer_tick() {
     }
     if (sat.el > 0.0) {
         // The search compares against the clamped current target, as Gpredict's does.
-        const Direction ahead = lead_target(now, set);
+        const Direction ahead = lead_target(seen, set);
         set = {clamp_az(ahead.az), clamp_el(ahead.el)};
     }
     pending_ = set;
@@ -162,17 +167,22 @@ void GpredictClient::io_loop(double end) {
                 target = pending_;
             }
         }
+        // Gpredict's thread keeps the flag to itself until the end of the loop (below).
+        bool still_to_send = false;
         if (target) {
             const auto sent_at = Clock::now();
             const int code = connection.set_position(target->az, target->el);
             record_.set_round_trip_ms.push_back(elapsed_ms(sent_at));
             if (code == 0) {
-                std::lock_guard lock(mutex_);
-                new_target_ = false;  // Gpredict retries a failed P on the next loop
                 record_.sent_targets.push_back({pass_now(), *target});
+                if (!gpredict_timing()) {
+                    std::lock_guard lock(mutex_);
+                    new_target_ = false;
+                }
             } else {
                 ++record_.failed_replies;
                 io_error = true;
+                still_to_send = true;  // Gpredict retries a failed P on the next loop
             }
         }
         sleep_sim(settings_.io_sleep_s);
@@ -192,10 +202,20 @@ void GpredictClient::io_loop(double end) {
         } else {
             ++record_.failed_replies;
             io_error = true;
+            if (gpredict_timing() && target) {
+                // Gpredict reads the position into the variables that held the target it sent,
+                // and hands them over as the read-back even when `p` failed.
+                std::lock_guard lock(mutex_);
+                read_back_ = *target;
+            }
         }
         {
             std::lock_guard lock(mutex_);
             io_error_ = io_error;
+            if (gpredict_timing()) {
+                // The hand-over: whatever the timer posted since the flag was taken is dropped.
+                new_target_ = still_to_send;
+            }
         }
         const double elapsed_sim_s = elapsed_ms(loop_start) / 1000.0 * time_scale_;
         sleep_sim(std::max(elapsed_sim_s, settings_.io_min_period_s));
@@ -211,11 +231,17 @@ void GpredictClient::io_loop(double end) {
 }
 
 ClientRecord GpredictClient::run_until(double end) {
+    engaged_at_ = pass_now();
     std::thread io([this, end] { io_loop(end); });
     // The GUI timer: fixed real-time period of cycle / scale, like a GLib timeout.
     const auto period =
         std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(settings_.cycle_s / time_scale_));
     auto next = Clock::now();
+    if (gpredict_timing()) {
+        next += std::chrono::duration_cast<Clock::duration>(
+            std::chrono::duration<double>(settings_.timer_offset_s / time_scale_));
+        std::this_thread::sleep_until(next);
+    }
     while (pass_now() < end) {
         timer_tick();
         next += period;

@@ -14,6 +14,13 @@
 //     does not. A tick that finds an error with the count already at MAX_ERROR_COUNT (5) disengages
 //     the rotator: Gpredict sends `S`, stops its I/O thread and never engages again by itself (the
 //     user must press Engage), so the rest of the pass is lost (gtk-rot-ctrl.c, docs/gpredict.md).
+//   * as Gpredict 2.3's rotator controller (gtk-rot-ctrl.c) does, the timer sees the satellite and
+//     the time as the module last computed them (a 300 ms refresh of its own), and the I/O thread
+//     hands the "new target" flag back at the end of its loop: a target the timer posts while the
+//     thread is between taking the flag and handing it back (its P, 100 ms, its p) is dropped.
+//     With a 1 s timer against a ~0.8 s loop, one tick in four can land there: bursts of three
+//     targets 0.8 s apart, then 2.4 s of nothing (docs/tracking.md §5). Only the Gpredict client
+//     (look_ahead) does this; the simpler client and the oracle keep the plain hand-over.
 // Simulated time is the emulator's clock; every client sleep is divided by the emulator's time
 // scale, so the client keeps Gpredict's rhythm in simulated seconds.
 #pragma once
@@ -42,6 +49,12 @@ struct ClientSettings {
     double cycle_s = 1.0;     // Gpredict default "Cycle" 1000 ms
     double io_sleep_s = 0.1;  // between P and p
     double io_min_period_s = 0.7;
+    // Gpredict's module refresh (its default, 300 ms): the timer uses the satellite as of the
+    // module's last refresh. 0: the satellite at the tick itself.
+    double module_refresh_s = 0.3;
+    // When the first timer tick comes after the I/O thread starts (GLib's timer and the thread
+    // start at unrelated moments; which ticks fall into the thread's hand-over depends on it).
+    double timer_offset_s = 0.5;
     // Gpredict's rotator limits (README now advises 0-90 for elevation; the dish's range was the advice before).
     double min_az = 0.0, max_az = 360.0, min_el = 0.0, max_el = 90.0;
     // Gpredict's MAX_ERROR_COUNT: erroring timer ticks tolerated in a row; 0 = never disengage.
@@ -87,6 +100,7 @@ public:
 private:
     double pass_now() const;
     void sleep_sim(double seconds) const;
+    bool gpredict_timing() const { return settings_.look_ahead && !settings_.true_position_every_cycle; }
     void timer_tick();
     Direction lead_target(double now, Direction current) const;
     void io_loop(double end);
@@ -98,6 +112,7 @@ private:
     int port_;
     double sim_origin_ = 0.0;
     double pass_origin_ = 0.0;
+    double engaged_at_ = 0.0;  // pass clock when run_until started: the module refresh's grid
 
     std::mutex mutex_;  // between the timer and the I/O thread, like Gpredict's client mutex
     Direction read_back_{};

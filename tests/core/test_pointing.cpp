@@ -82,6 +82,8 @@ struct GpredictRun {
     double cycle_s = 1.0;
     double start_s = 0.3;
     AzEl dish{0.0, 0.0};  // parked away from the satellite: the first tick fires
+    // The dish's elevation floor: a client set up wider than the dish reads a dish held there.
+    double dish_el_min = -90.0;
     std::vector<double> sent_at;
     AzEl last_target{};
 
@@ -109,7 +111,7 @@ struct GpredictRun {
         const AzEl ahead = lead_target(now);
         const AzEl target{two_decimals(ahead.az), two_decimals(ahead.el)};
         predictor.observe(at(now), target, dish);
-        dish = target;
+        dish = {target.az, std::max(target.el, dish_el_min)};
         last_target = target;
         sent_at.push_back(now);
         return true;
@@ -220,6 +222,39 @@ TEST_CASE("pointing: Gpredict-like lead targets: the lead is learned and the pre
         const double dominant = std::max(std::fabs(c.sat.az_rate), std::fabs(c.sat.el_rate));
         CHECK(std::max(std::fabs(p.az_rate - c.sat.az_rate), std::fabs(p.el_rate - c.sat.el_rate)) < 0.05 * dominant);
     }
+}
+
+TEST_CASE("pointing: a dish held on its floor: the lead is read from the client's rule against the floor") {
+    // Gpredict with limits 0-90 and a dish whose floor is 18 deg (the real loop's iss-45 at 5 deg,
+    // docs/tracking.md §5): while the satellite climbs from 8 to 13 deg it sends a target every
+    // cycle, below the floor; then the dish, held at 18, is within the threshold on both axes and it
+    // is silent for a minute, until the azimuth has moved 5 deg past the dish. That first target
+    // after the silence is 10 deg in azimuth and 8 in elevation from the dish on its floor: the
+    // client's rule gives its lead of 5 from it, the dish being off the track.
+    const Linear sat{300.0, 8.0, 0.16, 0.14};
+    TargetPredictor predictor(local_only());
+    predictor.set_dish_limits(18.0, 65.0);
+    GpredictRun client;
+    client.satellite = [&](double t) { return sat.at(t); };
+    client.dish = {300.0, 18.0};
+    client.dish_el_min = 18.0;
+    double resumed_at = -1.0;
+    for (double t = client.start_s; t < 120.0 && resumed_at < 0.0; t += client.cycle_s) {
+        const bool silent = !client.sent_at.empty() && t - client.sent_at.back() > 1.5 * client.cycle_s;
+        if (client.tick(t, predictor) && silent) {
+            resumed_at = t;
+        }
+        if (resumed_at < 0.0) {
+            // Below the floor and on it, nothing tells the lead.
+            REQUIRE_FALSE(predictor.lead_threshold_deg().has_value());
+        }
+    }
+    INFO("first target after the silence at " << resumed_at << " s: " << client.last_target.az << ", "
+                                              << client.last_target.el);
+    REQUIRE(resumed_at > 90.0);
+    REQUIRE(client.last_target.el > 20.0);
+    REQUIRE(predictor.lead_threshold_deg().has_value());
+    CHECK(*predictor.lead_threshold_deg() == Approx(5.0).margin(0.3));
 }
 
 TEST_CASE("pointing: a curved azimuth is followed better than a straight line through the last two targets") {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "tracking/slope_fit.hpp"
@@ -243,15 +244,33 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     const double dominant_rate = std::max(std::fabs(az_rate_), std::fabs(el_rate_));
     // A dish held on its elevation floor or cap trails the satellite by whatever lies beyond the
     // limit, not by the client's lead.
-    const bool dish_on_limit =
-        dish && (dish->el <= dish_el_min_ + lead_limit_margin_deg || dish->el >= dish_el_max_ - lead_limit_margin_deg);
-    if (dish && !dish_on_limit && t - last.t > resend_interval_s) {
+    auto on_limit = [this](double el) {
+        return el <= dish_el_min_ + lead_limit_margin_deg || el >= dish_el_max_ - lead_limit_margin_deg;
+    };
+    const bool dish_on_limit = dish && on_limit(dish->el);
+    if (dish && !(dish_on_limit && on_limit(target.el)) && t - last.t > resend_interval_s) {
         // Along-track gap between this target and the dish the client compared it with.
         const double gap_az = azimuth_difference(dish->az, target.az);
         const double gap_el = target.el - dish->el;
         const double rate_sq = az_rate_ * az_rate_ + el_rate_ * el_rate_;
-        const double lead_obs_s = (gap_az * az_rate_ + gap_el * el_rate_) / (2.0 * rate_sq);
-        const double threshold_obs = lead_obs_s * dominant_rate;
+        double lead_obs_s = (gap_az * az_rate_ + gap_el * el_rate_) / (2.0 * rate_sq);
+        double threshold_obs = lead_obs_s * dominant_rate;
+        if (dish_on_limit) {
+            // The dish held on its floor or cap while the satellite is inside its range (a client
+            // set up wider than the dish) is off the track, so the gap is not along it. Gpredict's
+            // rule still holds against the position it was given: it sent this target once the
+            // satellite lay more than its threshold L from that position on either axis, and the
+            // target is where the satellite will be once it has moved L on its faster axis, L / |v|inf
+            // later. On an axis moving away from the dish the gap is then L + |v_axis| L / |v|inf,
+            // and the axis that crossed first is the one that gives the largest L.
+            threshold_obs = 0.0;
+            for (const auto& [gap, rate] : {std::pair{gap_az, az_rate_}, std::pair{gap_el, el_rate_}}) {
+                if (gap * rate > 0.0) {
+                    threshold_obs = std::max(threshold_obs, std::fabs(gap) / (1.0 + std::fabs(rate) / dominant_rate));
+                }
+            }
+            lead_obs_s = threshold_obs / dominant_rate;
+        }
         // A gap wider than two of the largest plausible leads is the dish still slewing (a
         // pre-pass unwind, an acquisition), not a threshold crossing.
         const bool plausible = std::max(std::fabs(gap_az), std::fabs(gap_el)) <= 2.0 * max_lead_threshold_deg &&

@@ -114,7 +114,8 @@ public:
     void observe(Clock::time_point t, AzEl target, std::optional<AzEl> dish);
     void reset();
     // The dish's elevation limits: a client set up with them clamps its targets there, and a dish
-    // held on one is no measure of the client's lead.
+    // held on one is off the satellite's track: its gap to an unclamped target is read by the
+    // client's send rule, not along the track.
     void set_dish_limits(double el_min, double el_max);
 
     // The estimated satellite direction at time `t` (t may lie ahead of now).

@@ -112,10 +112,11 @@ TEST_CASE("motor dynamics: a 60 deg pass on a motor that starts 2 s late stays o
         // No leg on this motor stops short: every unmoved reading was taken inside the start-up delay.
         CHECK(client.stopped_short == 0);
         // The dish follows instead of falling ever further behind: re-sending on every leg, it
-        // ended this window 12-13 deg RMS off. The RMS against the oracle's and the max are printed,
-        // not asserted: under a loaded machine single runs show spikes of 25-28 deg (the oracle's
-        // too), whose cause is still open (docs/benchmarks.md, motors that start late).
-        CHECK(client.rms < 11.0);
+        // ended this window 12-13 deg RMS off; aiming by the learnt delay but not the travel over
+        // the leg's length, 5.8-9.2 deg; with both, 3.3-5.3 deg (docs/benchmarks.md, motors that
+        // start late). The RMS against the oracle's and the max are printed, not asserted: this
+        // runs in real time, and a loaded machine spreads single runs.
+        CHECK(client.rms < 8.0);
     }
 }
 

@@ -258,13 +258,6 @@ constexpr std::array<FirmwareProfile, 5> profiles{{travler_hal000_profile(), tra
                                                    travler_pro_profile(), carryout2003_profile(),
                                                    carryout_g2_profile()}};
 
-double seconds_trapezoid(double distance, double speed, double accel) {
-    if (distance < speed * speed / accel) {
-        return 2.0 * std::sqrt(distance / accel);
-    }
-    return distance / speed + speed / accel;
-}
-
 // docs/firmware.md 3.4: time ~ |3.23 ln(0.84 d) - 0.48| s. The fit dips to ~0.3 s around 1.2-1.5 deg,
 // an artefact, so it is floored at 1 s from 1 deg up.
 double seconds_travler_fit(double distance) {
@@ -280,8 +273,8 @@ double seconds_travler_fit(double distance) {
 double move_seconds(const FirmwareProfile& profile, Axis axis, double distance) {
     switch (profile.motion_model) {
         case MotionModel::trapezoid:
-            return seconds_trapezoid(distance, axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps,
-                                     profile.accel_dps2);
+            return trapezoid_move_seconds(distance, axis == Axis::azimuth ? profile.az_speed_dps : profile.el_speed_dps,
+                                          profile.accel_dps2);
         case MotionModel::travler_time_fit:
             return seconds_travler_fit(distance);
     }
@@ -353,6 +346,13 @@ std::optional<VariantId> variant_from_name(std::string_view short_name) {
 
 Span<const FirmwareProfile> all_profiles() {
     return profiles;
+}
+
+double trapezoid_move_seconds(double distance, double speed, double accel) {
+    if (distance < speed * speed / accel) {
+        return 2.0 * std::sqrt(distance / accel);
+    }
+    return distance / speed + speed / accel;
 }
 
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees) {

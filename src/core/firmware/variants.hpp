@@ -138,6 +138,9 @@ std::optional<VariantId> variant_from_name(std::string_view short_name);
 
 Span<const FirmwareProfile> all_profiles();
 
+// Seconds an axis at rest takes over `distance` degrees, accelerating at `accel` up to `speed` and
+// braking at `accel` (a triangle when the move is too short to reach `speed`).
+double trapezoid_move_seconds(double distance, double speed, double accel);
 // Estimated duration of a single-axis move of `degrees` from the variant's motion model.
 std::chrono::milliseconds estimated_move_time(const FirmwareProfile& profile, Axis axis, double degrees);
 // Degrees covered `seconds` after such a move started from rest, by the same model (0..|degrees|):

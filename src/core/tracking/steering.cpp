@@ -79,8 +79,7 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
         if (const auto& known = in.pointing.known_motor) {
             const double a = std::max(known->accel_dps2, min_accel_dps2);
             const double v = std::max(known->speed_dps, min_speed_dps);
-            const double travel = degrees < v * v / a ? 2.0 * std::sqrt(degrees / a) : degrees / v + v / a;
-            return std::max(known->startup_s, 0.0) + travel;
+            return std::max(known->startup_s, 0.0) + trapezoid_move_seconds(degrees, v, a);
         }
         const double curve_s = std::chrono::duration<double>(estimated_move_time(in.dish, axis, degrees)).count();
         return in.motor.startup_s[static_cast<std::size_t>(axis)] + curve_s / in.motor.paces.pace(axis, degrees);

@@ -272,8 +272,7 @@ Result<AzEl> Controller::query_position() {
             if (start_rest_ && !start_rest_->moving) {
                 // Right after initialisation this may also be a dish still moving fast: either
                 // way only two readings that agree tell where it is (note_start_reading()).
-                start_rest_->moving = true;
-                start_rest_->since = start_rest_->polled = now();
+                start_rest_->start_moving(now());
             }
             return {*before, Status{Errc::protocol, "inconsistent position readings (az " + degrees_text(first.az) +
                                                         " el " + degrees_text(first.el) +
@@ -320,8 +319,7 @@ void Controller::note_start_reading(const AzEl& reading) {
         return;
     }
     if (!rest.moving) {
-        rest.moving = true;
-        rest.since = rest.polled = now();
+        rest.start_moving(now());
         emit(options_.log, LogLevel::verbose,
              "the dish still moves after initialisation (az " + degrees_text(rest.last.az) + " el " +
                  degrees_text(rest.last.el) + ", then az " + degrees_text(reading.az) + " el " +

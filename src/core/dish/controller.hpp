@@ -195,6 +195,10 @@ private:
         bool moving = false;         // two readings differed
         Clock::time_point since{};   // when it was first seen moving
         Clock::time_point polled{};  // the latest poll while it moves
+        void start_moving(Clock::time_point t) {
+            moving = true;
+            since = polled = t;
+        }
     };
     std::optional<StartRest> start_rest_;
     std::string motor_menu_;  // the session's menu at the end of initialize()

@@ -234,17 +234,23 @@ TEST_CASE("predictive pointing follows a moving target stream and stops where th
     // lateness is judged by its median over the samples, which a late-scheduled moment cannot
     // move, while a dish that only goes to each target is late at every sample.
     const ModelUnderTest& m = kModels[4];
-    const double scale = 10.0;
+    // A loaded machine's hold-ups of this process or of rotctld count the time scale over in
+    // dish time. At 10 the stream then reached the backend in bursts, which read as a client
+    // leading by 2 deg, and the dish ran on past the horizon (8 test copies and 3 busy loops on
+    // 2 cores: 8 of 8 runs failed at 10, none at 4).
+    const double scale = 4.0;
     e2e::Rig rig(e2e::dish_options(m.variant, 100.0, 30.0, scale), m.model,
-                 {"-C", "pointing=predictive", "-C", "time_scale=10"});
+                 {"-C", "pointing=predictive", "-C", "time_scale=4"});
     e2e::RotctldConnection client(rig.port());
     auto target_at = [](double t) { return std::pair{100.0 + 0.5 * t, 30.0 + 0.2 * t}; };
     const double start = rig.dish().sim_time();
     std::vector<double> lateness;
     double last_sent_t = 0.0;
+    double previous_sent_t = 0.0;
     // Measured once the track is established (three targets over 20 s, docs/tracking.md §7).
     for (int second = 0; second <= 40; ++second) {
         REQUIRE(e2e::wait_until([&] { return rig.dish().sim_time() - start >= second; }, 10s));
+        previous_sent_t = last_sent_t;
         last_sent_t = rig.dish().sim_time() - start;
         const auto [az, el] = target_at(last_sent_t);
         char command[64];
@@ -266,12 +272,18 @@ TEST_CASE("predictive pointing follows a moving target stream and stops where th
     }
     INFO("lateness (deg), sorted: " << sorted);
     CHECK(lateness[lateness.size() / 2] < 0.3);
+    // The extrapolation horizon is three of the client's last intervals, at least 10 s
+    // (docs/tracking.md §7). The stream is one target a second unless the machine held this
+    // process up before its last target; the horizon is then the longer one that the backend saw.
+    const double horizon_s = std::max(10.0, 3.0 * (last_sent_t - previous_sent_t));
+    INFO("last interval " << last_sent_t - previous_sent_t << " s, horizon " << horizon_s << " s");
     const double stopped_at = rig.dish().sim_time();
-    REQUIRE(e2e::wait_until([&] { return !rig.dish().moving() && rig.dish().sim_time() - stopped_at > 15.0; }, 20s));
+    REQUIRE(e2e::wait_until(
+        [&] { return !rig.dish().moving() && rig.dish().sim_time() - stopped_at > horizon_s + 5.0; }, 60s));
     const birdcage::sim::Pose rest = rig.dish().true_position();
     CHECK_FALSE(e2e::wait_until([&] { return rig.dish().moving(); }, 1s));
-    // It may have run on by at most the horizon (10 s at 0.54 deg/s), and not beyond.
+    // It may have run on by at most the horizon (at 0.54 deg/s), and not beyond.
     const auto [last_az, last_el] = target_at(last_sent_t);
-    CHECK(e2e::sky_angle(rest.az, rest.el, last_az, last_el) < 6.0);
+    CHECK(e2e::sky_angle(rest.az, rest.el, last_az, last_el) < horizon_s * 0.54 + 0.6);
     CHECK(rig.dish().hazards_received() == 0);
 }

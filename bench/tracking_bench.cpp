@@ -11,7 +11,7 @@
 //                  [--window SECONDS] [--engage S] [--measure FROM,TO]
 //                  [--mappings nearest,literal,wrap_manager] [--client-limits dish,wide] [--out DIR]
 //                  [--client gpredict|current]
-//                  [--passes-dir DIR]
+//                  [--passes-dir DIR] [--backend FILE]
 //                  [--conf KEY=VALUE]... [--motor-startup-delay S] [--motor-speed AZ,EL] [--motor-accel A]
 //
 // The --motor-* options give every run the emulator's motor dynamics switches (sim/README.md,
@@ -32,6 +32,11 @@
 // run at TO. Together they replay the real-Gpredict loop's schedule (scripts/gpredict-loop.sh; on
 // iss-45 its clock is the pass file's t minus 68 s): `--engage 108 --measure 248,428`
 // (docs/benchmarks.md, "The benchmark's Gpredict client against real Gpredict").
+//
+// --backend FILE is the backend every rotctld preloads (default: the libhamlib-winegard.so built
+// beside this program, found from where the program is; it refuses to start when there is none, so
+// a copy of the program measures the backend it is given). --out DIR receives the CSV (default:
+// out/ beside the program, in the build tree; the directory it runs from is left alone).
 //
 // --client current replaces the Gpredict-like client by one without look-ahead (testbed/gpredict_client.hpp,
 // ClientSettings::look_ahead): it sends the satellite's direction as it is whenever that has moved a
@@ -146,7 +151,8 @@ struct Options {
     double window_s = 0.0;                             // > 0: only this many seconds around the TCA
     std::optional<double> engage_s;                    // --engage: the client starts here (pass clock)
     std::optional<std::pair<double, double>> measure;  // --measure: the error's stretch (pass clock)
-    std::string out = "bench-out";
+    std::string out;                                   // --out; empty: out/ beside this program
+    std::string backend;                               // --backend; empty: the backend built beside this program
     std::string passes_dir = BIRDCAGE_BENCH_PASSES_DIR;
     std::vector<std::string> extra_conf;  // --conf key=value: passed to every run as -C key=value
     birdcage::sim::MotorDynamics motor;   // --motor-*: the emulated motor (default: the variant's)
@@ -275,6 +281,8 @@ Options parse(int argc, char** argv) {
             o.out = value();
         } else if (arg == "--passes-dir") {
             o.passes_dir = value();
+        } else if (arg == "--backend") {
+            o.backend = value();
         } else if (arg == "--conf") {
             o.extra_conf.push_back(value());
         } else if (arg == "--motor-startup-delay") {
@@ -633,6 +641,27 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "tracking_bench: %s\n", e.what());
         return 2;
     }
+    // Beside this program: the build tree's layout (bench/ and src/hamlib/ under one build dir).
+    const std::string here = e2e::executable_directory();
+    if (options.backend.empty()) {
+        options.backend = here.empty()
+                              ? std::string()
+                              : (std::filesystem::path(here) / BIRDCAGE_BENCH_BACKEND).lexically_normal().string();
+    }
+    if (options.backend.empty() || !std::filesystem::is_regular_file(options.backend)) {
+        std::fprintf(
+            stderr, "tracking_bench: no backend at %s: name the libhamlib-winegard.so to preload with --backend FILE\n",
+            options.backend.empty() ? "(this program's directory is unknown)" : options.backend.c_str());
+        return 2;
+    }
+    e2e::use_backend_library(std::filesystem::absolute(options.backend).string());
+    if (options.out.empty()) {
+        if (here.empty()) {
+            std::fprintf(stderr, "tracking_bench: this program's directory is unknown: name one with --out DIR\n");
+            return 2;
+        }
+        options.out = here + "/out";
+    }
     std::vector<bench::Pass> passes;
     try {
         for (const std::string& name : options.passes) {
@@ -702,6 +731,7 @@ int main(int argc, char** argv) {
         "parallel%s\n",
         specs.size(), options.scale, options.scale, options.jobs,
         options.window_s > 0 ? (", window " + std::to_string(options.window_s) + " s around TCA").c_str() : "");
+    std::printf("backend %s, CSV into %s\n", e2e::backend_library().c_str(), options.out.c_str());
     if (options.engage_s || options.measure) {
         std::printf(
             "schedule: client engaged at %s, error measured over %s (pass clock, s)\n",

@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -34,8 +35,25 @@ namespace e2e {
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
+namespace {
+std::string& chosen_backend() {
+    static std::string path;
+    return path;
+}
+}  // namespace
+
 std::string backend_library() {
-    return BIRDCAGE_BACKEND_LIBRARY;
+    return chosen_backend().empty() ? BIRDCAGE_BACKEND_LIBRARY : chosen_backend();
+}
+
+void use_backend_library(std::string path) {
+    chosen_backend() = std::move(path);
+}
+
+std::string executable_directory() {
+    std::error_code error;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+    return error ? std::string() : self.parent_path().string();
 }
 
 std::map<std::string, std::string> preload_environment() {

@@ -19,8 +19,15 @@
 
 namespace e2e {
 
-// Path of the backend library under test (set by CMake).
+// Path of the backend library under test: the one this build made (set by CMake), unless a
+// program chose another with use_backend_library().
 std::string backend_library();
+// From now on every rotctld and rotctl this process starts preloads `path` instead (a benchmark's
+// --backend: a copied program measures the backend it is given).
+void use_backend_library(std::string path);
+// The directory of this process's executable (from /proc/self/exe), where a program of the build
+// tree finds what was built beside it; empty if it cannot be read.
+std::string executable_directory();
 // Environment that makes a stock Hamlib program load the backend: LD_PRELOAD (with the sanitizer
 // runtime first in a sanitizer build, which a non-instrumented rotctld needs).
 std::map<std::string, std::string> preload_environment();

@@ -295,10 +295,27 @@ extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
     return RIG_OK;
 }
 
+// The first 63 characters are all some clients show (Hamlib's netrotctl reads get_info into 64
+// bytes): the identity and the state lead, as Controller::describe() orders them, and a dish that
+// is not answering says so right after the identity, ahead of its last known state.
 extern "C" const char* winegard_get_info(ROT* rot) {
     WinegardPriv* priv = priv_of(rot);
-    priv->info = priv->service ? "Winegard " + priv->service->describe()
-                               : "Winegard " + std::string(profile(priv->options.variant).display_name) + " (not open)";
+    RotatorService* service = open_service(rot);
+    if (service == nullptr) {
+        priv->info = "Winegard " + dish_identity(profile(priv->options.variant), false) + ": not open";
+        return priv->info.c_str();
+    }
+    std::string text = service->describe();
+    if (!service->answering()) {
+        const std::string state = service->recovering() ? "RECOVERING" : "NOT ANSWERING";
+        const std::string identity = dish_identity(service->profile(), priv->options.detect) + ": ";
+        if (text.rfind(identity, 0) == 0) {
+            text.insert(identity.size(), state + "; last known: ");
+        } else {
+            text = state + "; " + text;
+        }
+    }
+    priv->info = "Winegard " + text;
     return priv->info.c_str();
 }
 

@@ -296,6 +296,41 @@ TEST_CASE("controller G2: unhomed axes refuse moves and say so") {
     }
 }
 
+// Hamlib's netrotctl (rotctl -m 2) reads get_info into 64 bytes: a client of rotctld sees the first
+// 63 characters of "Winegard " + describe(), so the identity and the state come first.
+TEST_CASE_METHOD(G2Bench, "controller: describe() leads with the dish and its state, then the details") {
+    REQUIRE(controller.initialize());
+    CHECK(controller.describe().rfind("Carryout G2: idle; [g2, 115200 baud, prompt MOT>]", 0) == 0);
+    REQUIRE(controller.set_target({200.0, 30.0}));
+    REQUIRE(controller.service());
+    CHECK(controller.describe().rfind("Carryout G2: moving; [g2, ", 0) == 0);
+
+    FakeG2 unhomed_dish;
+    unhomed_dish.homed = false;
+    FakeTransport unhomed_wire([&](const std::string& c) { return unhomed_dish.respond(c); });
+    Controller unhomed(unhomed_wire, options_for(VariantId::carryout_g2, clock));
+    REQUIRE(unhomed.initialize());
+    const std::string text = unhomed.describe();
+    CHECK(text.rfind("Carryout G2: axes NOT homed, idle; [g2, ", 0) == 0);
+    CHECK(text.find("reset (R 1) homes the axes") > text.find("[g2, "));
+}
+
+TEST_CASE("controller: every dish's identity and its longest leading state fit get_info's 63 characters") {
+    // The longest words a state can start with: the controller's, and the backend's for a dish
+    // that is not answering (src/hamlib/winegard_ops.cpp).
+    const std::vector<std::string> leading = {"not initialised", "axes NOT homed", "TV search ON", "homing",
+                                              "moving",          "idle",           "RECOVERING",   "NOT ANSWERING"};
+    for (const FirmwareProfile& p : all_profiles()) {
+        for (const bool detected : {false, true}) {
+            for (const std::string& state : leading) {
+                const std::string head = "Winegard " + dish_identity(p, detected) + ": " + state;
+                INFO(head);
+                CHECK(head.size() <= 63);
+            }
+        }
+    }
+}
+
 TEST_CASE_METHOD(G2Bench, "controller G2: a reboot seen during operation requires re-initialisation") {
     REQUIRE(controller.initialize());
     REQUIRE(controller.set_target({190, 50}));

@@ -39,9 +39,18 @@ void detect_and_drive(const AutoCase& c) {
             e2e::type_into(dish, typed);
         }
     });
-    const e2e::CommandResult info = rig.rotctl({"_"});  // stock NET rotctl shows the first 64 characters
+    // Stock NET rotctl reads `_` into 64 bytes (63 characters): the dish and its state are in them.
+    const e2e::CommandResult info = rig.rotctl({"_"});
     INFO(info.out << info.err);
-    CHECK(info.out.find("auto-detected") != std::string::npos);
+    CHECK(info.out.rfind("Winegard ", 0) == 0);
+    const std::size_t state = info.out.find("(auto-detected): ");
+    REQUIRE(state != std::string::npos);
+    // Whole, so inside the 63 characters. A 2003 Carryout at rest reads as not answering once its
+    // last answer is older than the service's max_position_age (it reports no position at rest).
+    const std::string after = info.out.substr(state + std::string("(auto-detected): ").size());
+    const bool known_state =
+        after.rfind("idle;", 0) == 0 || after.rfind("moving;", 0) == 0 || after.rfind("NOT ANSWERING;", 0) == 0;
+    CHECK(known_state);
     e2e::RotctldConnection client(rig.port());
     const std::string full = client.ask("_", 1);
     INFO(full);

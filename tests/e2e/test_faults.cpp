@@ -193,6 +193,7 @@ TEST_CASE("faults: while the dish reboots p gives its last reading, s BUSY and _
         },
         10s));
     const std::string info = client.ask("_", 1);
+    CHECK(info.rfind("Winegard Carryout G2: RECOVERING; last known: ", 0) == 0);  // in what netrotctl shows
     CHECK(info.find("RECOVERING for ") != std::string::npos);
     CHECK(info.find("rebooted") != std::string::npos);
     CHECK(last_reading(100.0, 30.0));

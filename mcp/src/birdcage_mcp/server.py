@@ -418,7 +418,8 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
         return (
             "Help me check a rotator that rotctld has just opened, one step at a time, and stop at the first problem.\n"
             "1. get_info: which model and manufacturer; for a Winegard dish, read the backend's description "
-            "(variant, 'initialised', whether the axes are homed, faults, the pointing mode).\n"
+            "(the variant and its state first: idle, moving, homing, axes NOT homed, RECOVERING, NOT ANSWERING; "
+            "then faults and the pointing mode).\n"
             "2. get_limits: the azimuth and elevation range. Tell me if it does not fit the mount I describe.\n"
             "3. get_status and get_position: the dish should be at rest. If the description says the axes are "
             "not homed, a Carryout G2 needs home (then wait until get_status no longer says BUSY).\n"

@@ -458,10 +458,23 @@ MovingAxes Controller::moving_axes() const {
 // The rate is the one the port was opened at. No word on the variant's usual rate: a dish that
 // answered runs at this one (or the line is a pty or a USB adapter that ignores it); the advice
 // belongs to a dish that does not answer, where the synchroniser gives it.
+std::string dish_identity(const FirmwareProfile& profile, bool auto_detected) {
+    return std::string(profile.display_name) + (auto_detected ? " (auto-detected)" : "");
+}
+
 std::string Controller::describe() const {
-    std::string text = std::string(profile_.display_name) + (options_.detect ? " (auto-detected)" : "") + " [" +
-                       std::string(profile_.short_name) + ", " +
-                       std::to_string(options_.line_baud > 0 ? options_.line_baud : profile_.baud) + " baud";
+    std::string text = dish_identity(profile_, options_.detect) + ": ";
+    if (!initialised_) {
+        text += "not initialised, ";
+    }
+    if (state_.unhomed) {
+        text += "axes NOT homed, ";
+    }
+    if (tracker_enabled_) {
+        text += "TV search ON, ";
+    }
+    text += homing_ ? "homing" : idle() ? "idle" : "moving";
+    text += "; [" + std::string(profile_.short_name) + ", " + std::to_string(line_baud()) + " baud";
     if (!session_.last_prompt().empty()) {
         text += ", prompt " + session_.last_prompt();
     }
@@ -469,9 +482,8 @@ std::string Controller::describe() const {
     if (!options_.detection_note.empty()) {
         text += "; " + options_.detection_note;
     }
-    text += initialised_ ? "; initialised" : "; not initialised";
     if (state_.unhomed) {
-        text += "; axes NOT homed (reset, R 1, homes them)";
+        text += "; reset (R 1) homes the axes";
     }
     if (tracker_enabled_) {
         text += "; WARNING: NVS " + std::to_string(profile_.tracker_disable_nvs_index) +

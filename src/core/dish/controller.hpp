@@ -61,6 +61,10 @@ struct ControllerOptions {
 // targets into commands and follows them; the wrap tracker keeps the mechanical azimuth; the
 // position reader turns replies into DishState. What is left here: initialisation, target
 // validation and clamping, leapfrog, homing, the idle checks, and describe().
+// The dish as describe() and the backend's get_info name it: the variant's display name (its
+// firmware, where the name carries it), and "(auto-detected)" when detection chose it.
+std::string dish_identity(const FirmwareProfile& profile, bool auto_detected);
+
 class Controller {  // single-threaded; RotatorService calls it from one worker thread
 public:
     Controller(Transport& transport, ControllerOptions options);
@@ -121,6 +125,10 @@ public:
     using LegMotion = birdcage::LegMotion;
     MovingAxes moving_axes() const;
     const FirmwareProfile& profile() const { return profile_; }
+    // dish_identity(), then the dish's state (the most urgent first: not initialised, axes NOT
+    // homed, the TV search on, then homing, moving or idle), then the details. The identity and
+    // the state lead because some clients see only the start: Hamlib's netrotctl (rotctl -m 2)
+    // reads get_info into 64 bytes, 63 characters.
     std::string describe() const;
     // The cable-wrap state: travel, the mechanical azimuth estimate and how its branch is known
     // (the start assumption), the target's branch. Not part of describe(); the transcript golden

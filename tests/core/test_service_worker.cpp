@@ -7,6 +7,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
@@ -411,4 +413,125 @@ TEST_CASE("service worker: the client's lead is learnt from the position p last 
     REQUIRE(learnt);
     // Each gap to `p` is 2 leads (a re-send's a little more); to the dish now, a re-send's is 1.1 deg.
     CHECK(*learnt == Approx(lead).margin(0.6));
+}
+
+namespace {
+
+// A 2003 Carryout console (docs/firmware.md 8): no position query at rest, `g az el` in `target`
+// with a live line at the target. Its prompts are undocumented: one reading prints `TRK>` and
+// `TARGET>` after every line, the other prints none and answers only `?` with its listing.
+struct Fake2003 {
+    bool prints_prompts = true;
+    bool silent = false;  // nothing comes back (the RX pair cut)
+    bool in_target = false;
+    std::string live_line;  // the last `g`'s line at its target
+
+    std::vector<std::string> respond(const std::string& c) {
+        if (silent) {
+            return {};
+        }
+        std::vector<std::string> out{c + "\r\n"};
+        if (c == "target") {
+            in_target = true;
+        } else if (c == "q") {
+            in_target = false;
+        } else if (c == "?") {
+            out.emplace_back(in_target ? "g - Go to <az> <el>\r\n" : "target - Send dish to AZ/EL\r\n");
+        } else if (c.rfind("g ", 0) == 0 && in_target) {
+            double az = 0, el = 0;
+            REQUIRE(std::sscanf(c.c_str(), "g %lf %lf", &az, &el) == 2);
+            live_line = "az = " + std::to_string(std::lround(az * 100)) +
+                        "   el = " + std::to_string(std::lround(el * 100)) + "\r\n";
+            if (!prints_prompts) {
+                return out;  // the live line comes later (live_line)
+            }
+            out.push_back(live_line);
+        }
+        if (prints_prompts) {
+            out.emplace_back(in_target ? "TARGET>" : "TRK>");
+        }
+        return out;
+    }
+};
+
+struct HandDriven2003 {
+    Fake2003 dish;
+    FakeTransport* wire = nullptr;
+    Clock::time_point now = Clock::time_point{} + 1h;
+    ServiceMailbox mailbox;
+    std::unique_ptr<ServiceWorker> worker;
+
+    explicit HandDriven2003(bool prints_prompts) {
+        dish.prints_prompts = prints_prompts;
+        auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return dish.respond(c); });
+        wire = transport.get();
+        ControllerOptions options{};
+        options.variant = VariantId::carryout2003;
+        options.leapfrog = false;
+        options.boot_timeout = 200ms;
+        options.clock = DishClock::manual([this] { return now; });
+        worker = std::make_unique<ServiceWorker>(mailbox, std::move(transport), options, ServiceTiming{},
+                                                 TransportFactory{});
+        REQUIRE(worker->start());
+        mailbox.open();
+    }
+    // Steps the worker through `dish_time` of the dish's clock.
+    void run_for(Clock::duration dish_time) {
+        const Clock::time_point until = now + dish_time;
+        for (int i = 0; i < 1000 && now < until; ++i) {
+            now += std::max<Clock::duration>(worker->step(), 1ms);
+        }
+    }
+};
+
+}  // namespace
+
+// Silence is what "not answering" means: a dish that has no position query at rest but answers its
+// console is idle, and its last known position stays; one that prints nothing is not answering.
+TEST_CASE(
+    "service worker: a 2003 Carryout at rest answers a poke that moves nothing, and only silence is not answering") {
+    const bool prints_prompts = GENERATE(true, false);
+    INFO((prints_prompts ? "prompts after every line" : "no prompts, `?` answers"));
+    HandDriven2003 service(prints_prompts);
+    const std::size_t opened = service.wire->commands().size();
+
+    service.run_for(10s);
+    ServiceView view = service.mailbox.view();
+    INFO(view.dish.last_error.message);
+    CHECK(view.dish.last_error);  // the idle polls were answered
+    CHECK_FALSE(view.dish.recovering);
+    CHECK(view.idle);
+    CHECK_FALSE(view.dish.position);  // none read nor commanded: p has none to give
+    const std::vector<std::string> idle_polls(service.wire->commands().begin() + static_cast<long>(opened),
+                                              service.wire->commands().end());
+    CHECK(idle_polls.size() >= 9);
+    const std::string poke = prints_prompts ? "" : "?";
+    CHECK(std::count(idle_polls.begin(), idle_polls.end(), poke) >= 9);
+    for (const std::string& sent : idle_polls) {
+        CHECK((sent.empty() || sent == "?"));  // never a word that moves, nor one that leaves `target`
+    }
+
+    // After a move the live line's position is the one known, and stays while the dish answers.
+    REQUIRE(service.mailbox.post_target({150, 40}, service.now));
+    service.run_for(100ms);
+    if (!prints_prompts) {
+        service.wire->push_input(service.dish.live_line);
+    }
+    service.run_for(10s);
+    view = service.mailbox.view();
+    CHECK(view.dish.last_error);
+    CHECK(view.idle);
+    REQUIRE(view.dish.position);
+    CHECK(view.dish.position->az == Approx(150.0));
+    CHECK(view.dish.position->el == Approx(40.0));
+
+    // Cut the line: the pokes draw nothing, which is an error, and two in a row start a recovery.
+    service.dish.silent = true;
+    service.run_for(1500ms);
+    view = service.mailbox.view();
+    CHECK((!view.dish.last_error || view.dish.recovering));
+    service.run_for(3s);
+    CHECK(service.mailbox.view().dish.recovering);
+    REQUIRE(service.mailbox.view().dish.position);
+    CHECK(service.mailbox.view().dish.position->az == Approx(150.0));
 }

@@ -296,6 +296,34 @@ Result<AzEl> Controller::query_position() {
     return position;
 }
 
+Status Controller::poll_at_rest() {
+    if (!profile_.position_query.empty() || homing_) {
+        return query_position().status;
+    }
+    // A prompt ends a reply; where prompts are unknown a reply would also end on the quiet gap with
+    // nothing in it, as if answered: only a prompt or a line of text counts.
+    const ReplyComplete spoke = [](Span<const std::string> lines) { return !lines.empty(); };
+    constexpr std::string_view pokes[] = {"", "?"};
+    for (const std::string_view poke : pokes) {
+        if (sign_of_life_poke_ && *sign_of_life_poke_ != poke) {
+            continue;
+        }
+        const auto reply = session_.transact(poke, query_timeout, spoke);
+        if (!reply.value.prompt.empty() || !reply.value.lines.empty()) {
+            sign_of_life_poke_ = poke;
+            return reply.status;  // answered (a fault line in the answer is still reported)
+        }
+        if (!reply && reply.status.code != Errc::timeout) {
+            return reply.status;
+        }
+    }
+    const std::string asked = !sign_of_life_poke_           ? "a bare line ending nor to ?"
+                              : sign_of_life_poke_->empty() ? "a bare line ending"
+                                                            : "?";
+    return {Errc::timeout, "no answer to " + asked + " within " + std::to_string(query_timeout.count()) +
+                               " ms (this dish cannot report its position at rest)"};
+}
+
 // The first reading after initialisation may be of a dish still moving: a search stopped just
 // before brakes for seconds, a boot move may still run. A leg sent then is misjudged (the firmware
 // runs it only once the axis has stopped, so it looks stopped short, and the azimuth mapping

@@ -90,6 +90,12 @@ public:
     // The firmware's fault line (`AZ MOTOR STALLED`) that ended the last leg, once; empty if none.
     std::string take_fault() { return std::exchange(state_.fault, std::string()); }
     Result<AzEl> query_position();  // asks the dish now; updates last_position(); az in [0, 360)
+    // The idle poll: whether the console answers, and the position where the variant can report it
+    // at rest (query_position()). Where it cannot (the 2003 Carryout, docs/firmware.md 8.3) the
+    // console is asked for a sign of life without a word that moves: a bare line ending, or `?`
+    // where the line ending draws nothing (the synchroniser's two pokes); any text it prints is an
+    // answer, and last_position() stays the last one known. Ok when the console answered.
+    Status poll_at_rest();
     // Validates, clamps, leap-frogs, and has the move driver queue legs. No I/O.
     // `target.az` may be 0..360 or -180..180 (any finite value is taken modulo 360); the backend
     // chooses the mechanical branch (WrapTracker::choose_branch()). `az_rate_dps` is the caller's
@@ -192,6 +198,9 @@ private:
         Clock::time_point sent_at{};
     };
     std::optional<HomingRun> homing_;
+    // The poke that drew an answer from a console without a position query at rest ("" or "?"),
+    // once one has; until then poll_at_rest() tries the line ending, then `?`.
+    std::optional<std::string_view> sign_of_life_poke_;
     bool tracker_enabled_ = false;  // G2 NVS 20 "Disable Tracker Proc?" read FALSE (describe())
     bool tracker_checked_ = false;
     std::chrono::milliseconds boot_budget_{0};  // wait_for_boot()'s bound for this initialisation

@@ -88,9 +88,12 @@ Result<AzEl> RotatorService::position() {
         return {AzEl{}, Status{Errc::not_homed, "the dish's axes are not homed; reset (R 1) homes them"}};
     }
     if (!dish.position) {
-        const Status why =
-            dish.last_error ? Status{Errc::not_initialised, "no position read from the dish yet"} : dish.last_error;
-        return {AzEl{}, why};
+        // A console that answers without reporting its position at rest has none until a move.
+        const Status none = worker_.profile().position_query.empty()
+                                ? Status{Errc::unsupported,
+                                         "this dish cannot report its position at rest and none has been commanded yet"}
+                                : Status{Errc::not_initialised, "no position read from the dish yet"};
+        return {AzEl{}, dish.last_error ? none : dish.last_error};
     }
     const AzEl reported = modelled_position(worker_.profile(), *dish.position, dish.moving_axes, worker_.clock().now());
     mailbox_.note_reported(reported);

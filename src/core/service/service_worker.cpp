@@ -70,10 +70,10 @@ Status ServiceWorker::start() {
     read_lnb_supply_at_open();
     // A dish that answers its menus but not a position query is still usable for moves; the error
     // is published and reported by position() until a poll succeeds.
-    const Result<AzEl> first = controller_->query_position();
+    const Status first = controller_->poll_at_rest();
     last_poll_ = options_.clock.now();
     published_.last_answer_at = Clock::now();
-    publish(first.status, true);
+    publish(first, true);
     return Status::ok();
 }
 
@@ -182,7 +182,7 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
     leg_overhead_.finished(now);
     if (out.status && now - last_poll_ >= timing_.idle_poll_period) {
         out.talked = true;
-        out.status = controller_->query_position().status;
+        out.status = controller_->poll_at_rest();
         last_poll_ = now;
     }
     return out;

@@ -7,7 +7,7 @@
 //
 //   reboot_bench [--variants hal000,hal205] [--boot-moves park,home-return,none] [--runs N]
 //                [--scale K] [--pass NAME] [--from S] [--reboot-at S] [--to S] [--late-from S]
-//                [--no-reboot]
+//                [--no-reboot] [--backend FILE]
 //
 // Per run it measures, on the emulator's true position and its console traffic:
 //   * the wall time from the dish's ready line (`NoGPS`) to the command that stops its TV search
@@ -27,6 +27,9 @@
 // INVENTED boot move, sim/src/variants.cpp) is short: sso-85 rising through AZ 17-25 toward the
 // culmination, so the reboot's cost is the boot and the search, not a turn of the cable wrap.
 // Real speed is --scale 1 (the default): a run takes the window's length in real time.
+// --backend FILE is the backend every rotctld preloads (default: the libhamlib-winegard.so built
+// beside this program, found from where the program is; it refuses to start when there is none, so
+// a copy of the program measures the backend it is given).
 #include "gpredict_client.hpp"
 #include "harness.hpp"
 #include "pass.hpp"
@@ -36,6 +39,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -76,6 +80,7 @@ struct Settings {
     double from = 300.0, reboot_at = 370.0, to = 440.0;  // pass clock, seconds
     double late_from = 400.0;                            // every reading is back on the satellite by then
     bool reboot = true;
+    std::string backend;  // --backend; empty: the backend built beside this program
 };
 
 // Console traffic with the wall time it crossed at, from the emulator's console thread.
@@ -278,10 +283,12 @@ Settings parse(int argc, char** argv) {
             s.to = std::stod(value());
         } else if (arg == "--no-reboot") {
             s.reboot = false;
+        } else if (arg == "--backend") {
+            s.backend = value();
         } else {
             throw std::runtime_error("unknown argument " + arg +
                                      " (--variants, --boot-moves, --runs, --scale, --pass, --from, --reboot-at, --to,"
-                                     " --late-from, --no-reboot)");
+                                     " --late-from, --no-reboot, --backend)");
         }
     }
     return s;
@@ -291,7 +298,23 @@ Settings parse(int argc, char** argv) {
 
 int main(int argc, char** argv) {
     try {
-        const Settings s = parse(argc, argv);
+        Settings s = parse(argc, argv);
+        // Beside this program: the build tree's layout (bench/ and src/hamlib/ under one build dir).
+        if (s.backend.empty()) {
+            const std::string here = e2e::executable_directory();
+            s.backend = here.empty()
+                            ? std::string()
+                            : (std::filesystem::path(here) / BIRDCAGE_BENCH_BACKEND).lexically_normal().string();
+        }
+        if (s.backend.empty() || !std::filesystem::is_regular_file(s.backend)) {
+            std::fprintf(
+                stderr,
+                "reboot_bench: no backend at %s: name the libhamlib-winegard.so to preload with --backend FILE\n",
+                s.backend.empty() ? "(this program's directory is unknown)" : s.backend.c_str());
+            return 2;
+        }
+        e2e::use_backend_library(std::filesystem::absolute(s.backend).string());
+        std::fprintf(stderr, "reboot_bench: backend %s\n", e2e::backend_library().c_str());  // stdout: the table
         std::printf(
             "variant boot_moves run ready_after_s ready_to_stop_s rms_deg available_deg before_deg after_deg "
             "late_deg max_deg back_after_s error_streak disengaged\n");

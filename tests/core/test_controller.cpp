@@ -422,6 +422,39 @@ TEST_CASE("controller HAL 2.05: moves without a prompt, polling AZ/EL replies") 
     CHECK(controller.last_position()->el == Approx(36));
 }
 
+// Steering on a slow mount re-aims more often than a leg ends (near a culmination the azimuth runs
+// at 2 deg/s on a Trav'ler that takes seconds per leg): whatever the count of re-aims, the axis not
+// in flight moves next, or the azimuth's legs run back to back while the elevation waits.
+TEST_CASE("controller HAL 2.05: re-aims during an azimuth leg send the elevation next") {
+    FakeTravler dish;
+    dish.step_per_query = 0.5;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    Controller controller(wire, options_for(VariantId::travler_hal205, clock));
+    REQUIRE(controller.initialize());
+    const int re_aims = GENERATE(1, 2, 3);
+    const std::size_t mark = wire.commands().size();
+    REQUIRE(controller.set_target({100, 30}));  // azimuth only: 10 deg at 0.5 deg per poll
+    clock.now += 100ms;
+    REQUIRE(controller.service());
+    REQUIRE(since(wire, mark).front() == "a 0 100.00");
+    for (int k = 1; k <= re_aims; ++k) {
+        clock.now += 100ms;
+        REQUIRE(controller.set_target({100.0 + k, 30.0 + k}));
+        REQUIRE(controller.service());
+    }
+    run_until_idle(controller, clock);
+    Commands moves;
+    for (const std::string& c : since(wire, mark)) {
+        if (c.rfind("a ", 0) == 0) {
+            moves.push_back(c);
+        }
+    }
+    INFO(re_aims << " re-aims");
+    REQUIRE(moves.size() >= 2);
+    CHECK(moves[1].rfind("a 1 ", 0) == 0);
+}
+
 TEST_CASE("controller HAL 2.05: an axis that arrived within tolerance stays modelled until a reading shows it still") {
     FakeTravler dish;
     dish.step_per_query = 0.15;

@@ -105,7 +105,11 @@ void AxisLegDriver::plan(AzEl wanted, AzEl command, const std::optional<AzEl>& p
     el_leg.axis = Axis::elevation;
     el_leg.target = command;
     // Alternate which axis goes first so neither starves the other (the upstream v2.0 clients do the same, docs/firmware.md §3.4, §3.6).
-    bool az_first = move_count_ % 2 == 0;
+    // A leg in flight decides: the other axis goes next. Steering re-aims whenever the satellite is a
+    // deadband past the aim, and on a slow mount near a culmination that happens more often than a
+    // leg ends, so alternating per plan let the azimuth's legs run back to back while the elevation
+    // waited (a Trav'ler 7 deg low for 20 s at a 62 deg culmination, docs/benchmarks.md).
+    bool az_first = in_flight_ ? in_flight_->axis != Axis::azimuth : move_count_ % 2 == 0;
     if (std::exchange(farther_axis_first_, false) && mech_az && last) {
         // After a recovery the dish may be far off on one axis only (a Trav'ler's calibration can
         // leave it at AZ 0, 19 deg from the satellite and 2 deg below it): the axis farther off on

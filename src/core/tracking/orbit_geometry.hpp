@@ -135,7 +135,8 @@ struct Evaluator {
     //
     // Where the satellite is inside the client's limits the box's boundary is found here by secant
     // steps, and the bisection is replayed against it: where it stops differs from the boundary by
-    // up to half a second, which at 0.5° is a tenth of the lead. The fit needs residuals that move
+    // up to a second either way (its last step evaluated is a whole cycle), a fifth of the lead at
+    // 0.5° where the satellite covers 0.1°/s. The fit needs residuals that move
     // smoothly with the orbit, so it passes `search_offset`, that difference as it was at the start
     // of its step, and gets the new one back in `new_search_offset`.
     AzEl look_ahead(double t, double threshold, double set_time, double min_el, double max_el,

@@ -257,36 +257,6 @@ TEST_CASE("pointing: a dish held on its floor: the lead is read from the client'
     CHECK(*predictor.lead_threshold_deg() == Approx(5.0).margin(0.3));
 }
 
-TEST_CASE("pointing: a lead-free client stalled once: no orbit is trusted on its late target's gap") {
-    // A client sending where the satellite is every second, with a dish on it (no lead to learn),
-    // is held up for 6 s (a loaded machine schedules it late) while the dish stands where it last
-    // read it; then it sends where the satellite is now, several times over as it catches up. The
-    // 3 deg gap is the wait's motion, not a threshold: with the pass model no orbit is trusted on
-    // the lead it shows, so the dish stops at the horizon instead of running on along a fit.
-    const Linear sat{100.0, 30.0, 0.5, 0.2};
-    const bool pass_model = GENERATE(false, true);
-    INFO((pass_model ? "with the pass model" : "local estimate only"));
-    PredictorSettings settings;
-    settings.use_pass_model = pass_model;
-    TargetPredictor predictor(settings);
-    auto target = [&](double t) { return AzEl{two_decimals(sat.at(t).az), two_decimals(sat.at(t).el)}; };
-    for (int k = 0; k <= 33; ++k) {
-        predictor.observe(at(k), target(k), sat.at(k));
-    }
-    REQUIRE_FALSE(predictor.lead_threshold_deg().has_value());
-    const AzEl dish_before_stall = sat.at(33.0);
-    const double resumed = 39.0;
-    for (int repeat = 0; repeat < 6; ++repeat) {
-        predictor.observe(at(resumed + 0.1 * repeat), target(resumed), dish_before_stall);
-    }
-    predictor.observe(at(resumed + 0.7), target(resumed + 1.0), dish_before_stall);
-    INFO(predictor.describe());
-    CHECK_FALSE(predictor.pass_model_in_use());
-    // The stream stopped: past the horizon the dish is held, not carried on.
-    const Prediction later = must_predict(predictor, resumed + settings.max_extrapolation_s + 1.0);
-    CHECK_FALSE(later.moving);
-}
-
 TEST_CASE("pointing: a curved azimuth is followed better than a straight line through the last two targets") {
     auto az_of = [](double t) { return 100.0 + 0.3 * t + 0.01 * t * t; };
     auto el_of = [](double t) { return 40.0 + 0.1 * t; };

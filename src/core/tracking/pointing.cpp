@@ -88,8 +88,6 @@ void TargetPredictor::reset() {
     // program with another threshold (or none).
     lead_threshold_.reset();
     lead_observations_.clear();
-    lead_backed_ = false;
-    intervals_.clear();
     half_step_.reset();
     half_steps_.clear();
     held_ = false;
@@ -116,7 +114,7 @@ void TargetPredictor::restart(double t, AzEl target, bool keep_orbit) {
     // prediction back to it.
     if (!keep_orbit) {
         orbit_.clear();
-        orbit_.add(t, target, orbit_lead());
+        orbit_.add(t, target, lead_threshold_);
     }
 }
 
@@ -173,7 +171,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // The orbit sees every target first: whether it expected this one decides what a restart of
     // the local estimate below forgets.
     const bool orbit_trusted = settings_.use_pass_model && orbit_.trusted();
-    const bool orbit_expected = settings_.use_pass_model && orbit_.add(t, target, orbit_lead());
+    const bool orbit_expected = settings_.use_pass_model && orbit_.add(t, target, lead_threshold_);
     // A restart of the local estimate (a north crossing's jump in azimuth, a target it did not
     // expect) forgets the orbit only when a trusted orbit did not expect the target either: an orbit
     // still gathering targets sorts out on its own what is not one pass (OrbitModel::judge()).
@@ -186,17 +184,6 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     const double az = last.az + azimuth_difference(last.az, target.az);
     const bool repeated =
         std::fabs(az - last.az) < same_angle_degrees && std::fabs(target.el - last.el) < same_angle_degrees;
-    // The longest recent interval stands for the client's cadence: a threshold client's own
-    // silences stay within a few of it as the pass goes on.
-    bool stalled = false;
-    if (!repeated && t > last.t) {
-        stalled = intervals_.size() >= min_cadence_intervals &&
-                  t - last.t > stall_cadence_factor * *std::max_element(intervals_.begin(), intervals_.end());
-        intervals_.push_back(t - last.t);
-        if (intervals_.size() > cadence_intervals_kept) {
-            intervals_.pop_front();
-        }
-    }
     // A target after a held one cannot give a rate: the client only now started moving.
     if (repeated || t - last.t > settings_.max_gap_s || t <= last.t || held_) {
         held_ = repeated;
@@ -294,7 +281,6 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
             // larger than twice the lead, never smaller, and a lead learned too large would keep
             // the dish trailing (the client then re-sends every cycle).
             lead_observations_.push_back(threshold_obs);
-            lead_backed_ = lead_backed_ || dish_on_limit || !stalled;
             if (lead_observations_.size() > lead_observations_kept) {
                 lead_observations_.pop_front();
             }
@@ -341,7 +327,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     // The orbit saw this target with the lead learnt before it: with two unclamped targets and a
     // clamped one the lead this target's gap teaches may already decide whether it is followed.
     if (settings_.use_pass_model) {
-        orbit_.relead(orbit_lead());
+        orbit_.relead(lead_threshold_);
     }
 }
 

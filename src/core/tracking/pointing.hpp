@@ -184,19 +184,6 @@ private:
     bool held_ = false;                     // the last target repeated the one before: the client holds still
     std::optional<double> lead_threshold_;  // learned client threshold, degrees (per axis)
     std::deque<double> lead_observations_;
-    // The client's recent intervals between targets: its own cadence. A target after far longer
-    // than it is the client held up (a late-scheduled process), whose gap to the dish is the
-    // satellite's motion over the wait rather than the client's lead.
-    std::deque<double> intervals_;
-    static constexpr std::size_t cadence_intervals_kept = 8;
-    static constexpr std::size_t min_cadence_intervals = 4;
-    static constexpr double stall_cadence_factor = 3.0;
-    // Whether a gap not made by a held-up client (or read against a dish held on its limit) backs
-    // the learnt lead.
-    bool lead_backed_ = false;
-    // The lead the orbit is given: an orbit judged again with the lead of a held-up client's one gap
-    // could be trusted on it and followed past the stream's end.
-    std::optional<double> orbit_lead() const { return lead_backed_ ? lead_threshold_ : std::nullopt; }
     // Half the client's step between targets sent apart (on the faster axis), a low median.
     std::optional<double> half_step_;
     std::deque<double> half_steps_;

@@ -483,13 +483,13 @@ MovingAxes Controller::moving_axes() const {
     return driver_->moving_axes();
 }
 
-// The rate is the one the port was opened at. No word on the variant's usual rate: a dish that
-// answered runs at this one (or the line is a pty or a USB adapter that ignores it); the advice
-// belongs to a dish that does not answer, where the synchroniser gives it.
 std::string dish_identity(const FirmwareProfile& profile, bool auto_detected) {
     return std::string(profile.display_name) + (auto_detected ? " (auto-detected)" : "");
 }
 
+// The rate is the one the port was opened at. No word on the variant's usual rate: a dish that
+// answered runs at this one (or the line is a pty or a USB adapter that ignores it); the advice
+// belongs to a dish that does not answer, where the synchroniser gives it.
 std::string Controller::describe() const {
     std::string text = dish_identity(profile_, options_.detect) + ": ";
     if (!initialised_) {

@@ -25,32 +25,54 @@ using namespace std::chrono_literals;
 
 namespace {
 
-// A G2 behind a scripted console, its service parts, and a clock the test advances.
-struct HandDrivenService {
-    FakeG2 g2;
+// A scripted dish behind a fake wire, the service's mailbox and worker, and a clock the test
+// advances. The dish comes first so that it outlives the worker that talks to it.
+template <class Dish>
+struct HandDriven {
+    Dish dish;
     FakeTransport* wire = nullptr;
     Clock::time_point now = Clock::time_point{} + 1h;
     ServiceMailbox mailbox;
     std::unique_ptr<ServiceWorker> worker;
 
-    // `lnb_polarity`: the tuner's `dis` value (FakeG2::lnb_polarity), none: it lists nothing.
-    explicit HandDrivenService(std::optional<std::string> lnb_polarity = std::nullopt) {
-        g2.step_per_query = 7.0;  // a move takes several polls, so posts can land mid-move
-        g2.lnb_polarity = std::move(lnb_polarity);
-        auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return respond(c); });
-        wire = transport.get();
+    // No leapfrog (each test sees its own moves), a short boot wait, and the test's clock.
+    ControllerOptions options_for(VariantId variant) {
         ControllerOptions options{};
-        options.variant = VariantId::carryout_g2;
+        options.variant = variant;
         options.leapfrog = false;
         options.boot_timeout = 200ms;
         options.clock = DishClock::manual([this] { return now; });
+        return options;
+    }
+    void step() {
+        const Clock::duration wait = worker->step();
+        now += std::max<Clock::duration>(wait, 1ms);
+    }
+    // Steps the worker through `dish_time` of the dish's clock.
+    void run_for(Clock::duration dish_time) {
+        const Clock::time_point until = now + dish_time;
+        for (int i = 0; i < 1000 && now < until; ++i) {
+            step();
+        }
+    }
+};
+
+// A G2 behind a scripted console.
+struct HandDrivenService : HandDriven<FakeG2> {
+    // `lnb_polarity`: the tuner's `dis` value (FakeG2::lnb_polarity), none: it lists nothing.
+    explicit HandDrivenService(std::optional<std::string> lnb_polarity = std::nullopt) {
+        dish.step_per_query = 7.0;  // a move takes several polls, so posts can land mid-move
+        dish.lnb_polarity = std::move(lnb_polarity);
+        auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return respond(c); });
+        wire = transport.get();
         // The same dish again over a new port after a hang-up (the adapter plugged back).
         TransportFactory reopen = [this]() -> Result<std::unique_ptr<Transport>> {
             auto again = std::make_unique<FakeTransport>([this](const std::string& c) { return respond(c); });
             wire = again.get();
             return {std::move(again), Status::ok()};
         };
-        worker = std::make_unique<ServiceWorker>(mailbox, std::move(transport), options, ServiceTiming{}, reopen);
+        worker = std::make_unique<ServiceWorker>(mailbox, std::move(transport), options_for(VariantId::carryout_g2),
+                                                 ServiceTiming{}, reopen);
         PointingOptions pointing;
         pointing.mode = PointingMode::none;
         worker->set_pointing(pointing);
@@ -62,12 +84,12 @@ struct HandDrivenService {
     bool reboot_at_next_command = false;
     std::vector<std::string> respond(const std::string& command) {
         if (std::exchange(reboot_at_next_command, false)) {
-            g2.menu = "TRK";
-            g2.az = g2.target_az = 0.0;
-            g2.el = g2.target_el = 65.0;
+            dish.menu = "TRK";
+            dish.az = dish.target_az = 0.0;
+            dish.el = dish.target_el = 65.0;
             return {command + "\r\n", "Bootloader v1.01\r\n", "Boot Complete\r\nTRK>"};
         }
-        return g2.respond(command);
+        return dish.respond(command);
     }
     // Steps until the worker has met the reboot and entered its recovery.
     void step_into_recovery() {
@@ -78,10 +100,6 @@ struct HandDrivenService {
         REQUIRE(mailbox.view().dish.recovering);
     }
 
-    void step() {
-        const Clock::duration wait = worker->step();
-        now += std::max<Clock::duration>(wait, 1ms);
-    }
     // Steps until a recovery under way has ended.
     void recover() {
         for (int i = 0; i < 200 && mailbox.view().dish.recovering; ++i) {
@@ -153,8 +171,8 @@ TEST_CASE("service worker: every interleaving of P, S and worker steps ends as t
                 // already sent; every leg queued or posted before the stop is dropped.
                 CHECK(service.moves_sent() == moves_at_last_stop);
             } else {
-                CHECK(service.g2.az == Approx(last.target.az));
-                CHECK(service.g2.el == Approx(last.target.el));
+                CHECK(service.dish.az == Approx(last.target.az));
+                CHECK(service.dish.el == Approx(last.target.el));
             }
         }
     }
@@ -217,8 +235,8 @@ TEST_CASE("service worker: R then P, in any timing, homes first and then goes to
             if (home_first) {
                 // Measured through rotctld: a P taken in the same step as the home was dropped by it.
                 CHECK(last_az_move > home_end);
-                CHECK(service.g2.az == Approx(target.az));
-                CHECK(service.g2.el == Approx(target.el));
+                CHECK(service.dish.az == Approx(target.az));
+                CHECK(service.dish.el == Approx(target.el));
             } else {
                 CHECK(last_az_move < home_end);  // nothing of the target before the home survives it
             }
@@ -263,8 +281,8 @@ TEST_CASE("service worker: while the dish reboots the last reading stays and P i
     CHECK(recovered.position->el == Approx(65.0));
     CHECK(service.moves_sent() == moves_before);  // the target is resumed by the steps that follow
     service.drain();
-    CHECK(service.g2.az == Approx(250.0));
-    CHECK(service.g2.el == Approx(65.0));
+    CHECK(service.dish.az == Approx(250.0));
+    CHECK(service.dish.el == Approx(65.0));
 }
 
 TEST_CASE("service worker: S while the dish reboots drops the target posted before it") {
@@ -277,8 +295,8 @@ TEST_CASE("service worker: S while the dish reboots drops the target posted befo
     service.drain();
     CHECK(service.mailbox.view().dish.recoveries == 1);
     CHECK(service.moves_sent() == moves_before);
-    CHECK(service.g2.az == Approx(0.0));
-    CHECK(service.g2.el == Approx(65.0));
+    CHECK(service.dish.az == Approx(0.0));
+    CHECK(service.dish.el == Approx(65.0));
 }
 
 // After rotctld restarts, the dish may still be at 13 V: the LNB supply the backend reports is the
@@ -454,33 +472,15 @@ struct Fake2003 {
     }
 };
 
-struct HandDriven2003 {
-    Fake2003 dish;
-    FakeTransport* wire = nullptr;
-    Clock::time_point now = Clock::time_point{} + 1h;
-    ServiceMailbox mailbox;
-    std::unique_ptr<ServiceWorker> worker;
-
+struct HandDriven2003 : HandDriven<Fake2003> {
     explicit HandDriven2003(bool prints_prompts) {
         dish.prints_prompts = prints_prompts;
         auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return dish.respond(c); });
         wire = transport.get();
-        ControllerOptions options{};
-        options.variant = VariantId::carryout2003;
-        options.leapfrog = false;
-        options.boot_timeout = 200ms;
-        options.clock = DishClock::manual([this] { return now; });
-        worker = std::make_unique<ServiceWorker>(mailbox, std::move(transport), options, ServiceTiming{},
-                                                 TransportFactory{});
+        worker = std::make_unique<ServiceWorker>(mailbox, std::move(transport), options_for(VariantId::carryout2003),
+                                                 ServiceTiming{}, TransportFactory{});
         REQUIRE(worker->start());
         mailbox.open();
-    }
-    // Steps the worker through `dish_time` of the dish's clock.
-    void run_for(Clock::duration dish_time) {
-        const Clock::time_point until = now + dish_time;
-        for (int i = 0; i < 1000 && now < until; ++i) {
-            now += std::max<Clock::duration>(worker->step(), 1ms);
-        }
     }
 };
 

@@ -704,3 +704,100 @@ TEST_CASE("orbit model: Gpredict's own lead is kept when two unclamped targets a
         });
     }
 }
+
+namespace {
+
+// The predictor fed by the Gpredict-like client, the dish following the predictor (clamped to the
+// G2's 18-65 deg) and read back by the client each second, every reading noted as `p` answered.
+struct FollowedRun {
+    std::optional<double> lead;  // the lead in use at the end of the pass
+    double lowest_lead = 1e9;    // the lowest lead in use while there was one
+    Errors followed;             // the prediction against the truth, orbit in use, 20-60 deg
+    std::string description;
+};
+
+FollowedRun run_followed(const TruePass& pass, double latitude, double threshold, bool look_ahead,
+                         bool note_every_reading, bool gaps = true) {
+    PredictorSettings settings;
+    settings.orbit.latitude_deg = latitude;
+    TargetPredictor predictor(settings);
+    predictor.set_dish_limits(18.0, 65.0);
+    GpredictLikeClient client(pass, threshold, 18.0, 65.0, look_ahead);
+    AzEl dish{client.aos_az(), 18.0};
+    FollowedRun run;
+    for (double now = pass.rise() - 60.0; now < client.end(); now += 1.0) {
+        const AzEl read_back = dish;
+        if (note_every_reading) {
+            predictor.note_reported(at(now), read_back);
+        }
+        if (const auto sent = client.tick(now, read_back)) {
+            predictor.observe(at(sent->arrival), sent->target, gaps ? std::optional<AzEl>(read_back) : std::nullopt);
+        }
+        if (const auto p = predictor.predict(at(now + 1.0))) {
+            dish = {p->position.az, std::clamp(p->position.el, 18.0, 65.0)};
+        }
+        if (const auto lead = predictor.lead_threshold_deg()) {
+            run.lowest_lead = std::min(run.lowest_lead, *lead);
+        }
+        const AzEl truth = pass.at(now + 1.0);
+        if (predictor.pass_model_in_use() && truth.el > 20.0 && truth.el < 60.0) {
+            run.followed.add(sky_angle(predictor.predict(at(now + 1.0))->position, truth));
+        }
+    }
+    run.lead = predictor.lead_threshold_deg();
+    run.description = predictor.describe();
+    return run;
+}
+
+}  // namespace
+
+TEST_CASE("orbit model: a lead the targets fit is refuted by Gpredict's send rule, at 0.5 deg") {
+    // A client without look-ahead whose gaps teach nothing (the held-out pass in the benchmark:
+    // re-sends under 2 s apart are skipped) has its lead fitted with the orbit, and a few targets
+    // fit a wrong lead with a wrong altitude: here 0.8-1.7 deg, and the dish trailed the satellite
+    // by 1.3-1.5 deg. Gpredict sends only once the satellite is its threshold off the position
+    // read back; this client sends whatever the dish does, and its targets arrive while the dish
+    // read back holds the satellite well within the fitted lead. Measured when written: with every
+    // `p` noted, none from 12 s after the orbit was trusted, the satellite 0.28 deg RMS off from 20 to
+    // 60 deg (0.88 without); Gpredict's own lead kept (0.50).
+    const TruePass pass = TruePass::load("heldout-iss-60");
+    for (const bool look_ahead : {false, true}) {
+        for (const bool noted : {false, true}) {
+            // generate_heldout_pass.py: latitude 40
+            const FollowedRun run = run_followed(pass, 40.0, 0.5, look_ahead, noted, false);
+            std::printf("%s, every p %s: lead %.2f (lowest %.2f), followed %.3f RMS, max %.2f\n",
+                        look_ahead ? "Gpredict" : "no look-ahead", noted ? "noted" : "not noted", run.lead.value_or(-1),
+                        run.lowest_lead, run.followed.rms(), run.followed.max);
+            INFO((look_ahead ? "Gpredict" : "no look-ahead")
+                 << ", every p " << (noted ? "noted" : "not noted") << ": " << run.description);
+            REQUIRE(run.lead);
+            if (look_ahead) {
+                CHECK(run.lowest_lead > 0.3);
+            } else if (noted) {
+                CHECK(*run.lead < 0.05);
+                CHECK(run.followed.rms() < 0.4);
+            }
+        }
+    }
+}
+
+TEST_CASE("orbit model: Gpredict's own lead survives its send rule on every bench pass, at 0.5 and 5 deg") {
+    // The rule takes a lead for none only from targets Gpredict could not have sent: its own
+    // targets, with the dish following the predictor and read back each second, never are, with
+    // the lead learnt from the dish's gaps; at 5 deg also with it fitted with the orbit. (At 0.5 deg
+    // a lead fitted without the gaps is lost on 5 of the 9 passes with or without the rule, which
+    // there refutes a fitted 1.7 deg on sso-70, rightly, and takes none for it.)
+    for (const char* name : pass_names) {
+        const TruePass pass = TruePass::load(name);
+        for (const double threshold : {0.5, 5.0}) {
+            for (const bool gaps : {true, false}) {
+                if (!gaps && threshold < 1.0) {
+                    continue;
+                }
+                const FollowedRun run = run_followed(pass, site_latitude, threshold, true, true, gaps);
+                INFO(name << " at " << threshold << " deg, gaps " << gaps << ": " << run.description);
+                CHECK(run.lowest_lead > 0.5 * threshold);
+            }
+        }
+    }
+}

@@ -413,7 +413,7 @@ TEST_CASE("service worker: the client's lead is learnt from the position p last 
         } else if (!resend_at) {
             const auto reading = service.mailbox.view().dish.position;
             REQUIRE(reading);
-            service.mailbox.note_reported(*reading);  // what RotatorService::position() answers
+            service.mailbox.note_reported(*reading, service.now);  // what RotatorService::position() answers
             if (satellite().az - reading->az > lead) {
                 REQUIRE(service.mailbox.post_target(ahead(), service.now));
                 resend_at = elapsed() + 2.2;

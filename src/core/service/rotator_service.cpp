@@ -75,7 +75,7 @@ Result<AzEl> RotatorService::position() {
     // lost although the dish comes back. get_status() and describe() tell that it is not answering.
     // The move in flight is not run on: the dish may not be making it (a reboot stops it dead).
     if (not_answering(dish) && dish.position) {
-        mailbox_.note_reported(*dish.position);
+        mailbox_.note_reported(*dish.position, worker_.clock().now());
         return {*dish.position, Status::ok()};
     }
     if (dish.recovering) {
@@ -96,7 +96,7 @@ Result<AzEl> RotatorService::position() {
         return {AzEl{}, dish.last_error ? none : dish.last_error};
     }
     const AzEl reported = modelled_position(worker_.profile(), *dish.position, dish.moving_axes, worker_.clock().now());
-    mailbox_.note_reported(reported);
+    mailbox_.note_reported(reported, worker_.clock().now());
     return {reported, Status::ok()};
 }
 

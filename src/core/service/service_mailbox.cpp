@@ -17,9 +17,16 @@ bool ServiceMailbox::is_open() const {
     return open_;
 }
 
-void ServiceMailbox::note_reported(AzEl position) {
+void ServiceMailbox::note_reported(AzEl position, Clock::time_point at) {
+    // Bounded for a worker that is not taking mail (a recovery): the newest positions are the ones
+    // a target may have been compared with.
+    constexpr std::size_t answered_kept = 32;
     std::lock_guard lock(mutex_);
     reported_ = position;
+    if (answered_.size() >= answered_kept) {
+        answered_.erase(answered_.begin());
+    }
+    answered_.push_back({at, position});
 }
 
 Status ServiceMailbox::post_target(AzEl target, Clock::time_point posted_at) {
@@ -131,6 +138,7 @@ ServiceMail ServiceMailbox::take() {
     mail.target = std::exchange(posted_target_, std::nullopt);
     mail.target_posted_at = posted_at_;
     mail.reported_before_target = reported_before_target_;
+    mail.answered = std::exchange(answered_, {});
     mail.home = home_posted_;
     mail.latest_target = latest_target_;
     mail.job = job_;

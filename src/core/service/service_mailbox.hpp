@@ -19,6 +19,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace birdcage {
 
@@ -41,6 +42,13 @@ struct ServiceMail {
     // satellite with when it decided to send (a tracking client sends when the dish it read back is
     // off). None: nothing asked yet.
     std::optional<AzEl> reported_before_target;
+    // Every position `p` answered since the last step, oldest first, with when (dish time): which
+    // one a client compared the satellite with depends on its I/O timing (docs/tracking.md §6).
+    struct Answered {
+        Clock::time_point at{};
+        AzEl position;
+    };
+    std::vector<Answered> answered;
     bool home = false;                  // a home requested and not yet started
     std::optional<AzEl> latest_target;  // the client's last target (resumed after a recovery)
     std::shared_ptr<ServiceJob> job;    // a receiver job waiting for the dish, if any
@@ -87,8 +95,9 @@ public:
     // the worker takes the stop first, so `S` then `P` does what `P` says however quickly they come.
     // `posted_at` (dish time) is when the client sent it: the estimator dates the target by it,
     // not by when the worker got to it, so the worker's wake-up latency never reads as lag.
-    // A position answered to a caller (`p`), remembered for the next target (ServiceMail).
-    void note_reported(AzEl position);
+    // A position answered to a caller (`p`) at `at` (dish time), remembered for the next target
+    // (ServiceMail).
+    void note_reported(AzEl position, Clock::time_point at);
     Status post_target(AzEl target, Clock::time_point posted_at);
     // Drops any target not yet taken and asks the worker to drop the legs not yet sent.
     void post_stop();
@@ -128,6 +137,7 @@ private:
     std::optional<AzEl> posted_target_;
     Clock::time_point posted_at_{};
     std::optional<AzEl> reported_, reported_before_target_;
+    std::vector<ServiceMail::Answered> answered_;
     bool stop_posted_ = false;
     bool home_posted_ = false;
     std::optional<AzEl> latest_target_;

@@ -152,6 +152,9 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
         out.status = controller_->start_home();
         mailbox_.home_started();
     }
+    for (const ServiceMail::Answered& answered : mail.answered) {
+        predictor_.note_reported(answered.at, answered.position);
+    }
     if (mail.target) {
         // A target beside a home was posted after it (post_home() drops the ones before): it is
         // taken once the home has started, so its legs wait for the home's end.

@@ -159,7 +159,7 @@ OrbitModel::FitResidual OrbitModel::refine(Orbit& orbit, int iterations) const {
 }
 
 std::optional<double> OrbitModel::lead_in_fit() const {
-    if (lead_none_despite_hint_ && lead_hint_deg_) {
+    if (no_look_ahead_ || (lead_none_despite_hint_ && lead_hint_deg_)) {
         return 0.0;
     }
     return lead_fitted_despite_hint_ ? std::nullopt : lead_hint_deg_;
@@ -180,7 +180,7 @@ std::optional<double> OrbitModel::lead_in_fit() const {
 // would take none for Gpredict's own lead); either reading stays until the other fits clearly
 // better (no flapping between them).
 void OrbitModel::question_lead() {
-    if (!orbit_ || !lead_hint_deg_) {
+    if (!orbit_ || !lead_hint_deg_ || no_look_ahead_) {
         lead_fitted_despite_hint_ = false;
         lead_none_despite_hint_ = false;
         return;
@@ -496,6 +496,16 @@ void OrbitModel::refit(bool from_scratch) {
     }
     question_lead();
     judge();
+}
+
+void OrbitModel::take_lead_as_none() {
+    if (no_look_ahead_) {
+        return;
+    }
+    no_look_ahead_ = true;
+    if (orbit_) {
+        refit(false);
+    }
 }
 
 void OrbitModel::relead(std::optional<double> lead_hint_deg) {

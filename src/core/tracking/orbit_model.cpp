@@ -45,6 +45,7 @@ void OrbitModel::clear() {
     residual_ = {};
     lead_fitted_despite_hint_ = false;
     lead_none_despite_hint_ = false;
+    no_look_ahead_ = false;
     next_lead_question_ = 0;
     description_ = "no targets";
 }
@@ -268,7 +269,9 @@ void OrbitModel::judge() {
     // What the fit holds as the client's lead: the caller's hint, none (the targets showed the
     // hint to be the dish's gaps misread), or a lead fitted with the orbit.
     char lead_source[128];
-    if (lead_hint_deg_ && lead_none_despite_hint_) {
+    if (no_look_ahead_) {
+        std::snprintf(lead_source, sizeof lead_source, "none: the client sends what Gpredict's rule would not");
+    } else if (lead_hint_deg_ && lead_none_despite_hint_) {
         std::snprintf(lead_source, sizeof lead_source, "none: the targets fit it better than the dish's gaps' %.2f",
                       *lead_hint_deg_);
     } else if (lead_hint_deg_ && lead_fitted_despite_hint_) {

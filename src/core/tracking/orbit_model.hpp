@@ -107,6 +107,9 @@ public:
     // The caller learnt the client's lead anew after add() (from the gap the target just showed):
     // an untrusted fit is judged again with it, rather than one target later.
     void relead(std::optional<double> lead_hint_deg);
+    // The caller found the client's send rule to be no look-ahead (TargetPredictor): the orbit
+    // holds a lead of none from now until it is cleared, whatever the hint.
+    void take_lead_as_none();
 
     bool trusted() const { return trusted_; }
     std::size_t targets() const { return targets_.size(); }
@@ -117,9 +120,11 @@ public:
     // Altitude (km) of the current fit, and the client's lead it fitted (or was given).
     std::optional<double> altitude_km() const;
     std::optional<double> lead_deg() const;
+    // The standard error of a lead fitted with the orbit; 0 for one given (or none yet).
+    double lead_sigma_deg() const { return orbit_ && !lead_in_fit() ? orbit_->lead_sigma_deg : 0.0; }
     // The targets themselves showed the client's lead to be other than the caller's hint.
     bool lead_from_targets() const {
-        return orbit_ && lead_hint_deg_ && (lead_fitted_despite_hint_ || lead_none_despite_hint_);
+        return orbit_ && lead_hint_deg_ && (lead_fitted_despite_hint_ || lead_none_despite_hint_ || no_look_ahead_);
     }
     // When the satellite sets below `el` after time t (within `within_s`), for the caller's horizon.
     std::optional<double> time_below(double t, double el, double within_s) const;
@@ -187,6 +192,7 @@ private:
     std::optional<double> lead_hint_deg_;
     bool lead_fitted_despite_hint_ = false;  // question_lead() found the targets contradict the hint
     bool lead_none_despite_hint_ = false;    // ... and fit no lead at all clearly better
+    bool no_look_ahead_ = false;             // take_lead_as_none()
     // The lead the fit holds: the hint, none, or fitted (nullopt), as question_lead() decided.
     std::optional<double> lead_in_fit() const;
     std::size_t next_lead_question_ = 0;  // exact targets at which to question it next (when many)

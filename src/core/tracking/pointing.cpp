@@ -35,6 +35,18 @@ constexpr double accel_horizon_s = 5.0;
 constexpr double lead_limit_margin_deg = 0.3;
 // Weight of a new target's anchor against the running estimate (an alpha filter on position).
 constexpr double anchor_gain = 0.5;
+// Gpredict compares the satellite as its module last computed it (up to 0.3 s old) with the
+// position last read back, on its timer tick, and its I/O loop sends the target up to 0.8 s later
+// (docs/tracking.md §5): the satellite it compared lies within this long before the target arrives.
+constexpr double client_compare_window_s = 1.1;
+// Positions answered are kept this long (a few of Gpredict's 0.8 s I/O loops).
+constexpr double reported_kept_s = 5.0;
+// A target arriving while the trusted orbit's satellite lay within this share of the lead of every
+// position the client may have compared it with, on both axes, was not sent by Gpredict's rule
+// (the rest of the lead is the margin for the orbit's error).
+constexpr double no_lead_share = 0.8;
+// Such targets before the lead is taken for none.
+constexpr int no_lead_targets = 3;
 
 using slope_fit::Fit;
 using slope_fit::mean_square_off;
@@ -88,6 +100,8 @@ void TargetPredictor::reset() {
     // program with another threshold (or none).
     lead_threshold_.reset();
     lead_observations_.clear();
+    reported_.clear();
+    no_lead_evidence_ = 0;
     half_step_.reset();
     half_steps_.clear();
     held_ = false;
@@ -168,6 +182,7 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
         has_origin_ = true;
     }
     const double t = seconds(when);
+    question_lead_by_send_rule(t);
     // The orbit sees every target first: whether it expected this one decides what a restart of
     // the local estimate below forgets.
     const bool orbit_trusted = settings_.use_pass_model && orbit_.trusted();
@@ -329,6 +344,67 @@ void TargetPredictor::observe(Clock::time_point when, AzEl target, std::optional
     if (settings_.use_pass_model) {
         orbit_.relead(lead_threshold_);
     }
+}
+
+void TargetPredictor::note_reported(Clock::time_point when, AzEl position) {
+    if (!has_origin_ || !std::isfinite(position.az) || !std::isfinite(position.el)) {
+        return;
+    }
+    const double t = seconds(when);
+    if (!reported_.empty() && t < reported_.back().t) {
+        return;
+    }
+    reported_.push_back({t, position});
+    while (reported_.size() > 1 && t - reported_[1].t > reported_kept_s) {
+        reported_.pop_front();
+    }
+}
+
+void TargetPredictor::question_lead_by_send_rule(double t) {
+    // A client that leads by L and one without look-ahead that sends the satellite each time it
+    // moved 2L leave the same gap, and under 1 deg the targets cannot tell such a lead from none
+    // (docs/benchmarks.md). Gpredict's send rule can: it sends only once the satellite is more than
+    // its threshold (its lead) off the position last read back on either axis, while a client
+    // without look-ahead sends whatever the dish did. The position Gpredict compared with is the
+    // last one answered before its timer tick, which fell up to client_compare_window_s before the
+    // target arrived: every position that may have been it must show the satellite well within
+    // the lead, on both axes, all through that window.
+    if (!pass_model_in_use()) {
+        return;
+    }
+    const std::optional<double> lead = orbit_.lead_deg();
+    if (!lead || *lead <= same_angle_degrees) {
+        return;
+    }
+    const double earliest_tick = t - client_compare_window_s;
+    auto first =
+        std::find_if(reported_.rbegin(), reported_.rend(), [&](const Reported& r) { return r.t <= earliest_tick; });
+    if (first == reported_.rend()) {
+        return;  // what the client compared with is unknown
+    }
+    // A fitted lead off by its standard error moves the fitted satellite along the track by
+    // about twice that (the look-ahead search moves with it).
+    const double within = no_lead_share * *lead - 2.0 * orbit_.lead_sigma_deg();
+    for (const double compared_at : {earliest_tick, 0.5 * (earliest_tick + t), t}) {
+        const auto satellite = orbit_.predict(compared_at);
+        if (!satellite || satellite->position.el <= 0.0) {
+            return;
+        }
+        for (auto r = first.base() - 1; r != reported_.end() && r->t < t; ++r) {
+            // Gpredict's plain difference of azimuths in 0..360 (across north it sends whatever the
+            // satellite's distance), and the satellite unclamped: a client clamping it to limits the
+            // position lies within only comes closer to it.
+            if (std::fabs(normalize_azimuth(satellite->position.az) - normalize_azimuth(r->position.az)) > within ||
+                std::fabs(satellite->position.el - r->position.el) > within) {
+                return;
+            }
+        }
+    }
+    if (++no_lead_evidence_ < no_lead_targets) {
+        return;
+    }
+    // The gaps stay the client's coarseness (client_coarseness_deg()); the orbit holds no lead.
+    orbit_.take_lead_as_none();
 }
 
 std::optional<Prediction> TargetPredictor::predict(Clock::time_point when) const {

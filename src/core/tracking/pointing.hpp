@@ -112,6 +112,9 @@ public:
     // A new client target at time `t`; `dish` is the position the client compared the satellite
     // with (the one `p` last answered before the target; else the backend's reading), if known.
     void observe(Clock::time_point t, AzEl target, std::optional<AzEl> dish);
+    // A position answered to the client (`p`) at time `t`: every one, not only the last before a
+    // target, because which one a client compared the satellite with depends on its I/O timing.
+    void note_reported(Clock::time_point t, AzEl position);
     void reset();
     // The dish's elevation limits: a client set up with them clamps its targets there, and a dish
     // held on one is off the satellite's track: its gap to an unclamped target is read by the
@@ -173,6 +176,9 @@ private:
     std::vector<AzEl> sample_directions() const;
     // keep_orbit: the orbit model expected this target (a new pointing for the local estimate only).
     void restart(double t, AzEl target, bool keep_orbit);
+    // Gpredict's send rule against the positions the client read back: a target it could not have
+    // sent shows a client without look-ahead, whose lead is none (docs/tracking.md §6).
+    void question_lead_by_send_rule(double t);
 
     PredictorSettings settings_;
     Clock::time_point origin_{};
@@ -184,6 +190,12 @@ private:
     bool held_ = false;                     // the last target repeated the one before: the client holds still
     std::optional<double> lead_threshold_;  // learned client threshold, degrees (per axis)
     std::deque<double> lead_observations_;
+    struct Reported {
+        double t;  // seconds since origin_
+        AzEl position;
+    };
+    std::deque<Reported> reported_;  // the positions answered lately, oldest first
+    int no_lead_evidence_ = 0;       // targets Gpredict's send rule could not have sent
     // Half the client's step between targets sent apart (on the faster axis), a low median.
     std::optional<double> half_step_;
     std::deque<double> half_steps_;

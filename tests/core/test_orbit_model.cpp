@@ -755,11 +755,11 @@ TEST_CASE("orbit model: a lead the targets fit is refuted by Gpredict's send rul
     // A client without look-ahead whose gaps teach nothing (the held-out pass in the benchmark:
     // re-sends under 2 s apart are skipped) has its lead fitted with the orbit, and a few targets
     // fit a wrong lead with a wrong altitude: here 0.8-1.7 deg, and the dish trailed the satellite
-    // by 1.3-1.5 deg. Gpredict sends only once the satellite is its threshold off the position
+    // by 1.0-1.5 deg. Gpredict sends only once the satellite is its threshold off the position
     // read back; this client sends whatever the dish does, and its targets arrive while the dish
     // read back holds the satellite well within the fitted lead. Measured when written: with every
     // `p` noted, none from 12 s after the orbit was trusted, the satellite 0.28 deg RMS off from 20 to
-    // 60 deg (0.88 without); Gpredict's own lead kept (0.50).
+    // 60 deg (0.88 without); Gpredict's own lead kept (0.43).
     const TruePass pass = TruePass::load("heldout-iss-60");
     for (const bool look_ahead : {false, true}) {
         for (const bool noted : {false, true}) {

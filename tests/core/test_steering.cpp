@@ -83,6 +83,7 @@ TEST_CASE("steering: the deadband grows to a share of the client's own threshold
     auto lead_with = [&](double share) {
         SteeringInput in = input_at(30.0, predictor, std::nullopt);
         in.pointing.client_threshold_share = share;
+        in.pointing.start_cost_s = 0.0;  // the same deadband on both axes (the cost per start: below)
         const auto aim = next_aim(in);
         REQUIRE(aim);
         return azimuth_difference(satellite(30.0).az, aim->aim.az);
@@ -112,6 +113,7 @@ TEST_CASE("steering: a client without look-ahead sets the deadband by its step, 
     auto lead_with = [&](double share) {
         SteeringInput in = input_at(40.0, predictor, std::nullopt);
         in.pointing.client_threshold_share = share;
+        in.pointing.start_cost_s = 0.0;  // the same deadband on both axes (the cost per start: below)
         const auto aim = next_aim(in);
         REQUIRE(aim);
         return azimuth_difference(satellite(40.0).az, aim->aim.az);
@@ -120,6 +122,49 @@ TEST_CASE("steering: a client without look-ahead sets the deadband by its step, 
     // gaps' 0.38 deg would leave the deadband at its minimum.
     CHECK(lead_with(0.5) - lead_with(0.0) ==
           Approx((1.0 - PointingOptions{}.deadband_deg) / std::cos(38.0 * M_PI / 180.0)).margin(0.15));
+}
+
+TEST_CASE("steering: with a cost per start each axis's deadband follows the cube root of its rate") {
+    // The client without look-ahead of the test above (5 deg steps, every 5 s): half its
+    // coarseness is capped at 1 deg (d0). With a cost per start of C seconds off by d0, an axis at
+    // r deg/s on the sky gets d = (3/4 C d0^2 r)^(1/3): the azimuth (1 deg/s, 0.79 on the sky at
+    // el 38) 2.07 deg, the elevation (0.2 deg/s) 1.31 deg, both under half the client's 5 deg.
+    // A motor told outright as nearly instant leaves the command overhead as the only lead: the
+    // aim is a deadband past where the estimate has the satellite then.
+    PredictorSettings gaps_only;
+    gaps_only.use_pass_model = false;
+    TargetPredictor predictor(gaps_only);
+    for (double t = 0.0; t <= 40.0 + 1e-9; t += 5.0) {
+        predictor.observe(at(t), satellite(t), satellite(t - 0.76));
+    }
+    REQUIRE(predictor.client_without_look_ahead());
+    auto deadbands_with = [&](double cost) {
+        SteeringInput in = input_at(40.0, predictor, std::nullopt);
+        in.pointing.start_cost_s = cost;
+        in.pointing.known_motor = KnownMotor{0.0, 1e4, 1e6};
+        const auto aim = next_aim(in);
+        REQUIRE(aim);
+        const auto estimate = predictor.predict(at(40.0 + in.pointing.command_overhead_s));
+        REQUIRE(estimate);
+        const AzEl then = estimate->position;
+        const double cos_el = std::cos(predictor.predict(at(40.0))->position.el * M_PI / 180.0);
+        return std::pair{azimuth_difference(then.az, aim->aim.az) * cos_el, aim->aim.el - then.el};
+    };
+    const double cos_el = std::cos(38.0 * M_PI / 180.0);
+    const auto [az_flat, el_flat] = deadbands_with(0.0);
+    CHECK(az_flat == Approx(1.0).margin(0.02));
+    CHECK(el_flat == Approx(1.0).margin(0.02));
+    const double cost = PointingOptions{}.start_cost_s;
+    REQUIRE(cost == 15.0);
+    const auto [az_sky, el] = deadbands_with(cost);
+    CHECK(az_sky == Approx(std::cbrt(0.75 * cost * 1.0 * cos_el)).margin(0.02));
+    CHECK(el == Approx(std::cbrt(0.75 * cost * 0.2)).margin(0.02));
+    // The ratio of the two is the cube root of the rates' on the sky, whatever the cost.
+    CHECK(az_sky / el == Approx(std::cbrt(cos_el / 0.2)).margin(0.02));
+    // A cost so high that the rule would step past half the client's threshold stops there.
+    const auto [az_capped, el_capped] = deadbands_with(1000.0);
+    CHECK(az_capped == Approx(2.5).margin(0.02));
+    CHECK(el_capped == Approx(2.5).margin(0.05));
 }
 
 TEST_CASE("steering: a client that leads by its threshold keeps it as its coarseness, whatever its step") {

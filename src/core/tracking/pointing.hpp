@@ -151,12 +151,18 @@ public:
         const std::optional<double> gaps = lead_threshold_       ? lead_threshold_
                                            : pass_model_in_use() ? orbit_.lead_deg()
                                                                  : std::nullopt;
-        const std::optional<double> lead = lead_threshold_deg();
-        if (half_step_ && half_steps_.size() >= min_half_steps && lead &&
-            *lead < no_look_ahead_lead_share * *half_step_) {
+        if (client_without_look_ahead()) {
             return std::max(gaps.value_or(0.0), *half_step_);
         }
         return gaps;
+    }
+    // The client's steps show no look-ahead: client_coarseness_deg() is then half its step, half
+    // the threshold it sends by (a client that leads by its threshold L steps by about 2L, and
+    // its coarseness is L).
+    bool client_without_look_ahead() const {
+        const std::optional<double> lead = lead_threshold_deg();
+        return half_step_ && half_steps_.size() >= min_half_steps && lead &&
+               *lead < no_look_ahead_lead_share * *half_step_;
     }
     bool pass_model_in_use() const { return settings_.use_pass_model && orbit_.trusted(); }
     const OrbitModel& orbit() const { return orbit_; }

@@ -86,13 +86,6 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
     };
     auto step_time = [&](Axis axis, double degrees) { return move_time(axis, degrees) + overhead_s; };
     const double cos_el = std::max(std::cos(clamp_el(current->position.el) * M_PI / 180.0), min_cos_el);
-    double base_deadband = in.pointing.deadband_deg;
-    if (const auto client_threshold = in.predictor.client_coarseness_deg()) {
-        base_deadband = std::max(base_deadband, std::min(in.pointing.client_threshold_share * *client_threshold,
-                                                         in.pointing.max_client_deadband_deg));
-    }
-    double deadband_el = base_deadband;
-    double deadband_az = base_deadband / cos_el;
     const double az_rate = std::fabs(current->az_rate);
     // Above the elevation cap (the client's target at or over it) the dish holds the cap and
     // follows only the azimuth (docs/tracking.md §2.2), until a target comes back below the cap:
@@ -101,13 +94,36 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
     const double el_rate = above_cap || current->position.el >= in.el_max || current->position.el <= in.el_min
                                ? 0.0
                                : std::fabs(current->el_rate);
+    // The deadband on the sky, per axis (PointingOptions::start_cost_s).
+    double base_deadband = in.pointing.deadband_deg;
+    double deadband_el = base_deadband, deadband_az_sky = base_deadband;
+    if (const auto coarseness = in.predictor.client_coarseness_deg()) {
+        base_deadband = std::max(base_deadband, std::min(in.pointing.client_threshold_share * *coarseness,
+                                                         in.pointing.max_client_deadband_deg));
+        // At most the share of the client's threshold (twice the coarseness of a client without
+        // look-ahead): a client that re-sends when the dish is off by its threshold would
+        // otherwise re-send every cycle.
+        const double threshold = in.predictor.client_without_look_ahead() ? 2.0 * *coarseness : *coarseness;
+        const double widest = in.pointing.client_threshold_share * threshold;
+        auto from_rate = [&](double sky_rate) {
+            if (in.pointing.start_cost_s <= 0.0 || sky_rate < still_rate_dps) {
+                return base_deadband;
+            }
+            const double d = std::cbrt(0.75 * in.pointing.start_cost_s * base_deadband * base_deadband * sky_rate);
+            return std::clamp(d, in.pointing.deadband_deg, std::max(base_deadband, widest));
+        };
+        deadband_el = from_rate(el_rate);
+        deadband_az_sky = from_rate(az_rate * cos_el);
+    }
+    double deadband_az = deadband_az_sky / cos_el;
     for (int round = 0; round < max_widen_rounds; ++round) {
         const double busy = step_time(Axis::azimuth, 2 * deadband_az) * az_rate / (2 * deadband_az) +
                             step_time(Axis::elevation, 2 * deadband_el) * el_rate / (2 * deadband_el);
         // Beyond max_deadband_deg the aim would run so far ahead that the client sees the dish
         // off by more than its threshold and re-sends: a slow mount then just trails.
         if (busy <= max_motor_share ||
-            deadband_el * widen_factor > std::max(base_deadband, in.pointing.max_deadband_deg)) {
+            std::min(deadband_el, deadband_az * cos_el) * widen_factor >
+                std::max(base_deadband, in.pointing.max_deadband_deg)) {
             break;
         }
         deadband_az *= widen_factor;

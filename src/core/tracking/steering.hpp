@@ -28,6 +28,7 @@ struct KnownMotor {
 struct PointingOptions {
     static constexpr OptionRange deadband_range_deg{0.01, 5.0, 0.01};
     static constexpr OptionRange client_threshold_share_range{0.0, 1.0, 0.05};
+    static constexpr OptionRange start_cost_range_s{0.0, 1000.0, 0.1};
     static constexpr OptionRange known_startup_range_s{0.0, 30.0, 0.1};
     static constexpr OptionRange known_rate_range{0.01, 1000.0, 0.01};  // deg/s, deg/s^2
 
@@ -52,6 +53,14 @@ struct PointingOptions {
     // same RMS (docs/benchmarks.md).
     double client_threshold_share = 0.5;
     double max_client_deadband_deg = 1.0;
+    // What a motor start costs, in seconds of the dish off by that deadband (d0): per axis the
+    // deadband then minimises the error's square over time plus this cost per start. An axis that
+    // steps by 2d at r deg/s on the sky errs by (2d)^2/12 on average and starts r/(2d) times a
+    // second, so d = (3/4 * cost * d0^2 * r)^(1/3), between `deadband_deg` and the client's
+    // coarseness: a fast axis steps coarser, a slow one finer (docs/tracking.md §6, "Deadband").
+    // At 15 s the G2 and HAL 2.05 start their motors no more often than the Python system at 0.5
+    // and 5 deg with a client without look-ahead (docs/benchmarks.md). 0: d0 on both axes.
+    double start_cost_s = 15.0;
     std::optional<KnownMotor> known_motor;  // unset: the motor as the legs' readings show it
     PredictorSettings predictor;
 };

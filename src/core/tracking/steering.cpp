@@ -121,9 +121,8 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
                             step_time(Axis::elevation, 2 * deadband_el) * el_rate / (2 * deadband_el);
         // Beyond max_deadband_deg the aim would run so far ahead that the client sees the dish
         // off by more than its threshold and re-sends: a slow mount then just trails.
-        if (busy <= max_motor_share ||
-            std::min(deadband_el, deadband_az * cos_el) * widen_factor >
-                std::max(base_deadband, in.pointing.max_deadband_deg)) {
+        if (busy <= max_motor_share || std::min(deadband_el, deadband_az * cos_el) * widen_factor >
+                                           std::max(base_deadband, in.pointing.max_deadband_deg)) {
             break;
         }
         deadband_az *= widen_factor;

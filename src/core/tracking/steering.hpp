@@ -58,8 +58,8 @@ struct PointingOptions {
     // second, so d = (3/4 * cost * d0^2 * r)^(1/3), between `deadband_deg` and half the client's
     // threshold: a fast axis steps coarser, a slow one finer (docs/tracking.md §6, "A motor start
     // has a cost"). At 15 s, with a client without look-ahead at 5 deg on the held-out pass, the
-    // G2 started its motors 56 times (from 88) for 1.99 deg RMS (from 1.80), HAL 2.05 65 times
-    // (from 75) for 2.50 deg (from 2.37): fewer starts than the Python system at a lower error
+    // G2 started its motors 56 times (from 89) for 2.01 deg RMS (from 1.79), HAL 2.05 65 times
+    // (from 78) for 2.50 deg (from 2.38): fewer starts than the Python system at a lower error
     // (docs/benchmarks.md, "Motor starts as a cost"). 0: d0 on both axes.
     double start_cost_s = 15.0;
     std::optional<KnownMotor> known_motor;  // unset: the motor as the legs' readings show it

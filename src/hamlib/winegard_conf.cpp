@@ -328,6 +328,16 @@ const ConfParam kConfParams[] = {
                             format_number(motor->accel_dps2)
                       : std::string("none");
      }},
+    {17, "start_cost", "Cost of a motor start",
+     "Predictive mode: what a motor start costs, in seconds of the dish off by its deadband; each axis then "
+     "steps coarser where the satellite moves fast, up to half the client's threshold (0: the deadband "
+     "alone, more starts and less error)",
+     RIG_CONF_NUMERIC, PointingOptions::start_cost_range_s,
+     [](const birdcage::FirmwareProfile&) { return format_number(PointingOptions{}.start_cost_s); },
+     [](const char* text, WinegardPriv& priv) {
+         return parse_in(text, PointingOptions::start_cost_range_s, &priv.pointing.start_cost_s);
+     },
+     [](const WinegardPriv& priv) { return format_number(priv.pointing.start_cost_s); }},
 };
 constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
 const ConfParam* conf_param(hamlib_token_t token) {

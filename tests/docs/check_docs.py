@@ -210,6 +210,7 @@ def check_doc(tree, doc, conf_keys, figures, problems):
             if number not in known:
                 fail("section", f"§{number}", "docs/firmware.md (which README's § cite) has no such section")
     for name, title in HEADING_REF.findall(text):
+        title = " ".join(title.split())  # a citation wrapped across lines reads as one
         target = "README.md" if name == "README" else name
         if not target.startswith(("docs/", "sim/")) and target != "README.md":
             target = os.path.normpath(os.path.join(docdir, target))

@@ -50,7 +50,8 @@ CONF_FROM_INFO = {
     "el_max": (r"; el limits (-?[\d.]+)\.\.(-?[\d.]+)", lambda m: m.group(2)),
     "az_mapping": (r"; azimuth mapping (\w+)", lambda m: m.group(1)),
 }
-ConfKey = Literal["variant", "pointing", "deadband", "deadband_share", "leapfrog", "time_scale", "az_mapping",
+ConfKey = Literal["variant", "pointing", "deadband", "deadband_share", "start_cost", "leapfrog", "time_scale",
+                  "az_mapping",
                   "pass_model", "latitude", "motor", "boot_timeout", "skip_init", "el_min", "el_max", "az_min",
                   "az_max"]
 Volts = Literal[13, 18]

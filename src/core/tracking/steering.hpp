@@ -28,6 +28,7 @@ struct KnownMotor {
 struct PointingOptions {
     static constexpr OptionRange deadband_range_deg{0.01, 5.0, 0.01};
     static constexpr OptionRange client_threshold_share_range{0.0, 1.0, 0.05};
+    static constexpr OptionRange start_cost_range_s{0.0, 600.0, 1.0};
     static constexpr OptionRange known_startup_range_s{0.0, 30.0, 0.1};
     static constexpr OptionRange known_rate_range{0.01, 1000.0, 0.01};  // deg/s, deg/s^2
 

@@ -6,11 +6,12 @@
 # rotator limits setting (in parallel), and reports what it sent, what the dish did, and the pointing
 # error.
 #
-#   scripts/gpredict-loop.sh [--build DIR] [--out DIR] [--thresholds "5 0.5"] [--limits "dish wide"] [--preload LIBS] [--check]
+#   scripts/gpredict-loop.sh [--build DIR] [--out DIR] [--thresholds "5 0.5"] [--limits "dish wide"] [--preload LIBS] [--conf KEY=VALUE]... [--check]
 #
 # --limits: the rotator limits in Gpredict's .rot file, which it clamps every target to: `dish` (the
 # default) = the G2's elevation range 18-65, README's advice before the orbit model; `wide` = 0-90 (its advice now), so the
 # backend clamps instead (docs/gpredict.md). One lane per threshold and setting.
+# --conf KEY=VALUE: passed to every lane's rotctld as -C KEY=VALUE (docs/usage.md), e.g. start_cost=0.
 #
 # Per lane: birdcage-sim (g2) -> rotctld -m 90105 (backend preloaded) -> logging proxy
 # (scripts/gpredict_loop.py) -> Gpredict with a fresh $HOME (ground station, the TLE of
@@ -31,6 +32,7 @@ out=""
 thresholds="5 0.5"
 limit_settings="dish"
 preload=""
+conf=()
 check=0
 usage() { grep -m1 '^#   scripts/gpredict-loop.sh' "${BASH_SOURCE[0]}" | sed 's/^# *//'; }
 while (($#)); do
@@ -40,6 +42,7 @@ while (($#)); do
     --thresholds) thresholds=$2; shift 2 ;;
     --limits) limit_settings=$2; shift 2 ;;
     --preload) preload=$2; shift 2 ;;
+    --conf) conf+=(-C "$2"); shift 2 ;;
     --check) check=1; shift ;;
     -h | --help) echo "usage: $(usage)"; exit 0 ;;
     *) echo "gpredict-loop.sh: unknown argument '$1'; usage: $(usage)" >&2; exit 2 ;;
@@ -218,7 +221,7 @@ for lane in "${lanes[@]}"; do
     pids+=($!)
     wait_for 10 test -e "$work/$i.dish"
     env LD_PRELOAD="$preload" ASAN_OPTIONS=detect_leaks=0 \
-        rotctld -vvvv -m 90105 -C latitude=45.0 -r "$work/$i.dish" -T 127.0.0.1 -t "$rot_port" >"$dir/rotctld.log" 2>&1 &
+        rotctld -vvvv -m 90105 -C latitude=45.0 "${conf[@]}" -r "$work/$i.dish" -T 127.0.0.1 -t "$rot_port" >"$dir/rotctld.log" 2>&1 &
     pids+=($!)
     wait_for_listener 60 "$rot_port" "$!" ||
         { echo "gpredict-loop: rotctld did not start:"; cat "$dir/rotctld.log"; exit 1; }

@@ -138,33 +138,44 @@ TEST_CASE("steering: with a cost per start each axis's deadband follows the cube
         predictor.observe(at(t), satellite(t), satellite(t - 0.76));
     }
     REQUIRE(predictor.client_without_look_ahead());
-    auto deadbands_with = [&](double cost) {
-        SteeringInput in = input_at(40.0, predictor, std::nullopt);
+    auto deadbands_with = [&](double cost, const TargetPredictor& client) {
+        SteeringInput in = input_at(40.0, client, std::nullopt);
         in.pointing.start_cost_s = cost;
         in.pointing.known_motor = KnownMotor{0.0, 1e4, 1e6};
         const auto aim = next_aim(in);
         REQUIRE(aim);
-        const auto estimate = predictor.predict(at(40.0 + in.pointing.command_overhead_s));
+        const auto estimate = client.predict(at(40.0 + in.pointing.command_overhead_s));
         REQUIRE(estimate);
         const AzEl then = estimate->position;
-        const double cos_el = std::cos(predictor.predict(at(40.0))->position.el * M_PI / 180.0);
+        const double cos_el = std::cos(client.predict(at(40.0))->position.el * M_PI / 180.0);
         return std::pair{azimuth_difference(then.az, aim->aim.az) * cos_el, aim->aim.el - then.el};
     };
     const double cos_el = std::cos(38.0 * M_PI / 180.0);
-    const auto [az_flat, el_flat] = deadbands_with(0.0);
+    const auto [az_flat, el_flat] = deadbands_with(0.0, predictor);
     CHECK(az_flat == Approx(1.0).margin(0.02));
     CHECK(el_flat == Approx(1.0).margin(0.02));
     const double cost = PointingOptions{}.start_cost_s;
     REQUIRE(cost == 15.0);
-    const auto [az_sky, el] = deadbands_with(cost);
+    const auto [az_sky, el] = deadbands_with(cost, predictor);
     CHECK(az_sky == Approx(std::cbrt(0.75 * cost * 1.0 * cos_el)).margin(0.02));
     CHECK(el == Approx(std::cbrt(0.75 * cost * 0.2)).margin(0.02));
     // The ratio of the two is the cube root of the rates' on the sky, whatever the cost.
     CHECK(az_sky / el == Approx(std::cbrt(cos_el / 0.2)).margin(0.02));
     // A cost so high that the rule would step past half the client's threshold stops there.
-    const auto [az_capped, el_capped] = deadbands_with(1000.0);
+    const auto [az_capped, el_capped] = deadbands_with(1000.0, predictor);
     CHECK(az_capped == Approx(2.5).margin(0.02));
     CHECK(el_capped == Approx(2.5).margin(0.05));
+
+    // A client that leads (here by 1 deg, stepping by 5) keeps d0, half its lead, on both axes:
+    // with Gpredict's look-ahead the coarser steps cost more error than they saved starts.
+    TargetPredictor leading(gaps_only);
+    for (double t = 0.0; t <= 40.0 + 1e-9; t += 5.0) {
+        leading.observe(at(t), satellite(t), satellite(t - 2.0));
+    }
+    REQUIRE_FALSE(leading.client_without_look_ahead());
+    const auto [az_led, el_led] = deadbands_with(cost, leading);
+    CHECK(az_led == Approx(0.5).margin(0.02));
+    CHECK(el_led == Approx(0.5).margin(0.02));
 }
 
 TEST_CASE("steering: a client that leads by its threshold keeps it as its coarseness, whatever its step") {

@@ -100,13 +100,15 @@ std::optional<SteeringDecision> next_aim(const SteeringInput& in) {
     if (const auto coarseness = in.predictor.client_coarseness_deg()) {
         base_deadband = std::max(base_deadband, std::min(in.pointing.client_threshold_share * *coarseness,
                                                          in.pointing.max_client_deadband_deg));
-        // At most the share of the client's threshold (twice the coarseness of a client without
-        // look-ahead): a client that re-sends when the dish is off by its threshold would
-        // otherwise re-send every cycle.
-        const double threshold = in.predictor.client_without_look_ahead() ? 2.0 * *coarseness : *coarseness;
-        const double widest = in.pointing.client_threshold_share * threshold;
+        // Only for a client without look-ahead, at most the share of its threshold (twice its
+        // coarseness): beyond, a client that re-sends when the dish is off by its threshold would
+        // re-send every cycle. A client that leads (Gpredict) keeps d0: with it the coarser steps
+        // cost real Gpredict at 5 deg 0.25-0.42 deg RMS for a third fewer starts
+        // (docs/benchmarks.md, "Motor starts as a cost").
+        const bool without_look_ahead = in.predictor.client_without_look_ahead();
+        const double widest = in.pointing.client_threshold_share * 2.0 * *coarseness;
         auto from_rate = [&](double sky_rate) {
-            if (in.pointing.start_cost_s <= 0.0 || sky_rate < still_rate_dps) {
+            if (!without_look_ahead || in.pointing.start_cost_s <= 0.0 || sky_rate < still_rate_dps) {
                 return base_deadband;
             }
             const double d = std::cbrt(0.75 * in.pointing.start_cost_s * base_deadband * base_deadband * sky_rate);

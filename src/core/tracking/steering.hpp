@@ -53,7 +53,8 @@ struct PointingOptions {
     // same RMS (docs/benchmarks.md).
     double client_threshold_share = 0.5;
     double max_client_deadband_deg = 1.0;
-    // What a motor start costs, in seconds of the dish off by that deadband (d0): per axis the
+    // What a motor start costs, in seconds of the dish off by that deadband (d0), for a client
+    // without look-ahead (one that leads keeps d0: docs/tracking.md §6): per axis the
     // deadband then minimises the error's square over time plus this cost per start. An axis that
     // steps by 2d at r deg/s on the sky errs by (2d)^2/12 on average and starts r/(2d) times a
     // second, so d = (3/4 * cost * d0^2 * r)^(1/3), between `deadband_deg` and half the client's

@@ -39,6 +39,18 @@ TargetPredictor fed_until(double last_t) {
     return predictor;
 }
 
+// A client that sends the satellite as it is every 5 s until `until`, each read back `behind` s
+// of the satellite's motion short of it; the local estimate only (no orbit).
+TargetPredictor client_every_5s(double until, double behind) {
+    PredictorSettings gaps_only;
+    gaps_only.use_pass_model = false;
+    TargetPredictor predictor(gaps_only);
+    for (double t = 0.0; t <= until + 1e-9; t += 5.0) {
+        predictor.observe(at(t), satellite(t), satellite(t - behind));
+    }
+    return predictor;
+}
+
 SteeringInput input_at(double t, const TargetPredictor& predictor, std::optional<AzEl> aim) {
     return SteeringInput{at(t), predictor, profile(VariantId::carryout_g2), 18.0, 65.0,         PointingOptions{},
                          0.0,   aim,       satellite(std::floor(t)),        aim,  MotorTiming{}};
@@ -100,12 +112,7 @@ TEST_CASE("steering: a client without look-ahead sets the deadband by its step, 
     // every 5 s): its steps are 5 deg whatever the dish does. The dish reports 0.76 deg short of
     // each target, so the gaps teach a lead of 0.38 deg (the orbit leading the dish leaves no more):
     // under a fifth of the half step, which then stands for the client's coarseness.
-    PredictorSettings gaps_only;
-    gaps_only.use_pass_model = false;
-    TargetPredictor predictor(gaps_only);
-    for (double t = 0.0; t <= 40.0 + 1e-9; t += 5.0) {
-        predictor.observe(at(t), satellite(t), satellite(t - 0.76));
-    }
+    const TargetPredictor predictor = client_every_5s(40.0, 0.76);
     REQUIRE(predictor.lead_threshold_deg());
     CHECK(*predictor.lead_threshold_deg() == Approx(0.38).margin(0.05));
     REQUIRE(predictor.client_coarseness_deg());
@@ -131,12 +138,7 @@ TEST_CASE("steering: with a cost per start each axis's deadband follows the cube
     // el 38) 2.07 deg, the elevation (0.2 deg/s) 1.31 deg, both under half the client's 5 deg.
     // A motor told outright as nearly instant leaves the command overhead as the only lead: the
     // aim is a deadband past where the estimate has the satellite then.
-    PredictorSettings gaps_only;
-    gaps_only.use_pass_model = false;
-    TargetPredictor predictor(gaps_only);
-    for (double t = 0.0; t <= 40.0 + 1e-9; t += 5.0) {
-        predictor.observe(at(t), satellite(t), satellite(t - 0.76));
-    }
+    const TargetPredictor predictor = client_every_5s(40.0, 0.76);
     REQUIRE(predictor.client_without_look_ahead());
     auto deadbands_with = [&](double cost, const TargetPredictor& client) {
         SteeringInput in = input_at(40.0, client, std::nullopt);
@@ -168,10 +170,7 @@ TEST_CASE("steering: with a cost per start each axis's deadband follows the cube
 
     // A client that leads (here by 1 deg, stepping by 5) keeps d0, half its lead, on both axes:
     // with Gpredict's look-ahead the coarser steps cost more error than they saved starts.
-    TargetPredictor leading(gaps_only);
-    for (double t = 0.0; t <= 40.0 + 1e-9; t += 5.0) {
-        leading.observe(at(t), satellite(t), satellite(t - 2.0));
-    }
+    const TargetPredictor leading = client_every_5s(40.0, 2.0);
     REQUIRE_FALSE(leading.client_without_look_ahead());
     const auto [az_led, el_led] = deadbands_with(cost, leading);
     CHECK(az_led == Approx(0.5).margin(0.02));
@@ -181,12 +180,7 @@ TEST_CASE("steering: with a cost per start each axis's deadband follows the cube
 TEST_CASE("steering: a client that leads by its threshold keeps it as its coarseness, whatever its step") {
     // A client that leads by 1 deg and steps by 5 (half step 2.5): its lead is no share of the
     // step a client without look-ahead shows, so the lead stays the coarseness.
-    PredictorSettings gaps_only;
-    gaps_only.use_pass_model = false;
-    TargetPredictor predictor(gaps_only);
-    for (double t = 0.0; t <= 40.0 + 1e-9; t += 5.0) {
-        predictor.observe(at(t), satellite(t), satellite(t - 2.0));
-    }
+    const TargetPredictor predictor = client_every_5s(40.0, 2.0);
     REQUIRE(predictor.lead_threshold_deg());
     CHECK(*predictor.lead_threshold_deg() == Approx(1.0).margin(0.05));
     REQUIRE(predictor.client_coarseness_deg());

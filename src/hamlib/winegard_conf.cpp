@@ -329,10 +329,9 @@ const ConfParam kConfParams[] = {
                       : std::string("none");
      }},
     {17, "start_cost", "Cost of a motor start",
-     "Predictive mode, a client without look-ahead: what a motor start costs, in seconds of the dish off by its "
-     "deadband; each axis then "
-     "steps coarser where the satellite moves fast, up to half the client's threshold (0: the deadband "
-     "alone, more starts and less error)",
+     "Predictive mode, a client without look-ahead: what a motor start costs, in seconds of the dish off by "
+     "its deadband; each axis then steps coarser where the satellite moves fast, up to half the client's "
+     "threshold (0: the deadband alone, more starts and less error)",
      RIG_CONF_NUMERIC, PointingOptions::start_cost_range_s,
      [](const birdcage::FirmwareProfile&) { return format_number(PointingOptions{}.start_cost_s); },
      [](const char* text, WinegardPriv& priv) {

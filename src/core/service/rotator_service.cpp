@@ -95,8 +95,11 @@ Result<AzEl> RotatorService::position() {
                                 : Status{Errc::not_initialised, "no position read from the dish yet"};
         return {AzEl{}, dish.last_error ? none : dish.last_error};
     }
-    const AzEl reported = modelled_position(worker_.profile(), *dish.position, dish.moving_axes, worker_.clock().now());
-    mailbox_.note_reported(reported, worker_.clock().now());
+    // One instant for the position modelled and the time it is noted at (the predictor compares
+    // the satellite with it at that time).
+    const Clock::time_point now = worker_.clock().now();
+    const AzEl reported = modelled_position(worker_.profile(), *dish.position, dish.moving_axes, now);
+    mailbox_.note_reported(reported, now);
     return {reported, Status::ok()};
 }
 

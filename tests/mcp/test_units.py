@@ -1,12 +1,14 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Copyright (C) 2026 the birdcage authors
 
-"""The parts that need no rotctld: what the client refuses to send, the scan grid, the peak finder."""
+"""The parts that need no rotctld: what the client refuses to send, the scan grid, the peak finder,
+the order in which a stop reads the dish."""
 
 from __future__ import annotations
 
 import pytest
 
+from birdcage_mcp.motion import wait_stopped
 from birdcage_mcp.rotctld import Rotctld, RotctldError
 from birdcage_mcp.scan import axis, find_peaks, serpentine
 
@@ -43,3 +45,31 @@ def test_find_peaks_one_per_neighbourhood_above_the_floor():
     assert 400 <= floor <= 402
     assert peaks == [(560.0, 120, 30), (500.0, 130, 24)]
     assert find_peaks([]) == (None, [])
+
+
+class LegEndingOnEveryReading:
+    """A dish finishing its elevation leg: each reading (flags or position) takes one step of time,
+    and the leg ends at the fourth. Whichever order a caller reads in, the leg can end between its
+    two readings, as it did in CI (the stop answered el 49.97 for a dish at rest at 50.00)."""
+
+    def __init__(self) -> None:
+        self.steps = 0
+        self.rot = self
+
+    def elevation(self) -> float:
+        return 50.0 if self.steps >= 4 else 49.9 + 0.01 * self.steps
+
+    async def status(self) -> list[str]:
+        self.steps += 1
+        return [] if self.steps >= 4 else ["BUSY", "MOVING"]
+
+    async def position(self) -> tuple[float, float]:
+        self.steps += 1
+        return 100.0, self.elevation()
+
+
+async def test_a_stop_answers_where_the_dish_rests_not_a_reading_taken_before_it_came_to_rest():
+    dish = LegEndingOnEveryReading()
+    stopped = await wait_stopped(dish, wait_s=10.0, target=(300.0, 50.0))
+    assert stopped.state == "stopped"
+    assert (stopped.position.azimuth, stopped.position.elevation) == (100.0, 50.0), stopped

@@ -64,8 +64,10 @@ async def settle(bird: Birdcage, ctx: Context, serial: int, az_target: float, el
     reported = 0.0  # progress notifications must increase
     while time.monotonic() < deadline:
         if bird.motion_serial != serial:
+            # Flags before position: a position read after "not moving" is where the dish rests.
+            at_rest = not in_motion(await bird.status())
             az, el = await bird.rot.position()
-            return Settled(az, el, "interrupted", not in_motion(await bird.status()), bird.motion_by)
+            return Settled(az, el, "interrupted", at_rest, bird.motion_by)
         az, el = await bird.rot.position()
         start = start or (az, el)
         agreeing = agreeing + 1 if same_position((az, el), target, ARRIVAL_TOLERANCE_DEG) else 0
@@ -125,10 +127,12 @@ async def wait_stopped(bird: Birdcage, wait_s: float, target: tuple[float, float
     previous: tuple[float, float] | None = None
     still_since = started
     while True:
+        # Flags before position: the leg under way may end between the two readings, and a position
+        # read before the flags said "not moving" can be short of where the dish comes to rest.
+        flags = await bird.status()
         az, el = await bird.rot.position()
         now = (az, el)
         first = first or now
-        flags = await bird.status()
         if flags is not None:
             at_rest = not in_motion(flags)
         else:

@@ -266,6 +266,48 @@ TEST_CASE("steering: a dish led past the client's target does not read as a pass
     CHECK(azimuth_direction_hint(std::nullopt, dish, previous, target, 18.0) > 0.0);
 }
 
+TEST_CASE("steering: aims left ahead when the orbit loses trust are held until the client's targets reach them") {
+    // A Trav'ler steered 4.7 deg ahead in azimuth, and below the client's target on a falling
+    // elevation, when the orbit lost trust (the flake of the az-mapping e2e test).
+    const Prediction pass{{344.88, 56.57}, 0.65, -0.25, true};
+    SECTION("the azimuth ahead is held, the elevation ahead is held, until each is reached, then for good") {
+        AimsAhead held{349.58, 56.0};
+        const AzEl first = hold_aims_ahead(held, {344.88, 56.57}, pass);
+        CHECK(first.az == 349.58);
+        CHECK(first.el == 56.0);
+        const AzEl later = hold_aims_ahead(held, {347.46, 55.9}, pass);
+        CHECK(later.az == 349.58);
+        CHECK(later.el == Approx(55.9));  // the client's elevation reached the aim: let go
+        CHECK_FALSE(held.el);
+        const AzEl past = hold_aims_ahead(held, {349.7, 55.6}, pass);
+        CHECK(past.az == Approx(349.7));
+        CHECK_FALSE(held.az);
+        CHECK(hold_aims_ahead(held, {349.0, 55.5}, pass).az == Approx(349.0));  // never taken up again
+    }
+    SECTION("an aim behind the client's target is let go at once") {
+        AimsAhead held{342.0, 58.0};  // behind in azimuth; above a falling elevation is behind too
+        const AzEl sent = hold_aims_ahead(held, {344.88, 56.57}, pass);
+        CHECK(sent.az == Approx(344.88));
+        CHECK(sent.el == Approx(56.57));
+        CHECK_FALSE(held.az);
+        CHECK_FALSE(held.el);
+    }
+    SECTION("an aim the pass would take long to reach, or a pass that stopped, is not waited for") {
+        AimsAhead far{344.88 + 0.65 * 30.0, std::nullopt};
+        CHECK(hold_aims_ahead(far, {344.88, 56.57}, pass).az == Approx(344.88));
+        AimsAhead stopped{349.58, std::nullopt};
+        const Prediction still{{344.88, 56.57}, 0.0, 0.0, false};
+        CHECK(hold_aims_ahead(stopped, {344.88, 56.57}, still).az == Approx(344.88));
+        AimsAhead unknown{349.58, std::nullopt};
+        CHECK(hold_aims_ahead(unknown, {344.88, 56.57}, std::nullopt).az == Approx(344.88));
+    }
+    SECTION("across north") {
+        AimsAhead held{2.0, std::nullopt};
+        CHECK(hold_aims_ahead(held, {358.5, 56.57}, pass).az == 2.0);
+        CHECK(hold_aims_ahead(held, {2.5, 56.57}, pass).az == Approx(2.5));
+    }
+}
+
 TEST_CASE("steering: the measured leg overhead is what a step took beyond its motion, smoothed") {
     const Clock::time_point t0 = Clock::time_point{} + std::chrono::hours(1);
     LegOverheadMeter meter;

@@ -5,6 +5,7 @@
 
 #include "console/detect.hpp"
 #include "dish/receiver.hpp"
+#include "firmware/protocol.hpp"
 #include "service/recovery.hpp"
 
 #include <algorithm>
@@ -289,6 +290,7 @@ Status ServiceWorker::read_position_afresh() {
 
 Status ServiceWorker::resume(AzEl target) {
     aim_.reset();  // the moves in flight were lost: steer again from the estimate
+    aims_ahead_ = {};
     leg_overhead_.interrupt();
     // A target posted while the worker was stuck in the failing step or recovering never reached
     // the estimator: take it as new, or the dish would return to the one before it.
@@ -363,12 +365,23 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at, std:
         emit(options_.log, LogLevel::verbose,
              predictive ? "pointing: the orbit is trusted: predictive steering while it holds"
                         : "pointing: the orbit is no longer trusted: the client's targets as sent");
+        aims_ahead_ = predictive || !aim_ ? AimsAhead{} : AimsAhead{aim_->az, aim_->el};
+        aims_ahead_logged_ = false;
         aim_.reset();
         leg_overhead_.interrupt();
     }
     if (!predictive) {
         leg_overhead_.interrupt();
-        return controller_->set_target(target,
+        const bool holding = aims_ahead_.az || aims_ahead_.el;
+        const AzEl wanted = hold_aims_ahead(aims_ahead_, target, predictor_.predict(now));
+        if (holding != (aims_ahead_.az || aims_ahead_.el)) {
+            emit(options_.log, LogLevel::verbose, "pointing: the client's targets have reached the aims left ahead");
+        } else if (holding && !std::exchange(aims_ahead_logged_, true)) {
+            emit(options_.log, LogLevel::verbose,
+                 "pointing: the last aim " + format_degrees(wanted.az) + " " + format_degrees(wanted.el) +
+                     " lies ahead of the client's target along the pass: held until the targets reach it");
+        }
+        return controller_->set_target(wanted,
                                        azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
                                                               previous_client_target_, target, controller_->el_min()),
                                        predictor_.pass_ahead(now));
@@ -423,6 +436,7 @@ Status ServiceWorker::steer() {
 void ServiceWorker::forget_the_pass() {
     predictor_.reset();
     aim_.reset();
+    aims_ahead_ = {};
     client_target_.reset();
     previous_client_target_.reset();
     leg_overhead_.interrupt();

@@ -264,6 +264,26 @@ double azimuth_direction_hint(const std::optional<Prediction>& estimate, const s
     return along_track ? std::copysign(direction_only_rate, step) : 0.0;
 }
 
+AzEl hold_aims_ahead(AimsAhead& held, AzEl client_target, const std::optional<Prediction>& estimate) {
+    // How far the aim lies ahead of the client's target along the axis' motion, in degrees, and
+    // whether the pass reaches it soon enough to wait for it.
+    auto keep = [&](std::optional<double>& aim, double ahead, double rate) {
+        const double speed = std::fabs(rate);
+        const double along = rate >= 0.0 ? ahead : -ahead;
+        if (!aim || !estimate || !estimate->moving || speed < still_rate_dps || along <= same_angle_degrees ||
+            along / speed > max_aim_ahead_s) {
+            aim.reset();
+        }
+    };
+    if (held.az) {
+        keep(held.az, azimuth_difference(client_target.az, *held.az), estimate ? estimate->az_rate : 0.0);
+    }
+    if (held.el) {
+        keep(held.el, *held.el - client_target.el, estimate ? estimate->el_rate : 0.0);
+    }
+    return AzEl{held.az.value_or(client_target.az), held.el.value_or(client_target.el)};
+}
+
 void LegOverheadMeter::start(Clock::time_point now, int legs, double motion_s) {
     step_ = legs > 0 ? std::optional<Step>(Step{now, legs, motion_s}) : std::nullopt;
 }

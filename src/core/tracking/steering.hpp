@@ -108,6 +108,20 @@ namespace birdcage {
 double azimuth_direction_hint(const std::optional<Prediction>& estimate, const std::optional<AzEl>& dish,
                               const std::optional<AzEl>& previous_target, AzEl target, double el_min);
 
+// The aims predictive steering leaves behind when it hands the dish back to the client's targets
+// (a slow mount steers predictively only while the orbit is trusted): they run ahead of the
+// client's target along the pass, by the motor's lead. Going back to that target and forward
+// again costs two motor starts and reverses the axis by the whole lead (4.5 deg on a Trav'ler,
+// docs/tracking.md §6), while the pass reaches the aim within seconds.
+struct AimsAhead {
+    std::optional<double> az, el;
+};
+
+// The target to hand the controller: the client's, except on an axis whose aim is still held.
+// An axis is let go for good once the client's target reaches its aim, or once the estimate says
+// the pass will not reach it soon (it slows, turns, or the aim is far ahead).
+AzEl hold_aims_ahead(AimsAhead& held, AzEl client_target, const std::optional<Prediction>& estimate);
+
 // What one leg costs beyond its start-up delay and motion as learnt (exchange, polling, whatever the
 // learnt motor misses), timed on steered steps from the aim to the dish idle again, and smoothed.
 // next_aim() aims that much further ahead. The start-up delay and the travel are the driver's

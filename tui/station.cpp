@@ -234,11 +234,9 @@ void Station::poll() {
         link_lost(kLinkLost);
         return;
     }
-    double az = 0, el = 0;
-    const int code = client_.get_position(az, el);
-    if (link_lost(code)) {
-        return;
-    }
+    // The flags before the position: a leg may end between the two readings, and a position read
+    // before flags that say "not moving" could be short of where the dish rests (the MCP server
+    // reads in this order for the same reason).
     std::optional<std::string> status;
     if (snapshot().caps.can_status) {
         std::string flags;
@@ -249,6 +247,11 @@ void Station::poll() {
         if (status_code == RIG_OK) {
             status = squeeze_flags(flags);
         }
+    }
+    double az = 0, el = 0;
+    const int code = client_.get_position(az, el);
+    if (link_lost(code)) {
+        return;
     }
     // `_` describes the state (the Winegard backend's says where the dish is and what it plans):
     // read again every few seconds rather than once.

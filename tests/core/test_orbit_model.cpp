@@ -710,9 +710,10 @@ namespace {
 // The predictor fed by the Gpredict-like client, the dish following the predictor (clamped to the
 // G2's 18-65 deg) and read back by the client each second, every reading noted as `p` answered.
 struct FollowedRun {
-    std::optional<double> lead;  // the lead in use at the end of the pass
-    double lowest_lead = 1e9;    // the lowest lead in use while there was one
-    Errors followed;             // the prediction against the truth, orbit in use, 20-60 deg
+    std::optional<double> lead;          // the lead in use at the end of the pass
+    double lowest_lead = 1e9;            // the lowest lead in use while there was one
+    Errors followed;                     // the prediction against the truth, orbit in use, 20-60 deg
+    int seconds_without_look_ahead = 0;  // the orbit in use, the client read as sending no look-ahead
     std::string description;
 };
 
@@ -738,6 +739,9 @@ FollowedRun run_followed(const TruePass& pass, double latitude, double threshold
         }
         if (const auto lead = predictor.lead_threshold_deg()) {
             run.lowest_lead = std::min(run.lowest_lead, *lead);
+        }
+        if (predictor.pass_model_in_use() && predictor.client_without_look_ahead()) {
+            ++run.seconds_without_look_ahead;
         }
         const AzEl truth = pass.at(now + 1.0);
         if (predictor.pass_model_in_use() && truth.el > 20.0 && truth.el < 60.0) {
@@ -797,6 +801,11 @@ TEST_CASE("orbit model: Gpredict's own lead survives its send rule on every benc
                 const FollowedRun run = run_followed(pass, site_latitude, threshold, true, true, gaps);
                 INFO(name << " at " << threshold << " deg, gaps " << gaps << ": " << run.description);
                 CHECK(run.lowest_lead > 0.5 * threshold);
+                // The dish follows the predictor, so Gpredict sends only now and then and its steps
+                // are far apart: still a client that leads (TargetPredictor::client_without_look_ahead()).
+                if (gaps) {
+                    CHECK(run.seconds_without_look_ahead == 0);
+                }
             }
         }
     }

@@ -74,6 +74,8 @@ async def settle(bird: Birdcage, ctx: Context, serial: int, az_target: float, el
         # p can read the target while the backend still reports MOVING (a leg finishing, e.g. the
         # elevation one after the azimuth one): settled means both agree.
         if agreeing >= 2 and not in_motion(await bird.status()):
+            # Where it rests, read after the flags said so (the readings above may precede the leg's end).
+            az, el = await bird.rot.position()
             return Settled(az, el, "arrived", True)
         if last is None or not same_position((az, el), last):
             still_since = time.monotonic()

@@ -9,6 +9,7 @@
 #include "service/recovery.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 
 namespace birdcage {
@@ -95,6 +96,11 @@ void ServiceWorker::read_lnb_supply_at_open() {
          "the LNB supply could not be read from the dish (" + supply.status.message +
              "): unknown until set (V LNB 13|18) or the dish reboots");
 }
+
+namespace {
+// A fit of one target slower than this (real milliseconds) is logged: it delays the next leg.
+constexpr long slow_fit_ms = 50;
+}  // namespace
 
 void ServiceWorker::run() {
     Clock::duration period{0};
@@ -183,7 +189,13 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
         last_poll_ = now - timing_.idle_poll_period + timing_.settle_polls_after_move * timing_.busy_period;
         return out;
     }
-    leg_overhead_.finished(now);
+    if (leg_overhead_.timing()) {
+        leg_overhead_.finished(now);
+        char text[96];
+        std::snprintf(text, sizeof text, "steering: leg overhead now %.3f s (smoothed)",
+                      leg_overhead_.overhead_s().value_or(0.0));
+        emit(options_.log, LogLevel::verbose, text);
+    }
     if (out.status && now - last_poll_ >= timing_.idle_poll_period) {
         out.talked = true;
         out.status = controller_->poll_at_rest();
@@ -358,7 +370,14 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at, std:
     // a fixed time of the previous target depended on the I/O's real timing: at k = 1 the G2 learnt
     // a lead of 0.09 deg in one run of two and started its motors 528 times on iss-45 at 5 deg,
     // against 140 (docs/benchmarks.md).
+    const auto fit_started = Clock::now();
     predictor_.observe(std::min(sent_at, now), target, reported ? reported : controller_->last_position());
+    // The fit runs on this thread, between the dish's legs: on a loaded machine it can hold them up.
+    const auto fit_ms = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - fit_started).count();
+    if (fit_ms >= slow_fit_ms) {
+        emit(options_.log, LogLevel::verbose,
+             "estimate: fitting the target took " + std::to_string(fit_ms) + " ms (real time)");
+    }
     previous_client_target_ = std::exchange(client_target_, target);
     const bool predictive = steering_predictively();
     if (predictive != std::exchange(steered_predictively_, predictive) && pointing_.mode != PointingMode::predictive) {

@@ -159,9 +159,17 @@ public:
     // The client's steps show no look-ahead: client_coarseness_deg() is then half its step, half
     // the threshold it sends by (a client that leads by its threshold L steps by about 2L, and
     // its coarseness is L).
+    // A lead the dish's gaps taught and the trusted orbit kept (the targets did not refute it) is
+    // the client's own, however far apart its targets lie: while the dish is steered ahead, real
+    // Gpredict at 0.5 deg sends only now and then, and its steps are then the satellite's motion
+    // meanwhile, not its threshold. Read as a client without look-ahead, it got the cost per start's
+    // coarse deadband (2 deg on the sky), and its loop's error rose from 0.25 to 0.7 deg RMS
+    // (docs/tracking.md §6).
     bool client_without_look_ahead() const {
         const std::optional<double> lead = lead_threshold_deg();
-        return half_step_ && half_steps_.size() >= min_half_steps && lead &&
+        const bool lead_confirmed = pass_model_in_use() && lead_threshold_ && !orbit_.lead_from_targets() &&
+                                    *lead_threshold_ >= min_confirmed_lead_deg;
+        return !lead_confirmed && half_step_ && half_steps_.size() >= min_half_steps && lead &&
                *lead < no_look_ahead_lead_share * *half_step_;
     }
     bool pass_model_in_use() const { return settings_.use_pass_model && orbit_.trusted(); }
@@ -207,6 +215,7 @@ private:
     std::deque<double> half_steps_;
     static constexpr double no_look_ahead_lead_share = 0.2;
     static constexpr std::size_t min_half_steps = 3;
+    static constexpr double min_confirmed_lead_deg = 0.25;  // Gpredict's smallest useful threshold, halved
     // The estimated satellite position at anchor_t_ (the last target minus the lead).
     double anchor_t_ = 0.0, anchor_az_ = 0.0, anchor_el_ = 0.0;
     double last_interval_s_ = 0.0;

@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -157,6 +158,14 @@ TEST_CASE("a jog starts from where the dish is now, not from a target another cl
     e2e::RotctldConnection other(rig.port());  // another client moves the dish
     REQUIRE(other.ask("P 120 30", 1) == "RPRT 0\n");
     REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), 120.0, 30.0, 0.2); }, 60s));
+    // The user presses the key once the screen shows the dish there: on a loaded machine the
+    // backend's reading can trail the emulator's settled dish by a poll (el 30.64 under ASan).
+    REQUIRE(e2e::wait_until(
+        [&] {
+            const auto at = station.snapshot().position;
+            return at && std::fabs(at->first - 120.0) <= 0.2 && std::fabs(at->second - 30.0) <= 0.2;
+        },
+        30s));
 
     station.submit({tui::Command::Kind::jog, 1.0, 0.0, {}});
     REQUIRE(e2e::wait_until(

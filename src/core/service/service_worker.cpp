@@ -18,6 +18,8 @@ namespace {
 // A dish counts as fast enough to steer ahead (choose_mode_from_dish) when a small step takes it at
 // most this long from command to arrival: the G2 about 0.15 s, the emulated Trav'ler over 1 s.
 constexpr double fast_step_s = 0.6;
+// A fit of one target slower than this (real milliseconds) is logged: it delays the next leg.
+constexpr long slow_fit_ms = 50;
 
 }  // namespace
 
@@ -96,11 +98,6 @@ void ServiceWorker::read_lnb_supply_at_open() {
          "the LNB supply could not be read from the dish (" + supply.status.message +
              "): unknown until set (V LNB 13|18) or the dish reboots");
 }
-
-namespace {
-// A fit of one target slower than this (real milliseconds) is logged: it delays the next leg.
-constexpr long slow_fit_ms = 50;
-}  // namespace
 
 void ServiceWorker::run() {
     Clock::duration period{0};
@@ -380,28 +377,31 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at, std:
     }
     previous_client_target_ = std::exchange(client_target_, target);
     const bool predictive = steering_predictively();
-    if (predictive != std::exchange(steered_predictively_, predictive) && pointing_.mode != PointingMode::predictive) {
+    const bool switched =
+        predictive != std::exchange(steered_predictively_, predictive) && pointing_.mode != PointingMode::predictive;
+    if (switched) {
         emit(options_.log, LogLevel::verbose,
              predictive ? "pointing: the orbit is trusted: predictive steering while it holds"
                         : "pointing: the orbit is no longer trusted: the client's targets as sent");
         aims_ahead_ = predictive || !aim_ ? AimsAhead{} : AimsAhead{aim_->az, aim_->el};
-        aims_ahead_logged_ = false;
         aim_.reset();
         leg_overhead_.interrupt();
     }
     if (!predictive) {
         leg_overhead_.interrupt();
-        const bool holding = aims_ahead_.az || aims_ahead_.el;
-        const AzEl wanted = hold_aims_ahead(aims_ahead_, target, predictor_.predict(now));
-        if (holding != (aims_ahead_.az || aims_ahead_.el)) {
-            emit(options_.log, LogLevel::verbose, "pointing: the client's targets have reached the aims left ahead");
-        } else if (holding && !std::exchange(aims_ahead_logged_, true)) {
+        const std::optional<Prediction> estimate = predictor_.predict(now);
+        const bool held_before = aims_ahead_.any();
+        const AzEl wanted = hold_aims_ahead(aims_ahead_, target, estimate);
+        if (switched && aims_ahead_.any()) {
             emit(options_.log, LogLevel::verbose,
                  "pointing: the last aim " + format_degrees(wanted.az) + " " + format_degrees(wanted.el) +
                      " lies ahead of the client's target along the pass: held until the targets reach it");
+        } else if (held_before && !switched && !aims_ahead_.any()) {
+            emit(options_.log, LogLevel::verbose,
+                 "pointing: the aims left ahead are let go: the client's targets as sent");
         }
         return controller_->set_target(wanted,
-                                       azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
+                                       azimuth_direction_hint(estimate, controller_->last_position(),
                                                               previous_client_target_, target, controller_->el_min()),
                                        predictor_.pass_ahead(now));
     }

@@ -119,7 +119,6 @@ private:
     // Steering: the estimator and what was last handed to the controller.
     TargetPredictor predictor_;
     std::optional<AzEl> aim_;
-    bool aims_ahead_logged_ = false;
     AimsAhead aims_ahead_;                        // held after predictive steering handed back to the client's targets
     std::optional<AzEl> client_target_;           // the last target the client sent, as sent
     std::optional<AzEl> previous_client_target_;  // the one before it (the client's last step)

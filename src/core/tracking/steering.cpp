@@ -265,22 +265,21 @@ double azimuth_direction_hint(const std::optional<Prediction>& estimate, const s
 }
 
 AzEl hold_aims_ahead(AimsAhead& held, AzEl client_target, const std::optional<Prediction>& estimate) {
-    // How far the aim lies ahead of the client's target along the axis' motion, in degrees, and
-    // whether the pass reaches it soon enough to wait for it.
-    auto keep = [&](std::optional<double>& aim, double ahead, double rate) {
-        const double speed = std::fabs(rate);
+    if (!estimate || !estimate->moving) {
+        held = {};
+        return client_target;
+    }
+    // Kept while the aim lies ahead of the client's target along the axis' motion (degrees) and the
+    // pass reaches it soon enough to wait for it.
+    auto keep = [](std::optional<double>& aim, double ahead, double rate) {
         const double along = rate >= 0.0 ? ahead : -ahead;
-        if (!aim || !estimate || !estimate->moving || speed < still_rate_dps || along <= same_angle_degrees ||
-            along / speed > max_aim_ahead_s) {
+        if (aim && (std::fabs(rate) < still_rate_dps || along <= same_angle_degrees ||
+                    along / std::fabs(rate) > max_aim_ahead_s)) {
             aim.reset();
         }
     };
-    if (held.az) {
-        keep(held.az, azimuth_difference(client_target.az, *held.az), estimate ? estimate->az_rate : 0.0);
-    }
-    if (held.el) {
-        keep(held.el, *held.el - client_target.el, estimate ? estimate->el_rate : 0.0);
-    }
+    keep(held.az, held.az ? azimuth_difference(client_target.az, *held.az) : 0.0, estimate->az_rate);
+    keep(held.el, held.el ? *held.el - client_target.el : 0.0, estimate->el_rate);
     return AzEl{held.az.value_or(client_target.az), held.el.value_or(client_target.el)};
 }
 

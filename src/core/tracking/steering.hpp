@@ -115,6 +115,7 @@ double azimuth_direction_hint(const std::optional<Prediction>& estimate, const s
 // docs/tracking.md §6), while the pass reaches the aim within seconds.
 struct AimsAhead {
     std::optional<double> az, el;
+    bool any() const { return az || el; }
 };
 
 // The target to hand the controller: the client's, except on an axis whose aim is still held.

@@ -17,7 +17,7 @@ import re
 import socket
 from dataclasses import dataclass
 
-ALLOWED = {"p", "P", "S", "K", "_", "s", "v", "\\dump_state"}
+ALLOWED = {"p", "P", "S", "K", "_", "s", "v", "V", "\\dump_state"}
 
 HAMLIB_ERRORS = {1: "invalid parameter", 2: "invalid configuration", 4: "not implemented", 5: "timed out",
                  6: "I/O error", 7: "internal error", 8: "protocol error", 9: "rejected by the rotator",
@@ -199,6 +199,9 @@ class Rotctld:
             return float(values[-1])
         except (IndexError, ValueError):
             raise RotctldError(f"rotctld's `v {name}` answered {values!r}") from None
+
+    def set_level(self, name: str, value) -> None:
+        self.ask("V", name, value)
 
     def dump_state(self) -> list[str]:
         self._send("\\dump_state")

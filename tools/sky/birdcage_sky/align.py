@@ -175,11 +175,16 @@ def fit(scan: Scan, sources: list[Source], *, fit_tilts: bool = True, fit_lag: b
     n, p = len(r), len(sol.x) + int(np.count_nonzero(coef))
     chi2 = float(r @ r) / max(n - p, 1)
     noise = float(1.4826 * np.median(np.abs(r - np.median(r))))
-    # Neighbouring readings share the beam and its errors: the formal errors count each reading as
-    # independent, so they are widened by the square root of the readings per beam area.
+    # Neighbouring readings share the beam, and a model that misses the beam's shape misses it
+    # alike at each of them: the formal errors, which count every reading as independent, are
+    # widened by the readings per beam area as far as neighbouring residuals are correlated
+    # (white noise: not at all; a smooth misfit: by the square root of the readings per beam).
     per_beam = readings_per_beam(scan, sigma)
+    same_column = model.prev[1:] == np.arange(len(r) - 1)
+    rho = float(np.corrcoef(r[1:][same_column], r[:-1][same_column])[0, 1]) if same_column.sum() > 10 else 0.0
+    widen = 1.0 + (per_beam - 1.0) * max(rho, 0.0)
     try:
-        cov = np.linalg.inv(sol.jac.T @ sol.jac) * chi2 * per_beam
+        cov = np.linalg.inv(sol.jac.T @ sol.jac) * chi2 * widen
         spread = np.sqrt(np.clip(np.diag(cov), 0, None))
     except np.linalg.LinAlgError:
         spread = np.full(len(sol.x), np.nan)

@@ -103,9 +103,10 @@ def _describe(target, station, ts, el, aos, los, el_max, step) -> Pass:
     else:
         a, b = lo, hi
     if b > a:
-        best = minimize_scalar(lambda x: -target.look_one(station, x)[1], bounds=(a, b), method="bounded",
-                               options={"xatol": 0.05})
-        tca = float(best.x)
+        # In seconds from a: the bounded search's tolerance is relative to the argument's size.
+        best = minimize_scalar(lambda x: -target.look_one(station, a + x)[1], bounds=(0.0, b - a),
+                               method="bounded", options={"xatol": 0.05})
+        tca = a + float(best.x)
     else:
         tca = a
     tca_az, max_el = target.look_one(station, tca)

@@ -81,7 +81,7 @@ def main():
         failures.append(f"hazards: {stderr}")
 
     header, rows = rows_of(path)
-    os.rename(path, "/tmp/simsky-truth-debug.csv") if os.environ.get("KEEP") else os.unlink(path)
+    os.unlink(path)
     if header != HEADER:
         failures.append(f"header {header!r}")
     epoch = datetime.fromisoformat(EPOCH.replace("Z", "+00:00"))

@@ -455,20 +455,25 @@ Options parse(int argc, char** argv, Options options = {}) {
 }
 
 // --sky-at: the sky of the real-sky model, for a check against an independent implementation
-// (tests/sim/sky_positions.py). dish_az/dish_el: where the dish's axes point at it (--mount).
+// (tests/sim/sky_positions.py) and for tests that need to know what a dish there hears.
+// dish_az/dish_el: where the dish's axes point at it (--mount); peak_13v/peak_18v: counts above
+// the floor at the beam's centre on each LNB supply (the belt's amplitudes follow --seed).
 void print_sky(const Options& options, double utc) {
     using namespace birdcage::sim;
-    const auto row = [&](const std::string& name, const std::string& longitude, AzEl sky) {
-        const AzEl dish = sky_to_dish(options.mount, sky);
-        std::printf("%s,%s,%.6f,%.6f,%.6f,%.6f\n", name.c_str(), longitude.c_str(), sky.az, sky.el,
-                    normalize_360(dish.az), dish.el);
+    const SkyModel sky(options.seed, options.rssi_floor, *options.station);
+    const auto row = [&](const std::string& name, const std::string& longitude, AzEl at, double peak_13v,
+                         double peak_18v) {
+        const AzEl dish = sky_to_dish(options.mount, at);
+        std::printf("%s,%s,%.6f,%.6f,%.6f,%.6f,%.1f,%.1f\n", name.c_str(), longitude.c_str(), at.az, at.el,
+                    normalize_360(dish.az), dish.el, peak_13v, peak_18v);
     };
-    std::printf("name,longitude_deg,sky_az,sky_el,dish_az,dish_el\n");
-    row("Sun", "", sun_direction(*options.station, utc));
-    for (const GeostationarySlot& slot : geostationary_catalogue()) {
+    std::printf("name,longitude_deg,sky_az,sky_el,dish_az,dish_el,peak_13v,peak_18v\n");
+    row("Sun", "", sun_direction(*options.station, utc), SkyModel::sun_amplitude, SkyModel::sun_amplitude);
+    for (std::size_t i = 0; i < sky.belt().size(); ++i) {
+        const Satellite& satellite = sky.belt()[i];
         char longitude[32];
-        std::snprintf(longitude, sizeof longitude, "%g", slot.longitude_deg);
-        row(slot.name, longitude, geostationary_direction(*options.station, slot.longitude_deg));
+        std::snprintf(longitude, sizeof longitude, "%g", geostationary_catalogue()[i].longitude_deg);
+        row(satellite.name, longitude, {satellite.az, satellite.el}, satellite.amplitude_13v, satellite.amplitude_18v);
     }
 }
 

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -118,9 +119,16 @@ TEST_CASE("with a mount model P 180 40 rests the dish on its own axes for that s
             CHECK(answers(rig, c.sky_az, c.sky_el, reported));
             INFO("p: " << (reported.size() == 2 ? std::to_string(reported[0]) + " " + std::to_string(reported[1])
                                                 : std::string("?")));
-            e2e::RotctldConnection client(rig.port());  // rotctl -m 2 shows only 63 characters of `_`
-            CHECK(client.ask("_", 1).find("mount az_index 6.00 el_index 0.80 tilt_north 1.20 tilt_east -0.50") !=
+            // `_` names the mount and the target the backend took, on the sky (rotctl -m 2 would
+            // show only its first 63 characters).
+            e2e::RotctldConnection client(rig.port());
+            const std::string info = client.ask("_", 1);
+            INFO(info);
+            char sky_target[64];
+            std::snprintf(sky_target, sizeof sky_target, "; sky target az %.2f el %.2f", c.sky_az, c.sky_el);
+            CHECK(info.find("; mount az_index 6.00 el_index 0.80 tilt_north 1.20 tilt_east -0.50") !=
                   std::string::npos);
+            CHECK(info.find(sky_target) != std::string::npos);
             CHECK(rig.dish().hazards_received() == 0);
         }
     }

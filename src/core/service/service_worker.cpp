@@ -553,10 +553,17 @@ void ServiceWorker::publish(const Status& step, bool talked) {
         published_.description += " (" + predictor_.describe() + ")";
     }
     if (!mount_.identity()) {
-        char text[120];
+        // The controller's words are the dish's axes; a client reading the target it took (the
+        // MCP server, after az_min/az_max) needs it on the sky.
+        char text[200];
         std::snprintf(text, sizeof text, "; mount az_index %.2f el_index %.2f tilt_north %.2f tilt_east %.2f",
                       mount_.az_index, mount_.el_index, mount_.tilt_north, mount_.tilt_east);
         published_.description += text;
+        if (const std::optional<AzEl> target = controller_->current_target()) {
+            const AzEl sky = in_the_sky(*target);
+            std::snprintf(text, sizeof text, "; sky target az %.2f el %.2f", sky.az, sky.el);
+            published_.description += text;
+        }
     }
     mailbox_.publish(published_);
 }

@@ -501,8 +501,9 @@ ServiceWorker::ElLimits ServiceWorker::sky_limits_at(double sky_az) const {
     if (mount_.identity()) {
         return {el_min, el_max};
     }
+    // The dish's azimuth that looks toward sky_az at that elevation, to first order in the tilt.
     auto sky_el = [&](double dish_el) {
-        const double dish_az = sky_to_dish(mount_, {sky_az, dish_el + mount_.el_index}).az;
+        const double dish_az = sky_to_dish(mount_, {sky_az, std::min(dish_el + mount_.el_index, 90.0)}).az;
         return dish_to_sky(mount_, {dish_az, dish_el}).el;
     };
     return {sky_el(el_min), sky_el(el_max)};

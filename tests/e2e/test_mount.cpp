@@ -8,7 +8,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -132,4 +134,63 @@ TEST_CASE("with a mount model P 180 40 rests the dish on its own axes for that s
             CHECK(rig.dish().hazards_received() == 0);
         }
     }
+}
+
+// The emulator's dish set up with a mount error (--mount X) and the backend told X: the beam ends
+// on the sky where the client pointed it, within the motors' step quantisation; without the conf
+// it ends degrees away. The beam's sky direction is the emulator's own (its dish->sky of the true
+// axes), written apart from the backend's.
+TEST_CASE("the conf that corrects a dish set up with a mount error is that mount itself (20 sky positions)",
+          "[e2e][mount]") {
+    birdcage::sim::Mount mount;
+    mount.az_index = az_index;
+    mount.el_index = el_index;
+    mount.tilt_north = tilt_north;
+    mount.tilt_east = tilt_east;
+    // A fixed draw over the G2's window (18..65 in dish elevation: keep sky targets inside it).
+    std::vector<std::pair<double, double>> targets;
+    std::uint32_t state = 20261207u;
+    const auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return static_cast<double>(state >> 8) / static_cast<double>(1u << 24);
+    };
+    for (int i = 0; i < 20; ++i) {
+        targets.emplace_back(360.0 * next(), 22.0 + 40.0 * next());
+    }
+    const auto pointing_error = [&](bool with_conf) {
+        birdcage::sim::Options options = e2e::dish_options(Variant::carryout_g2, -100.0, 30.0);
+        options.mount = mount;
+        std::vector<std::string> args = {"-C", "leapfrog=0"};
+        if (with_conf) {
+            args.insert(args.end(), mount_conf.begin(), mount_conf.end());
+        }
+        e2e::Rig rig(options, 90105, args);
+        double sum_sq = 0.0, worst = 0.0;
+        for (const auto& [az, el] : targets) {
+            REQUIRE(rig.rotctl({"P", std::to_string(az), std::to_string(el)}).exit_code == 0);
+            // At rest where the backend sends it: the dish axes for the target, or the target
+            // itself taken as dish axes without the conf.
+            const DishAxes rest = with_conf ? dish_axes_for(az, el) : DishAxes{az, el};
+            REQUIRE(e2e::wait_until([&] { return e2e::settled_at(rig.dish(), rest.az, rest.el, rests_within); }, 60s));
+            const auto beam = rig.dish().beam_direction();
+            // The angle on the sky between where the beam points and the target.
+            const double d = deg(std::acos(std::clamp(
+                std::sin(rad(beam.el)) * std::sin(rad(el)) +
+                    std::cos(rad(beam.el)) * std::cos(rad(el)) * std::cos(rad(e2e::angle_between(beam.az, az))),
+                -1.0, 1.0)));
+            UNSCOPED_INFO("target " << az << " " << el << ": beam " << beam.az << " " << beam.el << ", off " << d);
+            sum_sq += d * d;
+            worst = std::max(worst, d);
+        }
+        CHECK(rig.dish().hazards_received() == 0);
+        return std::pair{std::sqrt(sum_sq / static_cast<double>(targets.size())), worst};
+    };
+    const auto [rms_corrected, worst_corrected] = pointing_error(true);
+    const auto [rms_raw, worst_raw] = pointing_error(false);
+    WARN("pointing error on the sky, 20 positions: with the mount's conf RMS "
+         << rms_corrected << " deg (max " << worst_corrected << "), without it RMS " << rms_raw << " deg (max "
+         << worst_raw << ")");
+    CHECK(rms_corrected <= 0.05);
+    CHECK(worst_corrected <= 0.1);
+    CHECK(rms_raw >= 3.0);
 }

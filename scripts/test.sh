@@ -35,7 +35,7 @@ done
 # the venv module for the mcp test (tests/mcp/CMakeLists.txt) and tmux, in which the tui test
 # drives birdcage-tui (tui/CMakeLists.txt); clang-format 14 for the build's format check
 # (cmake/BirdcageFormat.cmake).
-export BIRDCAGE_SETUP_EXTRA="${BIRDCAGE_SETUP_EXTRA:-} gpredict xvfb xdotool imagemagick faketime python3-sgp4 python3-numpy python3-venv tmux clang-format"
+export BIRDCAGE_SETUP_EXTRA="${BIRDCAGE_SETUP_EXTRA:-} gpredict xvfb xdotool imagemagick faketime python3-sgp4 python3-ephem python3-numpy python3-venv tmux clang-format"
 "$root/scripts/build.sh" -DBIRDCAGE_BUILD_TESTS=ON "${cmake_args[@]}"
 cd "$build"
 ctest --output-on-failure --timeout 600 -j "$(nproc)" "${ctest_args[@]}"

@@ -55,6 +55,15 @@ const std::vector<std::string>& Console::commands() const {
 double Console::time() const {
     return engine_->now;
 }
+AzEl Console::beam_direction() const {
+    return engine_->beam_direction();
+}
+double Console::epoch() const {
+    return engine_->epoch;
+}
+std::vector<TruthRow> Console::take_truth() {
+    return std::exchange(engine_->truth, {});
+}
 void Console::power_cycle() {
     engine_->start_boot();
 }

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <mutex>
 #include <random>
 #include <system_error>
@@ -53,6 +54,15 @@ struct Emulator::Impl {
           faults(options.line_faults),
           drop_rng(options.seed ^ 0xd409u),
           noise_rng(options.seed ^ 0xfa17u) {
+        if (!options.truth_path.empty()) {
+            truth = std::fopen(options.truth_path.c_str(), "w");
+            if (truth == nullptr)
+                throw std::system_error(errno, std::generic_category(), "truth file " + options.truth_path);
+            std::fputs("utc,t,dish_az,dish_el,sky_az,sky_el,moving\n", truth);
+            write_truth(console.take_truth());
+            std::fflush(truth);
+            truth_flushed_at = Clock::now();
+        }
         if (options.replay != ReplayMode::off)
             replayer.emplace(load_transcript(options.transcript_path), options.replay, options.transcript_path);
         device_path = pty->slave_path();
@@ -66,8 +76,20 @@ struct Emulator::Impl {
     ~Impl() {
         stopping = true;
         thread.join();
+        if (truth != nullptr) {
+            write_truth(console.take_truth());
+            std::fclose(truth);
+        }
         if (!options.link_path.empty())
             ::unlink(options.link_path.c_str());
+    }
+
+    // Under `mutex` (or with the console thread stopped).
+    void write_truth(const std::vector<TruthRow>& rows) {
+        for (const TruthRow& row : rows) {
+            std::fprintf(truth, "%s,%.3f,%.4f,%.4f,%.4f,%.4f,%d\n", format_utc(console.epoch() + row.t).c_str(), row.t,
+                         row.dish_az, row.dish_el, row.sky_az, row.sky_el, row.moving ? 1 : 0);
+        }
     }
 
     unsigned char random_byte() { return static_cast<unsigned char>(noise_rng() >> 24); }
@@ -160,6 +182,14 @@ struct Emulator::Impl {
                     output = console.take_output();
                 }
                 counters.motor_stalls = console.motor_stalls();
+                if (truth != nullptr) {
+                    write_truth(console.take_truth());
+                    // Often enough for a test that reads the file while the dish runs.
+                    if (now - truth_flushed_at >= std::chrono::milliseconds(250)) {
+                        std::fflush(truth);
+                        truth_flushed_at = now;
+                    }
+                }
                 held_output += filter_dish_output(output);
                 if (console.time() >= stall_until)
                     sent = std::exchange(held_output, {});
@@ -263,6 +293,8 @@ struct Emulator::Impl {
     std::string held_output;      // dish bytes not yet on the line (stall)
     std::string pending_garbage;  // inject_garbage bytes for the console thread
     FaultCounters counters;
+    std::FILE* truth = nullptr;  // Options::truth_path
+    Clock::time_point truth_flushed_at;
     unsigned injected = 0;
     std::atomic<bool> stopping{false};
     std::thread thread;
@@ -324,6 +356,16 @@ std::vector<std::string> Emulator::received_commands() const {
 double Emulator::sim_time() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.time();
+}
+
+AzEl Emulator::beam_direction() const {
+    std::lock_guard lock(impl_->mutex);
+    return impl_->console.beam_direction();
+}
+
+double Emulator::epoch() const {
+    std::lock_guard lock(impl_->mutex);
+    return impl_->console.epoch();
 }
 
 std::optional<std::string> Emulator::replay_failure() const {

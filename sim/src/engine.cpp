@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <utility>
 
@@ -53,6 +54,7 @@ std::string core_menu_name(const Menu& menu) {
 }
 
 constexpr double max_tick = 0.02;     // simulated seconds per event step
+constexpr double truth_period = 0.1;  // simulated seconds between truth rows
 constexpr double search_dwell = 0.5;  // INVENTED pause between search moves
 
 AxisParams with_dynamics(AxisParams axis, std::optional<double> velocity, const MotorDynamics& motor) {
@@ -134,7 +136,9 @@ Engine::Engine(const Options& opts)
       motors(with_dynamics(profile.az, opts.motor.az_velocity, opts.motor),
              with_dynamics(profile.el, opts.motor.el_velocity, opts.motor), profile.skew,
              initial_mechanical_az(profile, opts.start_az), std::clamp(opts.start_el, profile.el.min, profile.el.max)),
-      sky(opts.seed, opts.rssi_floor),
+      sky(opts.station ? SkyModel(opts.seed, opts.rssi_floor, *opts.station) : SkyModel(opts.seed, opts.rssi_floor)),
+      epoch(opts.epoch.value_or(
+          std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count())),
       rng(opts.seed ^ 0x5eedu),
       nvs(profile.nvs_table()) {
     menus = {profile.root};
@@ -156,6 +160,7 @@ Engine::Engine(const Options& opts)
             start_search();
     }
     record_sample();
+    record_truth();
 }
 
 std::string Engine::eol() const {
@@ -237,6 +242,16 @@ HelpLayout Engine::help_layout() const {
 
 double Engine::displayed_az() const {
     return normalize_360(motors.axis(axis_az).position());
+}
+
+AzEl Engine::beam_direction() const {
+    const AzEl on_sky = dish_to_sky(options.mount, {displayed_az(), motors.axis(axis_el).position()});
+    return {normalize_360(on_sky.az), on_sky.el};
+}
+
+int Engine::read_rssi() {
+    const AzEl beam = beam_direction();
+    return sky.read(beam.az, beam.el, lnb_supply, epoch + now);
 }
 
 double Engine::reported_az() const {
@@ -663,6 +678,22 @@ void Engine::record_sample() {
     history.push_back(sample);
 }
 
+// A row on every 0.1 s of the grid and at every start and end of motion, so that a test reading
+// the file sees each motion's exact ends.
+void Engine::record_truth() {
+    if (options.truth_path.empty())
+        return;
+    const bool moving_now = motors.moving();
+    const bool due = now >= next_truth_at_ - 1e-9;
+    if (!due && moving_now == truth_moving_)
+        return;
+    if (due)
+        next_truth_at_ = (std::floor(now / truth_period + 1e-6) + 1.0) * truth_period;
+    truth_moving_ = moving_now;
+    const AzEl beam = beam_direction();
+    truth.push_back({now, displayed_az(), motors.axis(axis_el).position(), beam.az, beam.el, moving_now});
+}
+
 // --- injected motor stalls -------------------------------------------------------------------
 
 void Engine::inject_motor_stall(std::size_t axis) {
@@ -718,6 +749,7 @@ void Engine::tick() {
     process_pending();
     run_idle_line();
     record_sample();
+    record_truth();
 }
 
 void Engine::advance(double dt) {

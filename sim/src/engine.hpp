@@ -166,6 +166,10 @@ struct Engine {
     void inject_motor_stall(std::size_t axis);
     double displayed_az() const;
     double reported_az() const;  // per Options::az_report
+    // Where the beam points on the sky (docs/sky.md §1: Options::mount applied to the axes), and
+    // one 20 ms RSSI read there at the sky clock's UTC.
+    AzEl beam_direction() const;
+    int read_rssi();
     double el_limit_min() const { return el_min_active_; }
     double el_limit_max() const { return el_max_active_; }
     bool booting() const { return booting_; }
@@ -175,6 +179,7 @@ struct Engine {
     double now = 0.0;
     MotorModel motors;
     SkyModel sky;
+    double epoch;  // UTC of simulated time 0 (Options::epoch or the wall clock at construction)
     std::mt19937 rng;
     std::vector<const Menu*> menus;  // menus.front() is the console root
     std::string output;              // printed, not yet on the line
@@ -192,7 +197,8 @@ struct Engine {
     int nvs_cursor = -1;
     // The LNB supply the sky model hears: 18 V at boot (`Enabled LNB ODU 18V`, §6.2 item 4).
     LnbSupply lnb_supply = LnbSupply::stb_18v;
-    unsigned motor_stalls = 0;  // injected stalls that have happened
+    unsigned motor_stalls = 0;    // injected stalls that have happened
+    std::vector<TruthRow> truth;  // with Options::truth_path: rows not yet taken (Console::take_truth)
 
 private:
     void record_received(char byte);
@@ -205,6 +211,7 @@ private:
     void run_search();
     void run_busy();
     void record_sample();
+    void record_truth();
     void finish_boot();
     void apply_nvs_limits();
     void finish_busy();
@@ -237,6 +244,8 @@ private:
     std::vector<BootStep> boot_steps_;
     std::size_t boot_index_ = 0;
     double boot_resume_at_ = 0.0;
+    bool truth_moving_ = false;
+    double next_truth_at_ = 0.0;  // the next row on the 0.1 s grid
     double el_min_active_ = 0.0;
     double el_max_active_ = 90.0;
 };

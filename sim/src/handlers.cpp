@@ -572,7 +572,7 @@ void dvb_rssi(Engine& e, const Args& args) {
         long sum = 0;
         int current = 0;
         for (int i = 0; i < reads; ++i) {
-            current = engine.sky.read(engine.displayed_az(), engine.motors.axis(axis_el).position(), engine.lnb_supply);
+            current = engine.read_rssi();
             sum += current;
         }
         engine.print_line(format("iterations:%d  interval(msec):20", reads));
@@ -599,11 +599,7 @@ void dvb_config(Engine& e, const Args&) {
 }
 
 void dvb_quick_lock(Engine& e, const Args&) {
-    const auto line = [](Engine& engine) {
-        engine.print_line(
-            format("Lock:0  rssi:%d  cnt:0",
-                   engine.sky.read(engine.displayed_az(), engine.motors.axis(axis_el).position(), engine.lnb_supply)));
-    };
+    const auto line = [](Engine& engine) { engine.print_line(format("Lock:0  rssi:%d  cnt:0", engine.read_rssi())); };
     if (!e.captured_g2()) {  // the reconstruction printed one line
         line(e);
         return;
@@ -617,9 +613,7 @@ void dvb_quick_lock(Engine& e, const Args&) {
 // texts are the capture's samples; periods INVENTED except `rssits` (a minute).
 void dvb_stream(Engine& e, const Args& args) {
     const std::string_view word = args.front();
-    const auto rssi = [](Engine& engine) {
-        return engine.sky.read(engine.displayed_az(), engine.motors.axis(axis_el).position(), engine.lnb_supply);
-    };
+    const auto rssi = [](Engine& engine) { return engine.read_rssi(); };
     auto reads = std::make_shared<long>(0);
     if (word == "snr") {
         e.start_stream(0.1, false,

@@ -20,6 +20,9 @@
 
 #include "birdcage_sim/dialect.hpp"
 #include "birdcage_sim/emulator.hpp"
+#include "birdcage_sim/motor.hpp"
+#include "birdcage_sim/sky.hpp"
+#include "birdcage_sim/sky_geometry.hpp"
 #include "birdcage_sim/transcript.hpp"
 #include "birdcage_version.hpp"
 
@@ -99,6 +102,53 @@ using birdcage::sim::ReplayMode;
 using birdcage::sim::TravlerPositionLayout;
 
 bool have_variant = false;
+// --lat/--lon/--alt make Options::station only together (checked after parsing).
+bool have_lat = false, have_lon = false, have_alt = false;
+// --sky-at: print the sky's positions at this UTC and exit (no dish).
+std::optional<double> sky_at;
+
+double utc_value(std::string_view flag, std::string_view text) {
+    const auto utc = birdcage::sim::parse_utc(text);
+    if (!utc)
+        throw UsageError{std::string(flag) + ": expected an ISO-8601 UTC time (YYYY-MM-DDTHH:MM:SS[.fff]Z), got '" +
+                         std::string(text) + "'"};
+    return *utc;
+}
+
+birdcage::sim::Station& station_of(Options& o) {
+    if (!o.station)
+        o.station.emplace();
+    return *o.station;
+}
+
+// `az_index=A,el_index=E,tilt_north=N,tilt_east=W`, any subset, the terms of docs/sky.md §1.
+birdcage::sim::Mount mount_value(std::string_view flag, std::string_view text) {
+    birdcage::sim::Mount mount;
+    while (!text.empty()) {
+        const std::size_t comma = text.find(',');
+        const std::string_view term = text.substr(0, comma);
+        text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
+        const std::size_t equals = term.find('=');
+        const std::string_view key = term.substr(0, equals);
+        if (equals == std::string_view::npos)
+            throw UsageError{std::string(flag) + ": expected TERM=DEG, got '" + std::string(term) + "'"};
+        const double value =
+            number_at_least(std::string(flag) + " " + std::string(key), term.substr(equals + 1), -360.0, 360.0);
+        if (key == "az_index") {
+            mount.az_index = value;
+        } else if (key == "el_index") {
+            mount.el_index = value;
+        } else if (key == "tilt_north") {
+            mount.tilt_north = value;
+        } else if (key == "tilt_east") {
+            mount.tilt_east = value;
+        } else {
+            throw UsageError{std::string(flag) + ": unknown term '" + std::string(key) +
+                             "' (az_index, el_index, tilt_north, tilt_east)"};
+        }
+    }
+    return mount;
+}
 // --dialect: draw the console from --seed (sim/README.md, "Dialects"); other flags override it.
 enum class DialectMode { off, random, describe };
 DialectMode dialect_mode = DialectMode::off;
@@ -138,6 +188,31 @@ const std::vector<Flag>& flags() {
                  std::cerr << (from_client ? "<< " : ">> ") << birdcage::sim::escape_chunk(bytes) << '\n';
              };
          }},
+        // --- the sky (docs/sky.md) ---
+        {"--mount", "az_index=A,el_index=E,tilt_north=N,tilt_east=W",
+         "how the dish's axes sit against the sky, docs/sky.md section 1 (any subset; default all 0)",
+         [](Options& o, auto f, auto v) { o.mount = mount_value(f, v); }},
+        {"--lat", "DEG", "station latitude: the G2 hears the real sky (geostationary belt, Sun) over it",
+         [](Options& o, auto f, auto v) {
+             station_of(o).lat_deg = number_at_least(f, v, -90.0, 90.0);
+             have_lat = true;
+         }},
+        {"--lon", "DEG", "station longitude, east positive (with --lat)",
+         [](Options& o, auto f, auto v) {
+             station_of(o).lon_deg = number_at_least(f, v, -180.0, 360.0);
+             have_lon = true;
+         }},
+        {"--alt", "M", "station height above the WGS84 ellipsoid in metres (default 0)",
+         [](Options& o, auto f, auto v) {
+             station_of(o).alt_m = number_at_least(f, v, -1000.0, 100000.0);
+             have_alt = true;
+         }},
+        {"--epoch", "ISO-8601-UTC", "UTC of emulated time 0 (default: the wall clock at start)",
+         [](Options& o, auto f, auto v) { o.epoch = utc_value(f, v); }},
+        {"--truth", "FILE", "write where the axes and the beam are (CSV, sim/README.md) as the dish moves",
+         [](Options& o, auto, auto v) { o.truth_path = v; }},
+        {"--sky-at", "ISO-8601-UTC", "print the Sun's and the belt's look angles at the station (CSV) and exit",
+         [](Options&, auto f, auto v) { sky_at = utc_value(f, v); }},
         {"--replay", "TRANSCRIPT", "answer from a transcript (strict)",
          [](Options& o, auto, auto v) {
              o.transcript_path = v;
@@ -372,7 +447,34 @@ Options parse(int argc, char** argv, Options options = {}) {
     }
     if (options.replay != ReplayMode::off && options.transcript_path.empty())
         throw UsageError{"--lenient needs --replay"};
+    if (have_lat != have_lon || (have_alt && !have_lat))
+        throw UsageError{"--lat and --lon go together (--alt with them)"};
+    if (sky_at && !options.station)
+        throw UsageError{"--sky-at needs --lat and --lon"};
     return options;
+}
+
+// --sky-at: the sky of the real-sky model, for a check against an independent implementation
+// (tests/sim/sky_positions.py) and for tests that need to know what a dish there hears.
+// dish_az/dish_el: where the dish's axes point at it (--mount); peak_13v/peak_18v: counts above
+// the floor at the beam's centre on each LNB supply (the belt's amplitudes follow --seed).
+void print_sky(const Options& options, double utc) {
+    using namespace birdcage::sim;
+    const SkyModel sky(options.seed, options.rssi_floor, *options.station);
+    const auto row = [&](const std::string& name, const std::string& longitude, AzEl at, double peak_13v,
+                         double peak_18v) {
+        const AzEl dish = sky_to_dish(options.mount, at);
+        std::printf("%s,%s,%.6f,%.6f,%.6f,%.6f,%.1f,%.1f\n", name.c_str(), longitude.c_str(), at.az, at.el,
+                    normalize_360(dish.az), dish.el, peak_13v, peak_18v);
+    };
+    std::printf("name,longitude_deg,sky_az,sky_el,dish_az,dish_el,peak_13v,peak_18v\n");
+    row("Sun", "", sun_direction(*options.station, utc), SkyModel::sun_amplitude, SkyModel::sun_amplitude);
+    for (std::size_t i = 0; i < sky.belt().size(); ++i) {
+        const Satellite& satellite = sky.belt()[i];
+        char longitude[32];
+        std::snprintf(longitude, sizeof longitude, "%g", geostationary_catalogue()[i].longitude_deg);
+        row(satellite.name, longitude, {satellite.az, satellite.el}, satellite.amplitude_13v, satellite.amplitude_18v);
+    }
 }
 
 }  // namespace
@@ -394,6 +496,10 @@ int main(int argc, char** argv) {
     } catch (const UsageError& error) {
         std::cerr << "birdcage-sim: " << error.message << '\n';
         return 2;
+    }
+    if (sky_at) {
+        print_sky(options, *sky_at);
+        return 0;
     }
     if (!have_variant && !options.transcript_path.empty()) {
         try {

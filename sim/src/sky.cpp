@@ -17,6 +17,19 @@
 //   can tell which polarisation the dish listens to.
 // - Each 20 ms read adds Gaussian noise of 8 counts, so `rssi 10` scatters by ~2.5 counts like
 //   the real averages; deterministic per seed.
+//
+// The real sky over a station (`--lat/--lon`) replaces all of that but the floor and the noise:
+// - every slot of tools/sky/data/geostationary.csv at its exact topocentric look angles, a
+//   Gaussian beam of the same sigma in the angle between the beam and the satellite (not az/el
+//   differences: the belt is seen at any elevation). Its amplitude is drawn from the seed and its
+//   name, so a slot keeps its strength whatever else the table lists: 40% strong (60-160 counts),
+//   30% weak (5-30), 30% silent (INVENTED proportions, a mix like the scan's fit). The scan's
+//   two-polarisation rule in spirit: a slot is strong on one polarisation, drawn, and leaks a
+//   fifth of it on the other;
+// - the Sun where it is at the emulated UTC: its 0.53-degree disc seen through the beam, a
+//   Gaussian whose variance is the beam's plus the disc's (radius^2 / 4 per axis), 200 counts at
+//   the centre on either supply (unpolarised; INVENTED level, a few times a strong satellite);
+// - sources below the horizon are hidden by the ground.
 #include "birdcage_sim/sky.hpp"
 
 #include <algorithm>
@@ -25,11 +38,13 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace birdcage::sim {
 namespace sky_data {
 extern const char* const scan;
 extern const char* const catalogue;
+extern const char* const belt;
 }  // namespace sky_data
 
 namespace {
@@ -57,6 +72,10 @@ constexpr double cross_polar_fraction = 0.2;
 constexpr double slot_radius_deg = 3.0;
 constexpr double other_polarisation_amplitude = 60.0;
 constexpr double sample_noise = 8.0;
+constexpr double strong_share = 0.4, weak_share = 0.3;  // the rest of the belt is silent
+constexpr double strong_min = 60.0, strong_max = 160.0;
+constexpr double weak_min = 5.0, weak_max = 30.0;
+constexpr double sun_radius_deg = 0.265;
 
 struct Grid {
     std::vector<double> az, el;  // ascending axes
@@ -148,6 +167,55 @@ double beam(double az, double el, const Satellite& s) {
     return std::exp(-(daz * daz + del * del) / (2.0 * beam_sigma_deg * beam_sigma_deg));
 }
 
+double gaussian(double angle_deg, double sigma_deg) {
+    return std::exp(-angle_deg * angle_deg / (2.0 * sigma_deg * sigma_deg));
+}
+
+std::vector<GeostationarySlot> parse_belt() {
+    std::vector<GeostationarySlot> out;
+    std::istringstream in(sky_data::belt);
+    std::string line;
+    bool header_seen = false;
+    while (std::getline(in, line)) {
+        if (!line.empty() && line.back() == '\r')
+            line.pop_back();
+        if (line.empty() || line.front() == '#')
+            continue;
+        if (!header_seen) {
+            header_seen = true;
+            continue;
+        }
+        const auto comma = line.rfind(',');
+        if (comma == std::string::npos)
+            throw std::runtime_error("sky model: bad line in the embedded geostationary catalogue: " + line);
+        out.push_back({line.substr(0, comma), std::stod(line.substr(comma + 1))});
+    }
+    return out;
+}
+
+// FNV-1a: a slot's draw depends on its name only, not on its place in the table.
+std::uint32_t name_hash(const std::string& name) {
+    std::uint32_t hash = 2166136261u;
+    for (const char c : name) {
+        hash ^= static_cast<unsigned char>(c);
+        hash *= 16777619u;
+    }
+    return hash;
+}
+
+// {13 V, 18 V} amplitudes of a belt slot.
+std::pair<double, double> drawn_amplitudes(std::uint32_t seed, const std::string& name) {
+    std::seed_seq sequence{seed, name_hash(name)};
+    std::mt19937 rng(sequence);
+    const auto uniform = [&rng] { return static_cast<double>(rng()) / 4294967296.0; };
+    const double kind = uniform(), level = uniform(), vertical = uniform();
+    const double main = kind < strong_share                ? strong_min + (strong_max - strong_min) * level
+                        : kind < strong_share + weak_share ? weak_min + (weak_max - weak_min) * level
+                                                           : 0.0;
+    const double leak = cross_polar_fraction * main;
+    return vertical < 0.5 ? std::pair{main, leak} : std::pair{leak, main};
+}
+
 }  // namespace
 
 const std::vector<Satellite>& SkyModel::satellites() {
@@ -159,9 +227,42 @@ bool SkyModel::inside_measured_grid(double az, double el) {
     return measured().contains(az, el);
 }
 
+const std::vector<GeostationarySlot>& geostationary_catalogue() {
+    static const std::vector<GeostationarySlot> slots = parse_belt();
+    return slots;
+}
+
 SkyModel::SkyModel(std::uint32_t seed, double floor) : floor_(floor), rng_(seed) {}
 
-double SkyModel::expected_rssi(double az, double el, LnbSupply supply) const {
+SkyModel::SkyModel(std::uint32_t seed, double floor, const Station& station)
+    : floor_(floor), rng_(seed), station_(station) {
+    for (const GeostationarySlot& slot : geostationary_catalogue()) {
+        const AzEl look = geostationary_direction(station, slot.longitude_deg);
+        const auto [amplitude_13v, amplitude_18v] = drawn_amplitudes(seed, slot.name);
+        belt_.push_back({slot.name, look.az, look.el, amplitude_13v, amplitude_18v});
+    }
+}
+
+double SkyModel::real_sky_rssi(AzEl beam_direction, LnbSupply supply, double utc) const {
+    double value = floor_;
+    for (const Satellite& s : belt_) {
+        if (s.el < 0.0)
+            continue;
+        const double amplitude = supply == LnbSupply::odu_13v ? s.amplitude_13v : s.amplitude_18v;
+        if (amplitude > 0.0)
+            value += amplitude * gaussian(angular_distance(beam_direction, {s.az, s.el}), beam_sigma_deg);
+    }
+    const AzEl sun = sun_direction(*station_, utc);
+    if (sun.el >= 0.0) {
+        const double sun_sigma = std::sqrt(beam_sigma_deg * beam_sigma_deg + sun_radius_deg * sun_radius_deg / 4.0);
+        value += sun_amplitude * gaussian(angular_distance(beam_direction, sun), sun_sigma);
+    }
+    return value;
+}
+
+double SkyModel::expected_rssi(double az, double el, LnbSupply supply, double utc) const {
+    if (station_)
+        return real_sky_rssi({az, el}, supply, utc);
     az = std::fmod(std::fmod(az, 360.0) + 360.0, 360.0);
     if (supply == LnbSupply::odu_13v && measured().contains(az, el)) {
         return measured().interpolate(az, el) - scan_floor + floor_;
@@ -173,9 +274,9 @@ double SkyModel::expected_rssi(double az, double el, LnbSupply supply) const {
     return value;
 }
 
-int SkyModel::read(double az, double el, LnbSupply supply) {
+int SkyModel::read(double az, double el, LnbSupply supply, double utc) {
     std::normal_distribution<double> noise(0.0, sample_noise);
-    return static_cast<int>(std::lround(expected_rssi(az, el, supply) + noise(rng_)));
+    return static_cast<int>(std::lround(expected_rssi(az, el, supply, utc) + noise(rng_)));
 }
 
 }  // namespace birdcage::sim

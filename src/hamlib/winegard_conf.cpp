@@ -338,6 +338,42 @@ const ConfParam kConfParams[] = {
          return parse_in(text, PointingOptions::start_cost_range_s, &priv.pointing.start_cost_s);
      },
      [](const WinegardPriv& priv) { return format_number(priv.pointing.start_cost_s); }},
+    // The mount model (docs/sky.md §1): targets and `p` are in the sky, limits and wrap in the dish's axes.
+    {18, "az_index", "Azimuth index",
+     "Mount model: the true azimuth (degrees, east of north) the dish looks at when its azimuth reads 0; "
+     "targets and p are then true azimuths, the limits stay the dish's",
+     RIG_CONF_NUMERIC, birdcage::MountModel::az_index_range,
+     [](const birdcage::FirmwareProfile&) { return format_number(birdcage::MountModel{}.az_index); },
+     [](const char* text, WinegardPriv& priv) {
+         return parse_in(text, birdcage::MountModel::az_index_range, &priv.mount.az_index);
+     },
+     [](const WinegardPriv& priv) { return format_number(priv.mount.az_index); }},
+    {19, "el_index", "Elevation index",
+     "Mount model: how far (degrees) the beam points above the elevation the dish reads", RIG_CONF_NUMERIC,
+     birdcage::MountModel::el_index_range,
+     [](const birdcage::FirmwareProfile&) { return format_number(birdcage::MountModel{}.el_index); },
+     [](const char* text, WinegardPriv& priv) {
+         return parse_in(text, birdcage::MountModel::el_index_range, &priv.mount.el_index);
+     },
+     [](const WinegardPriv& priv) { return format_number(priv.mount.el_index); }},
+    {20, "tilt_north", "Tilt toward north",
+     "Mount model: how far (degrees) the azimuth axis leans from the zenith toward true north (the base's "
+     "north side lower)",
+     RIG_CONF_NUMERIC, birdcage::MountModel::tilt_range,
+     [](const birdcage::FirmwareProfile&) { return format_number(birdcage::MountModel{}.tilt_north); },
+     [](const char* text, WinegardPriv& priv) {
+         return parse_in(text, birdcage::MountModel::tilt_range, &priv.mount.tilt_north);
+     },
+     [](const WinegardPriv& priv) { return format_number(priv.mount.tilt_north); }},
+    {21, "tilt_east", "Tilt toward east",
+     "Mount model: how far (degrees) the azimuth axis leans from the zenith toward true east (the base's "
+     "east side lower)",
+     RIG_CONF_NUMERIC, birdcage::MountModel::tilt_range,
+     [](const birdcage::FirmwareProfile&) { return format_number(birdcage::MountModel{}.tilt_east); },
+     [](const char* text, WinegardPriv& priv) {
+         return parse_in(text, birdcage::MountModel::tilt_range, &priv.mount.tilt_east);
+     },
+     [](const WinegardPriv& priv) { return format_number(priv.mount.tilt_east); }},
 };
 constexpr std::size_t kConfCount = sizeof kConfParams / sizeof kConfParams[0];
 const ConfParam* conf_param(hamlib_token_t token) {

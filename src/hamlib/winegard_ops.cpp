@@ -202,6 +202,7 @@ extern "C" int winegard_rot_open(ROT* rot) {
     }
     priv->service = std::make_unique<RotatorService>(std::move(transport), options, ServiceTiming{}, std::move(reopen));
     priv->service->set_pointing(priv->pointing);
+    priv->service->set_mount(priv->mount);
     if (Status st = priv->service->start(); !st) {
         priv->service.reset();
         return report(__func__, st);

@@ -13,6 +13,7 @@
 #include "dish/receiver.hpp"
 #include "firmware/variants.hpp"
 #include "service/rotator_service.hpp"
+#include "tracking/mount_model.hpp"
 #include "tracking/steering.hpp"
 
 #include <array>
@@ -24,6 +25,7 @@ namespace birdcage::hamlib {
 struct WinegardPriv {
     ControllerOptions options;
     PointingOptions pointing;                 // mode unset: the variant's default
+    MountModel mount;                         // aligned until the conf says otherwise
     double time_scale = 1.0;                  // emulator runs only: the backend's clock runs this many times faster
     int rssi_samples = rssi_default_samples;  // ext level RSSI_SAMPLES
     std::unique_ptr<RotatorService> service;

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -159,4 +160,56 @@ TEST_CASE("service: a motor stall is reported once by position() and kept by las
     REQUIRE(service.set_target({250, 40}));
     CHECK(eventually([&] { return dish.target_az() == Approx(250) && service.idle(); }));
     CHECK(service.last_error());
+}
+
+TEST_CASE("service: with a mount model the dish is sent its own axes, clamped there, and position() answers the sky") {
+    MountModel mount;
+    mount.az_index = 6.0;
+    mount.el_index = 0.8;
+    mount.tilt_north = 1.2;
+    mount.tilt_east = -0.5;
+    Dish dish;
+    RotatorService service(dish.open(), g2_options(), fast_timing());
+    PointingOptions pointing;
+    pointing.mode = PointingMode::none;  // each target to the dish as sent: what it receives is the map's alone
+    service.set_pointing(pointing);
+    service.set_mount(mount);
+    REQUIRE(service.start());
+    auto dish_target = [&] {
+        std::lock_guard lock(dish.mutex);
+        return AzEl{dish.g2.target_az, dish.g2.target_el};
+    };
+    // Readings come in two decimals: 0.005 per axis on the dish, a little more on the sky.
+    constexpr double quantum = 0.011;
+    auto same = [](AzEl a, AzEl b, double margin) {
+        return std::fabs(azimuth_difference(a.az, b.az)) <= margin && std::fabs(a.el - b.el) <= margin;
+    };
+
+    // The fake G2 opens at 180 45 on its axes: the client reads where that points.
+    Result<AzEl> p = service.position();
+    REQUIRE(p);
+    CHECK(same(p.value, dish_to_sky(mount, {180, 45}), quantum));
+
+    REQUIRE(service.set_target({180, 40}));
+    const AzEl wanted = sky_to_dish(mount, {180, 40});
+    INFO("dish axes for 180 40: " << wanted.az << " " << wanted.el);
+    REQUIRE(eventually([&] { return same(dish_target(), wanted, 0.005) && service.idle(); }));
+    p = service.position();
+    REQUIRE(p);
+    CHECK(same(p.value, {180, 40}, quantum));
+
+    // Beyond the G2's 65 deg on its own axis: clamped there, and p says where the clamped dish looks.
+    REQUIRE(service.set_target({100, 70}));
+    REQUIRE(eventually([&] { return dish_target().el == Approx(65.0) && service.idle(); }));
+    const AzEl clamped = dish_target();
+    CHECK(same(clamped, {sky_to_dish(mount, {100, 70}).az, 65.0}, 0.005));
+    p = service.position();
+    REQUIRE(p);
+    CHECK(same(p.value, dish_to_sky(mount, clamped), quantum));
+    CHECK(p.value.el < 70.0 - 1.0);
+
+    // Park is a pose of the mechanism: the dish goes to the variant's park axes exactly.
+    REQUIRE(service.park());
+    const FirmwareProfile& g2 = service.profile();
+    CHECK(eventually([&] { return same(dish_target(), {g2.park_az, g2.park_el}, 0.005) && service.idle(); }));
 }

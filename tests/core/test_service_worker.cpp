@@ -60,7 +60,11 @@ struct HandDriven {
 // A G2 behind a scripted console.
 struct HandDrivenService : HandDriven<FakeG2> {
     // `lnb_polarity`: the tuner's `dis` value (FakeG2::lnb_polarity), none: it lists nothing.
-    explicit HandDrivenService(std::optional<std::string> lnb_polarity = std::nullopt) {
+    // `mount`: how the dish's axes sit against the sky (aligned by default); `mode`: its pointing.
+    // `az_mapping`: the firmware's, as the user states it (unset: learnt).
+    explicit HandDrivenService(std::optional<std::string> lnb_polarity = std::nullopt, MountModel mount = {},
+                               PointingMode mode = PointingMode::none,
+                               std::optional<azmap::Mapping> az_mapping = std::nullopt) {
         dish.step_per_query = 7.0;  // a move takes several polls, so posts can land mid-move
         dish.lnb_polarity = std::move(lnb_polarity);
         auto transport = std::make_unique<FakeTransport>([this](const std::string& c) { return respond(c); });
@@ -71,13 +75,22 @@ struct HandDrivenService : HandDriven<FakeG2> {
             wire = again.get();
             return {std::move(again), Status::ok()};
         };
-        worker = std::make_unique<ServiceWorker>(mailbox, std::move(transport), options_for(VariantId::carryout_g2),
-                                                 ServiceTiming{}, reopen);
+        ControllerOptions options = options_for(VariantId::carryout_g2);
+        options.az_mapping = az_mapping;
+        options.log = [this](LogLevel, const std::string& line) { log.push_back(line); };
+        worker =
+            std::make_unique<ServiceWorker>(mailbox, std::move(transport), std::move(options), ServiceTiming{}, reopen);
         PointingOptions pointing;
-        pointing.mode = PointingMode::none;
+        pointing.mode = mode;
         worker->set_pointing(pointing);
+        worker->set_mount(mount);
         REQUIRE(worker->start());
         mailbox.open();
+    }
+
+    std::vector<std::string> log;  // the core's log lines, in order
+    bool logged(const std::string& text) const {
+        return std::any_of(log.begin(), log.end(), [&](const std::string& line) { return line.find(text) == 0; });
     }
 
     // Set: the next command meets the dish rebooting (power cycled); its boot homes the axes.
@@ -431,6 +444,83 @@ TEST_CASE("service worker: the client's lead is learnt from the position p last 
     REQUIRE(learnt);
     // Each gap to `p` is 2 leads (a re-send's a little more); to the dish now, a re-send's is 1.1 deg.
     CHECK(*learnt == Approx(lead).margin(0.6));
+}
+
+TEST_CASE(
+    "service worker: with a mount model, predictive steering follows the satellite on the sky and the dish "
+    "is sent its own axes") {
+    MountModel mount;
+    mount.az_index = 6.0;
+    mount.el_index = 0.8;
+    mount.tilt_north = 1.2;
+    mount.tilt_east = -0.5;
+    HandDrivenService service(std::nullopt, mount, PointingMode::predictive);
+    const Clock::time_point start = service.now;
+    auto elapsed = [&] { return std::chrono::duration<double>(service.now - start).count(); };
+    auto satellite = [&] { return AzEl{150.0 + 0.3 * elapsed(), 30.0 + 0.1 * elapsed()}; };
+    double worst_az = 0.0, worst_el = 0.0;
+    int samples = 0;
+    double next_target_s = 0.0;
+    while (elapsed() < 90.0) {
+        if (elapsed() >= next_target_s) {
+            // A client without look-ahead that sends every second without reading `p`: the
+            // estimator compares its targets with the dish's reading, on the sky.
+            REQUIRE(service.mailbox.post_target(satellite(), service.now));
+            next_target_s += 1.0;
+        }
+        (void)service.worker->step();
+        service.now += 50ms;
+        const auto reading = service.mailbox.view().dish.position;
+        if (elapsed() > 30.0 && reading) {
+            // Once the estimate holds: where the beam points against where the satellite is.
+            const AzEl beam = service.worker->in_the_sky(*reading);
+            worst_az = std::max(worst_az, std::fabs(azimuth_difference(satellite().az, beam.az)));
+            worst_el = std::max(worst_el, std::fabs(satellite().el - beam.el));
+            ++samples;
+        }
+    }
+    INFO(service.worker->predictor().describe() << "; worst az " << worst_az << ", el " << worst_el);
+    REQUIRE(samples > 100);
+    REQUIRE(service.worker->predictor().predict(service.now));
+    CHECK(service.worker->predictor().predict(service.now)->moving);
+    // On the sky the dish stays within a deadband or two of the satellite (the G2 fake steps its
+    // motors 7 deg per poll): mixed frames would put it off by the 6 deg of az_index.
+    CHECK(worst_az < 1.0);
+    CHECK(worst_el < 1.0);
+    // In its own axes the dish is az_index (and the tilt's turn) away from the satellite: the
+    // controller was given the dish's axes, not the sky's.
+    const AzEl dish = *service.mailbox.view().dish.position;
+    const AzEl expected = sky_to_dish(mount, satellite());
+    CHECK(std::fabs(azimuth_difference(expected.az, dish.az)) < 1.0);
+    CHECK(std::fabs(expected.el - dish.el) < 1.0);
+    CHECK(std::fabs(azimuth_difference(satellite().az, dish.az)) > 4.0);
+}
+
+TEST_CASE("service worker: with a mount model a pass's first target is read against the dish on the sky") {
+    // Which way a pass turns, before the estimate has a rate, is the client's first low target
+    // against where the dish waits at its floor (azimuth_direction_hint()). With az_index 6 a step
+    // 3 deg anticlockwise on the sky, read against the dish's own axes, would be 3 deg clockwise.
+    MountModel mount;
+    mount.az_index = 6.0;
+    // The fake console goes to the number it is sent: the nearest branch, with legs under 180.
+    HandDrivenService service(std::nullopt, mount, PointingMode::none, azmap::Mapping::nearest);
+    // The G2 (travel -423.33..+23.33) to its floor at display 15 on the branch a turn back, near
+    // the anticlockwise end: 73 deg of room that way.
+    for (const AzEl sky : {AzEl{306, 30}, AzEl{21, 18}}) {
+        REQUIRE(service.mailbox.post_target(sky, service.now));
+        service.drain();
+    }
+    REQUIRE(service.dish.az == Approx(15.0));
+    REQUIRE(service.dish.el == Approx(18.0));
+    INFO(service.mailbox.view().dish.description);
+    REQUIRE(service.mailbox.view().dish.description.find("target mechanical az -345.00") != std::string::npos);
+    service.mailbox.post_stop();  // a new pass: no previous target of the client's
+    service.step();
+    REQUIRE(service.mailbox.post_target({18, 20}, service.now));
+    service.drain();
+    // Anticlockwise from its floor: the pass needs more room than the 73 deg this branch has left.
+    // (The fake console then turns the short way, the wrap being none of its business.)
+    CHECK(service.logged("azimuth 12.00: mechanical 12.00 instead of -348.00 (a pass is starting"));
 }
 
 namespace {

@@ -203,7 +203,8 @@ TEST_CASE("conf parameters set while rotctld runs are refused, with a log line n
         {"pointing", "none"}, {"leapfrog", "1"},         {"deadband", "0.5"},    {"deadband_share", "0"},
         {"pass_model", "1"},  {"el_min", "30"},          {"el_max", "50"},       {"az_min", "90"},
         {"az_max", "270"},    {"variant", "hal205"},     {"boot_timeout", "10"}, {"skip_init", "1"},
-        {"time_scale", "1"},  {"az_mapping", "literal"}, {"start_cost", "0"}};
+        {"time_scale", "1"},  {"az_mapping", "literal"}, {"start_cost", "0"},    {"az_index", "6"},
+        {"el_index", "0.8"},  {"tilt_north", "1.2"},     {"tilt_east", "-0.5"}};
     for (const auto& [key, value] : settings) {
         INFO(key << " = " << value);
         CHECK(client.ask(std::string("C ") + key + " " + value, 1) == "RPRT -1\n");

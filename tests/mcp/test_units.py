@@ -9,6 +9,7 @@ from __future__ import annotations
 import pytest
 
 from birdcage_mcp.motion import wait_stopped
+from birdcage_mcp.rotator import named_target
 from birdcage_mcp.rotctld import Rotctld, RotctldError
 from birdcage_mcp.scan import axis, find_peaks, serpentine
 
@@ -73,3 +74,14 @@ async def test_a_stop_answers_where_the_dish_rests_not_a_reading_taken_before_it
     stopped = await wait_stopped(dish, wait_s=10.0, target=(300.0, 50.0))
     assert stopped.state == "stopped"
     assert (stopped.position.azimuth, stopped.position.elevation) == (100.0, 50.0), stopped
+
+
+def test_the_target_the_backend_took_is_read_on_the_sky_with_a_mount_model():
+    # The controller's words are the dish's axes; with a mount model (docs/sky.md) the backend adds
+    # the sky's, which is what a client compares with the target it sent.
+    plain = ("Winegard Carryout G2: idle; [g2, 115200 baud, prompt MOT>]; position az 173.60 el 38.00 (read back); "
+             "target az 173.60 el 38.00; el limits 18.00..65.00")
+    assert named_target(plain) == (173.6, 38.0)
+    mounted = plain + "; mount az_index 6.00 el_index 0.80 tilt_north 1.20 tilt_east -0.50; sky target az 180.00 el 40.00"
+    assert named_target(mounted) == (180.0, 40.0)
+    assert named_target("Winegard Carryout G2: idle") is None

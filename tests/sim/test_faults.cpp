@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include <cerrno>
 #include <chrono>
+#include <optional>
 
 #include "birdcage_sim/console.hpp"
 #include "birdcage_sim/emulator.hpp"
@@ -50,6 +51,22 @@ bool is_subsequence(std::string_view part, std::string_view whole) {
 bool path_exists(const std::string& path) {
     struct stat info {};
     return ::lstat(path.c_str(), &info) == 0;
+}
+
+// A /dev/pts node's change time, set when its pty is allocated. A process running beside the test
+// may be given the same number as soon as the emulator releases it, so a released node is one that
+// is gone or was allocated again since (the node's name alone cannot tell).
+std::optional<timespec> pty_node_time(const std::string& path) {
+    struct stat info {};
+    if (::stat(path.c_str(), &info) != 0) {
+        return std::nullopt;
+    }
+    return info.st_ctim;
+}
+
+bool pty_node_released(const std::string& path, const std::optional<timespec>& allocated) {
+    const auto now = pty_node_time(path);
+    return !now || !allocated || now->tv_sec != allocated->tv_sec || now->tv_nsec != allocated->tv_nsec;
 }
 
 // The G2's full NVS dump: a long reply (about 10 kB).
@@ -258,8 +275,9 @@ TEST_CASE("faults: hang-up of the pty, and its return at the same link path", "[
         REQUIRE(::readlink(options.link_path.c_str(), target, sizeof target - 1) > 0);
         const std::string old_slave = target;
         REQUIRE(path_exists(old_slave));
+        const auto allocated = pty_node_time(old_slave);
         dish.hang_up();
-        CHECK_FALSE(path_exists(old_slave));  // even though the client still holds it open
+        CHECK(pty_node_released(old_slave, allocated));  // even though the client still holds it open
         CHECK_FALSE(dish.connected());
         CHECK_FALSE(path_exists(options.link_path));
         CHECK(dish.device_path() == options.link_path);
@@ -288,9 +306,11 @@ TEST_CASE("faults: hang-up of the pty, and its return at the same link path", "[
 TEST_CASE("faults: hang-up without a link - the /dev/pts node goes, reconnect gives a new one", "[faults]") {
     Emulator dish(fast(Variant::carryout_g2));
     const std::string before = dish.device_path();
+    const auto allocated = pty_node_time(before);
+    REQUIRE(allocated);
     dish.hang_up();
     dish.hang_up();  // idempotent
-    CHECK_FALSE(path_exists(before));
+    CHECK(pty_node_released(before, allocated));
     dish.reconnect();
     dish.reconnect();  // no-op while connected
     REQUIRE(dish.device_path().starts_with("/dev/pts/"));

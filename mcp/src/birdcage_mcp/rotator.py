@@ -41,8 +41,10 @@ def check_in_range(name: str, value: float, low: float, high: float, what: str =
 
 
 def named_target(info: str) -> tuple[float, float] | None:
-    if match := re.search(r"; target az (-?[\d.]+) el (-?[\d.]+)", info):
-        return float(match.group(1)), float(match.group(2))
+    # With a mount model (docs/sky.md) the controller's target is on the dish's axes and the sky's follows it.
+    for pattern in (r"; sky target az (-?[\d.]+) el (-?[\d.]+)", r"; target az (-?[\d.]+) el (-?[\d.]+)"):
+        if match := re.search(pattern, info):
+            return float(match.group(1)), float(match.group(2))
     return None
 
 

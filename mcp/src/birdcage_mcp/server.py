@@ -53,7 +53,7 @@ CONF_FROM_INFO = {
 ConfKey = Literal["variant", "pointing", "deadband", "deadband_share", "start_cost", "leapfrog", "time_scale",
                   "az_mapping",
                   "pass_model", "latitude", "motor", "boot_timeout", "skip_init", "el_min", "el_max", "az_min",
-                  "az_max"]
+                  "az_max", "az_index", "el_index", "tilt_north", "tilt_east"]
 Volts = Literal[13, 18]
 
 # What each tool does to the dish, for the client (MCP tool annotations). Reading tools change

@@ -38,6 +38,11 @@ public:
     const std::vector<std::string>& hazard_commands() const;  // the line of each hazard counted
     const std::vector<std::string>& commands() const;
     double time() const;
+    AzEl beam_direction() const;  // see Emulator::beam_direction
+    double epoch() const;
+    // Truth rows since the last call (kept only when Options::truth_path is set): one every 0.1
+    // simulated seconds and one at every start and end of motion.
+    std::vector<TruthRow> take_truth();
     void power_cycle();
     // Fault injection (axis 0 = AZ, 1 = EL): see Emulator::inject_motor_stall.
     void inject_motor_stall(int axis);

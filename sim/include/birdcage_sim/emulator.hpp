@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "birdcage_sim/sky_geometry.hpp"
+
 namespace birdcage::sim {
 
 enum class Variant { travler_hal000, travler_hal205, travler_pro, carryout2003, carryout_g2 };
@@ -309,6 +311,20 @@ struct Options {
     std::string idle_line;
     double idle_line_period = 0.0;
 
+    // --- the sky (docs/sky.md) ---------------------------------------------------------------
+    // How the dish's axes sit against the sky (§1): the beam points at dish_to_sky(mount, axes).
+    // The console reports the axes; the G2's RSSI is the sky's where the beam points.
+    Mount mount;
+    // Set: the G2's RSSI is the real sky over this station (the geostationary belt and the Sun,
+    // sky.hpp); unset: the real scan's sky (sim/data/g2-ku-skyscan).
+    std::optional<Station> station;
+    // UTC (Unix seconds) of emulated time 0: the sky clock is epoch + simulated seconds, so
+    // time_scale speeds the Sun up with everything else. Unset: the wall clock at construction.
+    std::optional<double> epoch;
+    // Emulator: the truth CSV (sim/README.md "The sky") is written to this file as the dish moves.
+    // Console: rows are kept for take_truth() when it is non-empty.
+    std::string truth_path;
+
     // --- transcript replay ------------------------------------------------------------------
     // With a mode other than off, the dish answers from this transcript (recorded timing divided
     // by time_scale) instead of the model; the constructor throws TranscriptError if it is bad.
@@ -328,6 +344,14 @@ struct Sample {
     double t;
     double az;
     double el;
+};
+// One row of the truth file: where the dish's axes are and where its beam points on the sky.
+struct TruthRow {
+    double t;               // simulated seconds (UTC: epoch + t)
+    double dish_az;         // the azimuth axis, displayed (0..360)
+    double dish_el;         // the elevation axis
+    double sky_az, sky_el;  // dish_to_sky(mount, axes), azimuth 0..360
+    bool moving;            // a move is running or queued
 };
 
 class Console;
@@ -354,6 +378,9 @@ public:
     std::vector<std::string> hazard_commands() const;    // the line of each, in order
     std::vector<std::string> received_commands() const;  // every complete line, in order (empty lines included)
     double sim_time() const;
+    // Where the beam points on the sky: Options::mount applied to the axes (sky azimuth 0..360).
+    AzEl beam_direction() const;
+    double epoch() const;  // UTC of simulated time 0 (Options::epoch, or the wall clock at start)
     // Reboot, also mid-move: motion stops dead, boot log (and boot moves), the search restarts
     // where the variant's does, menu at root, deadlocks cleared. Counts as an injected fault.
     void power_cycle();

@@ -29,6 +29,10 @@ void RotatorService::set_pointing(PointingOptions pointing) {
     worker_.set_pointing(std::move(pointing));
 }
 
+void RotatorService::set_mount(MountModel mount) {
+    worker_.set_mount(mount);
+}
+
 Status RotatorService::start() {
     if (thread_.joinable()) {
         return Status::ok();
@@ -75,8 +79,9 @@ Result<AzEl> RotatorService::position() {
     // lost although the dish comes back. get_status() and describe() tell that it is not answering.
     // The move in flight is not run on: the dish may not be making it (a reboot stops it dead).
     if (not_answering(dish) && dish.position) {
-        mailbox_.note_reported(*dish.position, worker_.clock().now());
-        return {*dish.position, Status::ok()};
+        const AzEl last = worker_.in_the_sky(*dish.position);
+        mailbox_.note_reported(last, worker_.clock().now());
+        return {last, Status::ok()};
     }
     if (dish.recovering) {
         return {AzEl{}, Status{Errc::timeout, "no position read from the dish yet; " + dish.recovery_reason}};
@@ -98,7 +103,9 @@ Result<AzEl> RotatorService::position() {
     // One instant for the position modelled and the time it is noted at (the predictor compares
     // the satellite with it at that time).
     const Clock::time_point now = worker_.clock().now();
-    const AzEl reported = modelled_position(worker_.profile(), *dish.position, dish.moving_axes, now);
+    // The model runs the legs in flight in the dish's axes, where they move.
+    const AzEl reported =
+        worker_.in_the_sky(modelled_position(worker_.profile(), *dish.position, dish.moving_axes, now));
     mailbox_.note_reported(reported, now);
     return {reported, Status::ok()};
 }
@@ -112,8 +119,9 @@ Status RotatorService::park() {
     if (!mailbox_.is_open()) {
         return {Errc::not_initialised, "rotator is not open"};
     }
+    // The park position is a pose of the mechanism: the target whose dish axes are exactly it.
     const FirmwareProfile& dish = worker_.profile();
-    return set_target(AzEl{dish.park_az, dish.park_el});
+    return set_target(worker_.in_the_sky(AzEl{dish.park_az, dish.park_el}));
 }
 
 Status RotatorService::reset() {

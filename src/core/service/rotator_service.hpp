@@ -20,6 +20,7 @@
 #include "dish/receiver.hpp"
 #include "service/service_mailbox.hpp"
 #include "service/service_worker.hpp"
+#include "tracking/mount_model.hpp"
 #include "tracking/pointing.hpp"
 #include "tracking/steering.hpp"
 
@@ -39,15 +40,19 @@ public:
 
     // Before start(): how targets become moves (default: the variant's).
     void set_pointing(PointingOptions pointing);
+    // Before start(): how the dish's axes sit against the sky (docs/sky.md §1; default: aligned).
+    // Targets and position() are then in the sky; limits and cable wrap stay in the dish's axes.
+    void set_mount(MountModel mount);
     // Initialises the dish (blocking: boot wait, search stop, motor menu), reads the position
     // once, then starts the worker. Fails without starting anything if the dish cannot be reached.
     Status start();
     // Stops the worker; the controller is left as it is (a leg in flight finishes on its own).
     void shutdown();
 
-    // Posts a new target. Returns at once; an invalid target is refused here.
+    // Posts a new target (sky). Returns at once; an invalid target is refused here.
     Status set_target(AzEl target);
-    // The last position read from the dish, advanced along the move in flight (position_model.hpp)
+    // Where the dish points in the sky: the last position read from the dish, advanced along the
+    // move in flight (position_model.hpp) in its axes, then mapped by the mount model
     // — or, on variants that cannot report it at rest, the controller's best knowledge. Never
     // talks to the dish. While the dish cannot be asked (the worker recovers it: rebooting,
     // re-initialising, unplugged, out of sync; or it has not answered for
@@ -60,7 +65,7 @@ public:
     Result<AzEl> position();
     // Drops every leg not yet sent to the dish (and aborts a running `g` where input aborts it).
     Status stop();
-    // Moves to the variant's safe park position with ordinary moves (never `stow`).
+    // Moves to the variant's safe park position (dish axes) with ordinary moves (never `stow`).
     Status park();
     // Starts homing the axes (G2: h 1, h 0) in the worker and returns; homing() tells when it
     // ends. Errc::unsupported where the firmware cannot home.

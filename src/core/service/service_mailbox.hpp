@@ -36,7 +36,7 @@ struct ServiceJob {
 // What the worker takes from the mailbox at one step.
 struct ServiceMail {
     bool stop = false;                     // a stop posted since the last step; acted on before `target`
-    std::optional<AzEl> target;            // the newest target posted since the last step
+    std::optional<AzEl> target;            // the newest target posted since the last step (sky)
     Clock::time_point target_posted_at{};  // when it was posted (dish time)
     // The position `p` last answered before the target was posted: what the client compared the
     // satellite with when it decided to send (a tracking client sends when the dish it read back is
@@ -56,7 +56,7 @@ struct ServiceMail {
 
 // The worker's view of the dish, as last published.
 struct ServiceSnapshot {
-    std::optional<AzEl> position;  // the last position read (or known) from the dish
+    std::optional<AzEl> position;  // the last position read (or known) from the dish, in its axes
     MovingAxes moving_axes;        // the legs that may be moving, for the position model
     bool dish_idle = true;         // the controller has nothing in flight or queued
     bool homing = false;           // the firmware's home is running

@@ -312,10 +312,10 @@ Status ServiceWorker::resume(AzEl target) {
     if (steering_predictively() && prediction) {
         return steer();
     }
-    return controller_->set_target(target,
-                                   azimuth_direction_hint(prediction, controller_->last_position(),
-                                                          previous_client_target_, target, controller_->el_min()),
-                                   predictor_.pass_ahead(now));
+    return aim(target,
+               azimuth_direction_hint(prediction, sky_position(), previous_client_target_, target,
+                                      sky_limits_at(target.az).min),
+               now);
 }
 
 // Predictive steering aims ahead of the satellite and moves in small steps; a dish that needs a
@@ -368,7 +368,7 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at, std:
     // a lead of 0.09 deg in one run of two and started its motors 528 times on iss-45 at 5 deg,
     // against 140 (docs/benchmarks.md).
     const auto fit_started = Clock::now();
-    predictor_.observe(std::min(sent_at, now), target, reported ? reported : controller_->last_position());
+    predictor_.observe(std::min(sent_at, now), target, reported ? reported : sky_position());
     // The fit runs on this thread, between the dish's legs: on a loaded machine it can hold them up.
     const auto fit_ms = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - fit_started).count();
     if (fit_ms >= slow_fit_ms) {
@@ -400,10 +400,10 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at, std:
             emit(options_.log, LogLevel::verbose,
                  "pointing: the aims left ahead are let go: the client's targets as sent");
         }
-        return controller_->set_target(wanted,
-                                       azimuth_direction_hint(estimate, controller_->last_position(),
-                                                              previous_client_target_, target, controller_->el_min()),
-                                       predictor_.pass_ahead(now));
+        return aim(wanted,
+                   azimuth_direction_hint(estimate, sky_position(), previous_client_target_, target,
+                                          sky_limits_at(target.az).min),
+                   now);
     }
     emit(options_.log, LogLevel::verbose, "predictive: " + predictor_.describe());
     // On a track the aim is kept, and steering moves it only when the satellite is a deadband
@@ -421,16 +421,26 @@ Status ServiceWorker::steer() {
         return Status::ok();
     }
     const auto now = options_.clock.now();
+    const std::optional<AzEl> dish = sky_position();
+    // The limits where the satellite is (its estimate), else where the client last aimed.
+    auto limits_azimuth = [&] {
+        if (mount_.identity()) {
+            return 0.0;  // any: the limits are the same all round
+        }
+        const std::optional<Prediction> estimate = predictor_.predict(now);
+        return estimate ? estimate->position.az : client_target_ ? client_target_->az : dish.value_or(AzEl{}).az;
+    };
+    const ElLimits limits = sky_limits_at(limits_azimuth());
     const SteeringInput input{now,
                               predictor_,
                               *profile_,
-                              controller_->el_min(),
-                              controller_->el_max(),
+                              limits.min,
+                              limits.max,
                               pointing_,
                               leg_overhead_.overhead_s().value_or(0.0),
                               aim_,
                               client_target_,
-                              controller_->last_position(),
+                              dish,
                               controller_->learnt_motor()};
     const std::optional<SteeringDecision> decision = next_aim(input);
     if (!decision) {
@@ -446,10 +456,57 @@ Status ServiceWorker::steer() {
     aim_ = decision->aim;
     const double az_rate = decision->az_rate != 0.0 ? decision->az_rate
                            : client_target_
-                               ? azimuth_direction_hint(predictor_.predict(now), controller_->last_position(),
-                                                        previous_client_target_, *client_target_, controller_->el_min())
+                               ? azimuth_direction_hint(predictor_.predict(now), dish, previous_client_target_,
+                                                        *client_target_, sky_limits_at(client_target_->az).min)
                                : 0.0;
-    return controller_->set_target(decision->aim, az_rate, predictor_.pass_ahead(now));
+    return aim(decision->aim, az_rate, now);
+}
+
+Status ServiceWorker::aim(AzEl sky_target, double sky_az_rate, Clock::time_point now) {
+    std::optional<wrap::PassAhead> ahead = predictor_.pass_ahead(now);
+    if (mount_.identity()) {
+        return controller_->set_target(sky_target, sky_az_rate, ahead);
+    }
+    const std::optional<Prediction> estimate = predictor_.predict(now);
+    const double el_rate = estimate ? estimate->el_rate : 0.0;
+    const double dish_az_rate = dish_azimuth_rate(mount_, sky_target, sky_az_rate, el_rate);
+    if (ahead) {
+        // The pass rises at the floor the estimator was given (the controller's, as the client
+        // clamps at it): its rise and set azimuths, on the dish's axes, bound the travel it needs.
+        const double floor = controller_->el_min();
+        const double rise = ahead->from_az, set = ahead->from_az + ahead->sweep_deg;
+        const double rise_dish = sky_to_dish(mount_, {rise, floor}).az;
+        const double set_dish = sky_to_dish(mount_, {set, floor}).az;
+        ahead->from_az = normalize_azimuth(rise_dish);
+        ahead->sweep_deg += (set_dish - set) - (rise_dish - rise);
+    }
+    return controller_->set_target(sky_to_dish(mount_, sky_target), dish_az_rate, ahead);
+}
+
+AzEl ServiceWorker::in_the_sky(AzEl dish_axes) const {
+    if (mount_.identity()) {
+        return dish_axes;
+    }
+    const AzEl sky = dish_to_sky(mount_, dish_axes);
+    return {normalize_azimuth(sky.az), sky.el};
+}
+
+std::optional<AzEl> ServiceWorker::sky_position() const {
+    const std::optional<AzEl> dish = controller_->last_position();
+    return dish ? std::optional<AzEl>(in_the_sky(*dish)) : std::nullopt;
+}
+
+ServiceWorker::ElLimits ServiceWorker::sky_limits_at(double sky_az) const {
+    const double el_min = controller_->el_min(), el_max = controller_->el_max();
+    if (mount_.identity()) {
+        return {el_min, el_max};
+    }
+    // The dish's azimuth that looks toward sky_az at that elevation, to first order in the tilt.
+    auto sky_el = [&](double dish_el) {
+        const double dish_az = sky_to_dish(mount_, {sky_az, std::min(dish_el + mount_.el_index, 90.0)}).az;
+        return dish_to_sky(mount_, {dish_az, dish_el}).el;
+    };
+    return {sky_el(el_min), sky_el(el_max)};
 }
 
 void ServiceWorker::forget_the_pass() {
@@ -495,6 +552,19 @@ void ServiceWorker::publish(const Status& step, bool talked) {
     }
     if (steering_predictively()) {
         published_.description += " (" + predictor_.describe() + ")";
+    }
+    if (!mount_.identity()) {
+        // The controller's words are the dish's axes; a client reading the target it took (the
+        // MCP server, after az_min/az_max) needs it on the sky.
+        char text[200];
+        std::snprintf(text, sizeof text, "; mount az_index %.2f el_index %.2f tilt_north %.2f tilt_east %.2f",
+                      mount_.az_index, mount_.el_index, mount_.tilt_north, mount_.tilt_east);
+        published_.description += text;
+        if (const std::optional<AzEl> target = controller_->current_target()) {
+            const AzEl sky = in_the_sky(*target);
+            std::snprintf(text, sizeof text, "; sky target az %.2f el %.2f", sky.az, sky.el);
+            published_.description += text;
+        }
     }
     mailbox_.publish(published_);
 }

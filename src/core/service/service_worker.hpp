@@ -13,6 +13,7 @@
 #include "console/transport.hpp"
 #include "dish/controller.hpp"
 #include "service/service_mailbox.hpp"
+#include "tracking/mount_model.hpp"
 #include "tracking/pointing.hpp"
 #include "tracking/steering.hpp"
 
@@ -61,6 +62,13 @@ public:
 
     // Before start(): how targets become moves (unset mode: the variant's default).
     void set_pointing(PointingOptions pointing);
+    // Before start(): how the dish's axes sit against the sky (docs/sky.md §1). The client's
+    // targets, the estimator and steering are in the sky; the Controller (limits, cable wrap,
+    // console) in the dish's axes; aim() and sky_position() are the one seam between them.
+    void set_mount(MountModel mount) { mount_ = mount; }
+    // Where the beam points with the dish's axes at `dish_axes`, as the client reads it (azimuth
+    // in [0, 360)).
+    AzEl in_the_sky(AzEl dish_axes) const;
 
     // Before the worker runs, on the caller's thread (blocking): identifies the variant if asked,
     // initialises the dish (boot wait, search stop, motor menu), reads the position once and
@@ -97,6 +105,17 @@ private:
     // `reported`: the position the client last read back (ServiceMail), if known.
     Status accept_target(AzEl target, Clock::time_point sent_at, std::optional<AzEl> reported = std::nullopt);
     Status steer();
+    // The seam: a sky target (with its sky azimuth rate, for the cable-wrap branch) handed to the
+    // controller in the dish's axes, with the pass ahead likewise; and the dish's last reading in
+    // the sky.
+    Status aim(AzEl sky_target, double sky_az_rate, Clock::time_point now);
+    std::optional<AzEl> sky_position() const;
+    // The controller's elevation limits (dish axes) as sky elevations near sky azimuth `sky_az`:
+    // a tilted base reaches lower on one side than on the other.
+    struct ElLimits {
+        double min, max;
+    };
+    ElLimits sky_limits_at(double sky_az) const;
     void forget_the_pass();
     Clock::duration next_period(bool entered_recovery) const;
     void publish(const Status& step, bool talked);
@@ -109,6 +128,7 @@ private:
     ServiceTiming timing_;
     TransportFactory reopen_;
     PointingOptions pointing_;
+    MountModel mount_;
     // The pointing mode was not set: the variant's default is a first guess, and the dish's own
     // timing of a small step decides (choose_mode_from_dish()).
     bool mode_from_dish_ = false;

@@ -78,11 +78,15 @@ class Result:
 
 
 class BeamModel:
-    def __init__(self, scan: Scan, sources: list[Source], fit_lag: bool = False):
+    """moving: sources that move during the scan (the Sun), each as (name, azimuths, elevations)
+    on the sky at every reading's time; they take part in the fit and are not measured."""
+
+    def __init__(self, scan: Scan, sources: list[Source], fit_lag: bool = False, moving=()):
         self.scan = scan
         self.sources = sources
         self.fit_lag = fit_lag
         self.source_units = unit(np.array([s.az for s in sources]), np.array([s.el for s in sources]))
+        self.moving = [(name, unit(np.asarray(az), np.asarray(el))) for name, az, el in moving]
         self.prev = scan.previous_in_column()
         dz = scan.el - FLOOR_REFERENCE_EL
         self.floor_columns = np.stack([np.ones_like(dz), dz / 10, (dz / 10) ** 2], axis=1)
@@ -102,9 +106,13 @@ class BeamModel:
         return unit(sa, se)
 
     def design(self, terms, sigma, lag, idx=slice(None)):
-        d = separation(self.beams(terms, lag, idx), self.source_units)
-        gauss = np.exp(-0.5 * (d / sigma) ** 2)
-        return np.hstack([self.floor_columns[idx], gauss])
+        beams = self.beams(terms, lag, idx)
+        d = separation(beams, self.source_units)
+        columns = [self.floor_columns[idx], np.exp(-0.5 * (d / sigma) ** 2)]
+        for _, units in self.moving:
+            dm = np.degrees(2 * np.arcsin(np.clip(np.linalg.norm(beams - units[idx], axis=-1) / 2, 0, 1)))
+            columns.append(np.exp(-0.5 * (dm / sigma) ** 2)[:, None])
+        return np.hstack(columns)
 
     def solve(self, terms, sigma, lag, idx=slice(None)):
         a = self.design(terms, sigma, lag, idx)
@@ -140,10 +148,10 @@ def coarse_search(model: BeamModel, az_span: float = 20.0, el_span: float = 6.0)
 
 
 def fit(scan: Scan, sources: list[Source], *, fit_tilts: bool = True, fit_lag: bool | None = None,
-        search: bool = True, start: np.ndarray | None = None, progress=None) -> Result:
+        search: bool = True, start: np.ndarray | None = None, progress=None, moving=()) -> Result:
     if fit_lag is None:
         fit_lag = scan.columns_alternate()
-    model = BeamModel(scan, sources, fit_lag)
+    model = BeamModel(scan, sources, fit_lag, moving)
     if start is None:
         start = np.zeros(4)
         if search:
@@ -205,50 +213,81 @@ def readings_per_beam(scan: Scan, sigma: float) -> float:
     return float(max(1.0, np.median(counts)))
 
 
+def groups_of(sources: list[Source], radius_deg: float = 1.0) -> list[list[int]]:
+    """Indices of sources within radius_deg of each other (chained): a beam several degrees wide
+    sees each group as one peak."""
+    groups: list[list[int]] = []
+    for k in sorted(range(len(sources)), key=lambda k: sources[k].az):
+        s = sources[k]
+        for g in groups:
+            if any(separation(unit(np.array([s.az]), np.array([s.el])),
+                              unit(np.array([sources[j].az]), np.array([sources[j].el])))[0, 0] < radius_deg for j in g):
+                g.append(k)
+                break
+        else:
+            groups.append([k])
+    return groups
+
+
 def measure_sources(model: BeamModel, terms, sigma, lag, coef, noise) -> list[SourceFit]:
-    """Each detected source's own peak: its beam fitted alone to the readings around it, the other
-    sources' beams and the floor subtracted."""
+    """Each detected group of sources measured on its own: the other sources' beams and the floor
+    subtracted, the group's beams (with their fitted amplitudes) shifted together in dish axes to
+    fit the readings around it. The shift is the group's residual: how far from where the fitted
+    mount puts it the sky shows it."""
     scan = model.scan
     a = model.design(terms, sigma, lag)
-    amplitudes = coef[3:]
+    amplitudes = coef[3:3 + len(model.sources)]
     strongest = amplitudes.max() if len(amplitudes) else 0.0
     beams = model.beams(terms, lag)
     az_s, el_s = model.sample_axes(lag)
     out = []
-    for k, src in enumerate(model.sources):
-        fitk = SourceFit(src, float(amplitudes[k]))
+    for members in groups_of(model.sources):
+        amp = amplitudes[members]
+        total = float(amp.sum())
+        names = [n for k in members for n in model.sources[k].members]
+        weights = amp / total if total > 0 else np.full(len(members), 1 / len(members))
+        # The group's direction on the sky: its members' mean, weighted by what the dish hears of each.
+        mean = (unit(np.array([model.sources[k].az for k in members]),
+                     np.array([model.sources[k].el for k in members])) * weights[:, None]).sum(axis=0)
+        mean /= np.linalg.norm(mean)
+        sky_az = float(np.degrees(np.arctan2(mean[0], mean[1])) % 360.0)
+        sky_el = float(np.degrees(np.arcsin(mean[2])))
+        fitk = SourceFit(Source(" + ".join(names), sky_az, sky_el, names), total)
         out.append(fitk)
-        if amplitudes[k] < max(8 * noise, 0.08 * strongest):
+        if total < max(8 * noise, 0.08 * strongest):
             continue
-        # Where the fitted mount puts the source in dish axes; it must lie inside the scan.
-        pa, pe = sky_to_dish(tuple(terms), src.az, src.el)
+        pa, pe = sky_to_dish(tuple(terms), sky_az, sky_el)
         near = separation(unit(np.array([pa]), np.array([pe])), unit(az_s, el_s))[0] < 1.5 * sigma
         if near.sum() < 12 or not surrounded(az_s[near], el_s[near], pa, pe):
             continue
-        rest = scan.value - a @ coef + a[:, 3 + k] * amplitudes[k]
-        rest = rest[near]
-        sub_az, sub_el = az_s[near], el_s[near]
+        own = a[:, [3 + k for k in members]] @ amp
+        rest = (scan.value - a @ coef + own)[near]
+        member_dish = [sky_to_dish(tuple(terms), model.sources[k].az, model.sources[k].el) for k in members]
+        bsky = beams[near]
 
         def local(x):
-            sa, se = dish_to_sky(tuple(terms), x[0], x[1])
-            bsky = beams[near]
-            d = separation(bsky, unit(np.array([sa]), np.array([se])))[:, 0]
-            return rest - (x[2] * np.exp(-0.5 * (d / sigma) ** 2) + x[3])
+            shifted = np.zeros(len(rest))
+            for (ma, me), ak in zip(member_dish, amp):
+                sa, se = dish_to_sky(tuple(terms), ma + x[0], me + x[1])
+                d = separation(bsky, unit(np.array([sa]), np.array([se])))[:, 0]
+                shifted += ak * np.exp(-0.5 * (d / sigma) ** 2)
+            return rest - (x[2] * shifted + x[3])
 
-        sol = least_squares(local, [pa, pe, amplitudes[k], 0.0], x_scale=[0.3, 0.3, 10, 1])
+        sol = least_squares(local, [0.0, 0.0, 1.0, 0.0], x_scale=[0.3, 0.3, 0.1, 1])
         try:
             cov = np.linalg.inv(sol.jac.T @ sol.jac) * (sol.fun @ sol.fun) / max(len(rest) - 4, 1)
-            unc = float(np.sqrt(cov[0, 0] * math.cos(math.radians(sol.x[1])) ** 2 + cov[1, 1]))
+            unc = float(np.sqrt(cov[0, 0] * math.cos(math.radians(pe)) ** 2 + cov[1, 1]))
         except np.linalg.LinAlgError:
             continue
-        if not math.isfinite(unc) or unc > 0.5 or math.hypot((sol.x[0] - pa) * math.cos(math.radians(pe)),
-                                                             sol.x[1] - pe) > 2 * sigma:
+        shift = math.hypot(sol.x[0] * math.cos(math.radians(pe)), sol.x[1])
+        if not math.isfinite(unc) or unc > 0.5 or shift > 2 * sigma:
             continue
-        sa, se = dish_to_sky(tuple(terms), sol.x[0], sol.x[1])
-        fitk.dish_az, fitk.dish_el = float(sol.x[0]) % 360.0, float(sol.x[1])
+        da, de = pa + sol.x[0], pe + sol.x[1]
+        sa, se = dish_to_sky(tuple(terms), da, de)
+        fitk.dish_az, fitk.dish_el = float(da) % 360.0, float(de)
         fitk.sky_az, fitk.sky_el = float(sa) % 360.0, float(se)
-        fitk.residual = float(np.degrees(2 * np.arcsin(np.linalg.norm(
-            unit(np.array([sa]), np.array([se]))[0] - unit(np.array([src.az]), np.array([src.el]))[0]) / 2)))
+        fitk.residual = float(separation(unit(np.array([sa]), np.array([se])),
+                                         unit(np.array([sky_az]), np.array([sky_el])))[0, 0])
         fitk.uncertainty = unc
     return out
 

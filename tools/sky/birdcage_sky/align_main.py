@@ -34,6 +34,9 @@ def build_parser(version: str) -> cli.Parser:
                    help="the sources as `name,az,el` look angles at the site (no header); default: the "
                         "geostationary table for --lat/--lon")
     g.add_argument("--sun", action="store_true", help="cross-scan the Sun instead of the geostationary arc")
+    g.add_argument("--with-sun", choices=("auto", "yes", "no"), default="auto",
+                   help="after the arc, cross-scan the Sun too and fit both together: its direction, off the arc, "
+                        "tells the tilts from the index terms (auto: when the Sun is 5 deg above the floor)")
     g.add_argument("--sun-fixes", type=int, default=1, metavar="N",
                    help="Sun measurements, --sun-interval apart (1-2: index terms only; 3 or more: all four)")
     g.add_argument("--sun-interval", type=float, default=20.0, metavar="MIN", help="minutes between Sun measurements")
@@ -153,6 +156,8 @@ def catalogue_sources(args, station, clock, el_floor: float):
 
 def align_arc(args, station, clock, rot, report, state) -> dict:
     from . import align, geo, scanio
+    from .mount import sky_to_dish
+    from .rotctld import mount_from_info
     from .scanner import Scanner, arc_curve, plan_band
 
     scan_seconds = None
@@ -175,13 +180,34 @@ def align_arc(args, station, clock, rot, report, state) -> dict:
         points_planned = len(band.points)
         begun = clock.now()
         scan = scanner.scan(band.points)
+        sun_note = add_sun(args, station, clock, limits, scanner, scan)
         scan_seconds = clock.now() - begun
         state["scanner"] = None
+        configured = mount_from_info(rot.info())
+        if configured is not None:
+            # The backend answered in the sky of the terms it was given: back to the dish's axes,
+            # so that the fit finds the whole mount, not what is left of it.
+            scan.az, scan.el = sky_to_dish(configured, scan.az, scan.el)
+            scan.az = scan.az % 360.0
     if args.save_scan:
         scan.save(Path(args.save_scan))
-    clusters = geo.cluster(sources)
-    lag = {"auto": None, "yes": True, "no": False}[args.lag]
-    result = align.fit(scan, clusters, fit_tilts=not args.index_only, fit_lag=lag, progress=report.phase)
+    # Only sources at the same place (a shared slot) become one; neighbours a beam apart stay
+    # apart in the fit, which shares the signal among them (measure_sources groups them).
+    clusters = geo.cluster(sources, radius_deg=0.1)
+    # A scan of our own reads each point at rest, where `p` said the dish was: no lag to fit.
+    lag = {"auto": None if args.from_scan else False, "yes": True, "no": False}[args.lag]
+    moving = []
+    if station is not None and scan.time is not None:
+        # The Sun is the strongest thing a Ku-band dish hears: where it crosses the band, it is
+        # part of the model, at its place at each reading's time.
+        from .targets import resolve
+
+        sun = resolve("sun", list)
+        az, el = sun.look(station, scan.time)
+        if el.max() > 0:
+            moving.append(("sun", az, el))
+    result = align.fit(scan, clusters, fit_tilts=not args.index_only, fit_lag=lag, progress=report.phase,
+                       moving=moving)
     floor, peaks = align.find_peaks(scan)
     plot = None
     if not args.no_plot:
@@ -191,7 +217,36 @@ def align_arc(args, station, clock, rot, report, state) -> dict:
         from .plot import render
 
         plot = render(args.plot, scan, clusters, result, title, arc)
-    return assemble(result, scan_seconds, len(scan), points_planned, plot, peaks, clusters)
+    out = assemble(result, scan_seconds, len(scan), points_planned, plot, peaks, clusters)
+    if not args.from_scan:
+        out["sun"] = sun_note
+        out["configured_mount"] = None if configured is None else dict(zip(("az_index", "el_index", "tilt_north",
+                                                                            "tilt_east"), configured))
+    return out
+
+
+def add_sun(args, station, clock, limits, scanner, scan) -> str:
+    """Appends a Sun cross-scan to the arc's readings (the fit models the Sun where it is at each
+    reading). Returns what was done, for the result."""
+    import numpy as np
+
+    from .scanner import ScanError, sun_fix
+    from .targets import resolve
+
+    if args.with_sun == "no":
+        return "not asked"
+    _, el = resolve("sun", list).look_one(station, clock.now())
+    if el < limits.el_min + 5 and args.with_sun == "auto":
+        return f"below the dish's floor (el {el:.1f})"
+    try:
+        fix = sun_fix(scanner, station, limits, min(args.az_error, 10.0), args.el_error, step=args.step)
+    except ScanError as error:
+        if args.with_sun == "yes":
+            raise
+        return f"not found: {error}"
+    for name in ("az", "el", "value", "time"):
+        setattr(scan, name, np.concatenate([getattr(scan, name), getattr(fix.scan, name)]))
+    return f"cross-scanned at az {fix.sky_az:.1f} el {fix.sky_el:.1f} ({fix.readings} readings)"
 
 
 def assemble(result, scan_seconds, points, planned, plot, peaks, clusters) -> dict:
@@ -241,6 +296,14 @@ def align_sun(args, station, clock, rot, report, state) -> dict:
         fixes.append(sun_fix(scanner, station, limits, args.az_error, args.el_error, step=args.step))
     scan_seconds = clock.now() - begun
     state["scanner"] = None
+    from .mount import sky_to_dish
+    from .rotctld import mount_from_info
+
+    configured = mount_from_info(rot.info())
+    if configured is not None:  # back to the dish's axes, as in align_arc
+        for f in fixes:
+            f.dish_az, f.dish_el = sky_to_dish(configured, f.dish_az, f.dish_el)
+            f.dish_az %= 360.0
     fit_tilts = len(fixes) >= 3 and not args.index_only
     terms, sigma, residuals = fit_fixes(fixes, fit_tilts)
     from .align import Result

@@ -84,6 +84,14 @@ def el_limits_from_info(info: str) -> tuple[float, float] | None:
     return (float(m.group(1)), float(m.group(2))) if m else None
 
 
+def mount_from_info(info: str) -> tuple[float, float, float, float] | None:
+    """The mount terms the birdcage backend applies, as its `_` names them ("; mount az_index 6.00
+    el_index 0.80 tilt_north 1.20 tilt_east -0.50"); None when it names none (all zero)."""
+    m = re.search(r"mount az_index (" + _NUMBER + r") el_index (" + _NUMBER + r") tilt_north (" + _NUMBER +
+                  r") tilt_east (" + _NUMBER + r")", info)
+    return tuple(float(m.group(i)) for i in range(1, 5)) if m else None
+
+
 class Rotctld:
     """One TCP connection to rotctld, opened on first use."""
 

@@ -136,6 +136,7 @@ class SunFix:
     dish_el: float
     peak: float
     readings: int
+    scan: Scan | None = None  # every reading taken for it, in the dish's axes
 
 
 def gaussian_peak(x: np.ndarray, y: np.ndarray) -> float:
@@ -168,9 +169,12 @@ def sun_fix(scanner: Scanner, station: Station, limits: Limits, az_error: float,
         el = min(max(sel + dael, limits.el_min), limits.el_max)
         return saz, sel, saz + daz / max(math.cos(math.radians(sel)), 0.2), el
 
+    taken = []
+
     def read(daz, dael):
         saz, sel, az, el = offset_point(daz, dael)
         paz, pel, value, t = scanner.read_point(az % 360.0, el)
+        taken.append((paz, pel, value, t))
         saz, sel = sun.look_one(station, t)
         cos_el = max(math.cos(math.radians(sel)), 0.2)
         return ((((paz - saz + 180) % 360) - 180) * cos_el, pel - sel, value, t, saz, sel)
@@ -196,8 +200,10 @@ def sun_fix(scanner: Scanner, station: Station, limits: Limits, az_error: float,
     t = float(el_line[len(offsets) // 2, 3])
     saz, sel = sun.look_one(station, t)
     cos_el = max(math.cos(math.radians(sel)), 0.2)
-    return SunFix(t, saz, sel, (saz + daz / cos_el) % 360.0, sel + dael, float(max(az_line[:, 2].max(), el_line[:, 2].max())),
-                  len(rows) + 2 * len(offsets))
+    a = np.array(taken)
+    return SunFix(t, saz, sel, (saz + daz / cos_el) % 360.0, sel + dael,
+                  float(max(az_line[:, 2].max(), el_line[:, 2].max())), len(taken),
+                  Scan(a[:, 0], a[:, 1], a[:, 2], a[:, 3]))
 
 
 def fit_fixes(fixes: list[SunFix], fit_tilts: bool) -> tuple[np.ndarray, np.ndarray, list[float]]:

@@ -98,7 +98,9 @@ class Rig:
 
     def truth_rows(self) -> list[dict]:
         with open(self.truth) as f:
-            rows = list(csv.DictReader(f))
+            text = f.read()
+        # The emulator may be writing its last line while we read: only whole lines count.
+        rows = [r for r in csv.DictReader(text[: text.rfind("\n") + 1].splitlines()) if None not in r.values()]
         for r in rows:
             r["unix"] = datetime.fromisoformat(r["utc"].replace("Z", "+00:00")).timestamp()
             for k in ("t", "dish_az", "dish_el", "sky_az", "sky_el"):

@@ -42,6 +42,7 @@ INITIAL_RESPONSE_S = 0.5  # a guess until the dish has answered a few moves
 PREROLL_S = 10.0
 MAX_RESPONSE_S = 10.0
 LEARN_TIME_S = 15.0  # the running mean's time constant (at least three steps)
+ACQUIRED_DEG = 1.0  # the error counts once the dish is this close to the target (after any slew)
 POINTING_CHECK_REAL_S = 3.0  # how often the backend's pointing mode is read again (it may change)
 
 
@@ -85,6 +86,7 @@ class Tracker:
         self.response = INITIAL_RESPONSE_S if options.fixed_response is None else options.fixed_response
         self.last_learn: float | None = None
         self.backend_leads = False
+        self.acquired = False
         self.pointing_checked = -math.inf
         self.parked = False
 
@@ -206,8 +208,11 @@ class Tracker:
             tp = (before + self.clock.now()) / 2
             truth_az, truth_el = self.look(tp)
             reach = self.reachable(truth_az, truth_el)
-            in_window = found.aos is None or tp >= found.aos
             error = float(angular_distance(dish[0], dish[1], reach[0], reach[1]))
+            in_window = found.aos is None or tp >= found.aos
+            # A pass joined under way starts with a slew: the error counts from acquisition.
+            self.acquired = self.acquired or (in_window and error <= ACQUIRED_DEG)
+            in_window = in_window and self.acquired
             if in_window:
                 self.stats.errors.append(error)
                 if truth_el > self.limits.el_max:
@@ -264,10 +269,8 @@ class Tracker:
 
     @staticmethod
     def apart(a: tuple[float, float], b: tuple[float, float]) -> float:
-        """The larger per-axis difference on the sky (azimuth scaled by cos el): what a dish moving
-        one axis at a time has to cover."""
-        daz = abs(((a[0] - b[0] + 180.0) % 360.0) - 180.0) * math.cos(math.radians((a[1] + b[1]) / 2))
-        return max(daz, abs(a[1] - b[1]))
+        """On the sky: the pointing error the step would leave, whichever axes it takes."""
+        return float(angular_distance(a[0], a[1], b[0], b[1]))
 
     def finish(self, outcome: str, reason: str) -> dict:
         if self.options.park_at_los and outcome == "los":

@@ -30,6 +30,8 @@ packages=(
     catch2
     help2man                        # the section-1 man pages: a source install has all 7 pages
     python3                         # the doc check (tests/docs)
+    # birdcage-track and birdcage-align (tools/sky): SGP4, PyEphem, the fit, the plot
+    python3-sgp4 python3-ephem python3-numpy python3-scipy python3-matplotlib
 )
 if [[ "${BIRDCAGE_SETUP_EXTRA:-}" != "" ]]; then
     read -r -a extra <<<"${BIRDCAGE_SETUP_EXTRA}"

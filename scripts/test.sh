@@ -34,8 +34,9 @@ done
 # Debian packages for the test suite only: the gpredict test's (tests/gpredict/CMakeLists.txt),
 # the venv module for the mcp test (tests/mcp/CMakeLists.txt) and tmux, in which the tui test
 # drives birdcage-tui (tui/CMakeLists.txt); clang-format 14 for the build's format check
-# (cmake/BirdcageFormat.cmake).
-export BIRDCAGE_SETUP_EXTRA="${BIRDCAGE_SETUP_EXTRA:-} gpredict xvfb xdotool imagemagick faketime python3-sgp4 python3-ephem python3-numpy python3-venv tmux clang-format"
+# (cmake/BirdcageFormat.cmake); pytest with skyfield and astropy, the independent implementations
+# the sky tools are checked against (tests/sky/CMakeLists.txt).
+export BIRDCAGE_SETUP_EXTRA="${BIRDCAGE_SETUP_EXTRA:-} gpredict xvfb xdotool imagemagick faketime python3-sgp4 python3-ephem python3-numpy python3-venv tmux clang-format python3-pytest python3-skyfield python3-astropy"
 "$root/scripts/build.sh" -DBIRDCAGE_BUILD_TESTS=ON "${cmake_args[@]}"
 cd "$build"
 ctest --output-on-failure --timeout 600 -j "$(nproc)" "${ctest_args[@]}"

@@ -19,9 +19,6 @@ Scans the geostationary arc (or the Sun, --sun) with the dish behind rotctld, re
 receiver's signal (`v RSSI`, the birdcage backend's Carryout G2), finds the satellites in the scan,
 fits the four mount terms of docs/sky.md (az_index, el_index, tilt_north, tilt_east) and prints
 the -C lines that correct the dish. --from-scan fits a scan taken before instead.
-
-  birdcage-align --lat 45 --lon -93
-  birdcage-align --from-scan scan_data.txt --catalogue satellite_data.csv
 """
 
 
@@ -30,11 +27,11 @@ def build_parser(version: str) -> cli.Parser:
     g = p.add_argument_group("what to scan")
     g.add_argument("--from-scan", metavar="FILE",
                    help="fit this scan instead of scanning: upstream `az el rssi` lines or birdcage-skyscan's CSV")
-    g.add_argument("--catalogue", metavar="CSV",
+    g.add_argument("--catalogue", metavar="FILE",
                    help="the sources as `name,az,el` look angles at the site (no header); default: the "
                         "geostationary table for --lat/--lon")
     g.add_argument("--sun", action="store_true", help="cross-scan the Sun instead of the geostationary arc")
-    g.add_argument("--with-sun", choices=("auto", "yes", "no"), default="auto",
+    g.add_argument("--with-sun", choices=("auto", "yes", "no"), default="auto", metavar="auto|yes|no",
                    help="after the arc, cross-scan the Sun too and fit both together: its direction, off the arc, "
                         "tells the tilts from the index terms (auto: when the Sun is 5 deg above the floor)")
     g.add_argument("--sun-fixes", type=int, default=1, metavar="N",
@@ -46,14 +43,14 @@ def build_parser(version: str) -> cli.Parser:
                    help="the elevation error the scan must cover (default 4)")
     g.add_argument("--step", type=float, default=2.0, metavar="DEG", help="the scan's grid step (default 2)")
     g.add_argument("--samples", type=int, metavar="N", help="RSSI reads averaged per point (the backend's RSSI_SAMPLES)")
-    g.add_argument("--lnb", choices=("13", "18", "keep"), default="13",
+    g.add_argument("--lnb", choices=("13", "18", "keep"), default="13", metavar="13|18|keep",
                    help="LNB supply: 13 V (vertical, the default), 18 V, or keep what it is")
     g = p.add_argument_group("the fit and its output")
     g.add_argument("--index-only", action="store_true", help="fit az_index and el_index only (tilts 0)")
-    g.add_argument("--lag", choices=("auto", "yes", "no"), default="auto",
+    g.add_argument("--lag", choices=("auto", "yes", "no"), default="auto", metavar="auto|yes|no",
                    help="fit the share of a step each reading lags its label (auto: for serpentine scans)")
     g.add_argument("--save-scan", metavar="FILE", help="write the scan as CSV az,el,value,time")
-    g.add_argument("--plot", metavar="PNG", default="birdcage-align.png", help="the picture (default birdcage-align.png)")
+    g.add_argument("--plot", metavar="FILE", default="birdcage-align.png", help="the picture, PNG (default birdcage-align.png)")
     g.add_argument("--no-plot", action="store_true", help="no picture")
     g.add_argument("--name", default="<name>", help="the dish's name in the service file's path")
     cli.add_common(p)

@@ -44,7 +44,7 @@ def add_common(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--lon", type=float, help="station longitude, degrees east (or env BIRDCAGE_LON)")
     g.add_argument("--alt", type=float, help="station height above the WGS84 ellipsoid, metres (or env BIRDCAGE_ALT; default 0)")
     g = parser.add_argument_group("satellites and time")
-    g.add_argument("--tle", action="append", default=[], metavar="FILE|DIR",
+    g.add_argument("--tle", action="append", default=[], metavar="PATH",
                    help="TLEs: a CelesTrak-style file, Gpredict .sat files or satellites.dat, or a directory of them "
                         "(repeatable; default: ~/.config/Gpredict/satdata/*.sat, the --fetch cache, "
                         "/usr/share/gpredict/data/satdata/satellites.dat)")

@@ -20,10 +20,6 @@ Follows TARGET with the dish behind rotctld, or lists what can be followed. TARG
 radec:RA,DEC (J2000, degrees) or azel:AZ,EL (degrees). Positions are geometric (no refraction);
 satellites by SGP4, the rest by PyEphem. Passes are where TARGET enters and leaves the dish's
 window (el_min..el_max as rotctld reports them), not the horizon.
-
-  birdcage-track --lat 45 --lon -93 --passes "ISS (ZARYA)"
-  birdcage-track --lat 45 --lon -93 --park-at-los "ISS (ZARYA)"
-  birdcage-track --lat 45 --lon -93 --duration 600 sun
 """
 
 STALE_DAYS = 30.0

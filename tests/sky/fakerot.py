@@ -15,7 +15,6 @@ import socket
 import threading
 import time
 
-import numpy as np
 
 
 def mount_dish_to_sky(terms, az_d, el_d):

@@ -7,16 +7,14 @@ Every dish ends with 0 hazards counted by the emulator."""
 
 from __future__ import annotations
 
-import math
 import random
-import subprocess
 import time
 from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import json_lines, program, run
+from conftest import json_lines, run
 from emulator import rig
 from fakerot import separation_deg
 from skyfield.api import EarthSatellite, load, wgs84

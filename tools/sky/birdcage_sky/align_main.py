@@ -197,9 +197,9 @@ def align_arc(args, station, clock, rot, report, state) -> dict:
     if station is not None and scan.time is not None:
         # The Sun is the strongest thing a Ku-band dish hears: where it crosses the band, it is
         # part of the model, at its place at each reading's time.
-        from .targets import resolve
+        from .targets import no_satellites, resolve
 
-        sun = resolve("sun", list)
+        sun = resolve("sun", no_satellites)
         az, el = sun.look(station, scan.time)
         if el.max() > 0:
             moving.append(("sun", az, el))
@@ -228,11 +228,11 @@ def add_sun(args, station, clock, limits, scanner, scan) -> str:
     import numpy as np
 
     from .scanner import ScanError, sun_fix
-    from .targets import resolve
+    from .targets import no_satellites, resolve
 
     if args.with_sun == "no":
         return "not asked"
-    _, el = resolve("sun", list).look_one(station, clock.now())
+    _, el = resolve("sun", no_satellites).look_one(station, clock.now())
     if el < limits.el_min + 5 and args.with_sun == "auto":
         return f"below the dish's floor (el {el:.1f})"
     try:
@@ -303,18 +303,19 @@ def align_sun(args, station, clock, rot, report, state) -> dict:
             f.dish_az %= 360.0
     fit_tilts = len(fixes) >= 3 and not args.index_only
     terms, sigma, residuals = fit_fixes(fixes, fit_tilts)
-    from .align import Result
+    from .align import Result, SourceFit
     from .geo import Source
-    from .align import SourceFit
 
     fits = []
     for f, res in zip(fixes, residuals):
-        sf = SourceFit(Source(f"sun {time.strftime('%H:%M:%S', time.gmtime(f.time))}Z", f.sky_az, f.sky_el, ["sun"]),
-                       f.peak, f.dish_az, f.dish_el, f.sky_az, f.sky_el, float(res), None)
-        fits.append(sf)
-    rms = math.sqrt(sum(r * r for r in residuals) / len(residuals)) if residuals else None
-    result = Result(terms, sigma, float("nan"), 0.0, None, fits, rms if len(fixes) > (4 if fit_tilts else 2) else rms,
-                    0.0, ["az_index", "el_index"] + (["tilt_north", "tilt_east"] if fit_tilts else []))
+        name = f"sun {time.strftime('%H:%M:%S', time.gmtime(f.time))}Z"
+        fits.append(SourceFit(Source(name, f.sky_az, f.sky_el, ["sun"]), f.peak, f.dish_az, f.dish_el, f.sky_az,
+                              f.sky_el, float(res), None))
+    fitted = ["az_index", "el_index"] + (["tilt_north", "tilt_east"] if fit_tilts else [])
+    # Each fix gives two numbers: with no more of them than terms fitted, the residuals are 0 by
+    # construction and say nothing.
+    rms = math.sqrt(sum(r * r for r in residuals) / len(residuals)) if 2 * len(fixes) > len(fitted) else None
+    result = Result(terms, sigma, float("nan"), 0.0, None, fits, rms, 0.0, fitted)
     return assemble(result, scan_seconds, sum(f.readings for f in fixes), None, None, [], [])
 
 

@@ -158,9 +158,9 @@ def sun_fix(scanner: Scanner, station: Station, limits: Limits, az_error: float,
     """One measurement of where the dish's axes put the Sun: a raster in offsets from the Sun's
     predicted position (the offsets follow the Sun as it moves), then an azimuth and an elevation
     cross-scan through the raster's peak. The offset at the peak is the mount's error there."""
-    from .targets import resolve
+    from .targets import no_satellites, resolve
 
-    sun = resolve("sun", list)
+    sun = resolve("sun", no_satellites)
     clock = scanner.clock
 
     def offset_point(daz: float, dael: float):

@@ -149,8 +149,12 @@ def resolve(spec: str, tles_loader) -> Target:
     return Satellite(tlemod.find(tles_loader(), spec))
 
 
+def no_satellites() -> list:
+    return []
+
+
 def solar_system() -> list[Target]:
-    return [resolve("sun", list), resolve("moon", list)] + [resolve(p, list) for p in PLANETS]
+    return [resolve(name, no_satellites) for name in ("sun", "moon", *PLANETS)]
 
 
 GEO_RADIUS_KM = 42164.17

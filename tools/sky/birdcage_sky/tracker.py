@@ -4,20 +4,20 @@
 
 Before AOS the dish is sent once to where the pass will enter the window (the target's azimuth
 PREROLL_S before AOS, at el_min) and waits there. From then on the tracker sends targets that
-lead the target by the dish's response, and only when the led target has moved by a step:
+lead the target by the dish's response, and only when the led target has moved by the threshold
+on the sky since the last one sent:
 
-  step  = max(threshold, rate x response)   on the sky; a step the dish completes before the next
-  lead  = response + step / (2 x rate)      the dish arrives, then sits centred on the target's
-                                            path until the next step
+  lead = response + threshold / (2 x the target's rate on the sky)
 
-`response` is learnt from the dish's own feedback: every `p` is placed along the target's path
-(the along-track offset of the dish from the unled target, in seconds), and the response is
-corrected by that offset's running mean, so the dish ends up neither trailing nor leading on
-average. It starts from INITIAL_RESPONSE_S. Behind the birdcage backend's predictive pointing
-(which leads by itself, docs/tracking.md section 6) the targets are sent unled instead.
-Elevations are held inside the dish's window (at el_max while the target is above it, the
-azimuth still followed). The pointing error is `p` against the unled target, clamped to the
-window as the dish can reach it, sampled at every poll between AOS and LOS.
+so the dish arrives, then sits centred on the target's path until the next step. `response` is
+learnt from the dish's own feedback: every `p` is placed along the target's path (how many
+seconds the dish trails or leads the unled target), and the response is corrected by that
+offset's running mean, so the dish ends up neither trailing nor leading on average. It starts
+from INITIAL_RESPONSE_S. Behind the birdcage backend's predictive pointing (which leads by itself,
+docs/tracking.md section 6) the targets are sent unled instead. Elevations are held inside the
+dish's window (at el_max while the target is above it, the azimuth still followed). The pointing
+error is `p` against the unled target, clamped to the window as the dish can reach it, sampled at
+every poll from acquisition to LOS.
 """
 
 from __future__ import annotations

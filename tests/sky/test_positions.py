@@ -129,6 +129,21 @@ def test_pass_above_the_cap_is_reported():
     assert sat.look_one(SITE, b)[1] == pytest.approx(40.0, abs=0.01)
 
 
+def test_geostationary_from_tles_and_from_the_table():
+    """birdcage-align --tle: the geostationary ones among TLEs (GOES 16, then at 75.2 W), where they
+    are; against skyfield, and near the table's look angle for that longitude."""
+    from birdcage_sky import geo
+
+    records = tle.load([DATA / "fixtures.tle"])
+    t = parse_iso("2018-01-21T00:00:00Z")
+    sources = geo.from_tles(SITE, records, t)
+    assert [s.name for s in sources] == ["GOES 16"]
+    ref_az, ref_el = skyfield_look(tle.find(records, "GOES 16"), SITE, [t])
+    assert angular_distance(sources[0].az, sources[0].el, ref_az[0], ref_el[0]) < 0.01
+    table = geo.from_longitudes(SITE, [("GOES 16", -75.2)])[0]
+    assert angular_distance(sources[0].az, sources[0].el, table.az, table.el) < 0.3
+
+
 def test_mount_convention_of_docs_sky():
     # docs/sky.md section 1's example: a G2 whose zero lies 6 deg east of north; the backend sends
     # 174 for a client's 180.
@@ -149,7 +164,7 @@ def test_mount_convention_of_docs_sky():
 def test_tle_formats_and_newest_elements():
     records = tle.load([DATA / "fixtures.tle", DATA / "27607.sat", DATA / "satellites.dat"])
     by_norad = {r.norad: r for r in records}
-    assert set(by_norad) == {25544, 33591, 25485, 27607, 43017}
+    assert set(by_norad) == {25544, 33591, 25485, 27607, 43017, 41866}
     assert by_norad[27607].name == "SO-50"
     assert by_norad[43017].name == "AO-91"
     assert by_norad[33591].name == "NOAA 19"  # the newer of its two element sets

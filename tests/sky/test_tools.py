@@ -74,7 +74,7 @@ def test_search_and_visible():
     _, out, _ = run("birdcage-track", "--tle", DATA / "fixtures.tle", "--tle", DATA / "27607.sat", "--search", "o",
                     "--json")
     names = {s["name"]: s for s in json.loads(out)["satellites"]}
-    assert set(names) == {"NOAA 19", "MOLNIYA 1-91", "SO-50"}
+    assert set(names) == {"NOAA 19", "MOLNIYA 1-91", "SO-50", "GOES 16"}
     assert names["SO-50"]["norad"] == 27607 and names["SO-50"]["epoch"] == "2018-01-20T20:35:36Z"
     _, out, _ = run("birdcage-track", *SITE, "--tle", DATA / "fixtures.tle", "--port", "1", "--at",
                     "2018-01-21T08:56:00Z", "--visible", "--json")

@@ -185,7 +185,10 @@ def find(tles: list[Tle], query: str) -> Tle:
     if len(prefix) > 1:
         names = ", ".join(t.name for t in prefix[:8]) + (", ..." if len(prefix) > 8 else "")
         raise LookupError(f"{query!r} matches {len(prefix)} satellites ({names}); give more of the name or the NORAD number")
-    raise LookupError(f"no satellite {query!r} in the TLEs")
+    near = search(tles, q)
+    hint = f" (names containing it: {', '.join(t.name for t in near[:5])})" if near else ""
+    where = "" if tles else " (none loaded: --tle FILE, or --fetch a CelesTrak group)"
+    raise LookupError(f"no satellite {query!r} in the TLEs{hint}{where}")
 
 
 def search(tles: list[Tle], text: str) -> list[Tle]:

@@ -530,6 +530,10 @@ std::string Controller::describe() const {
     if (state_.target) {
         text += "; target az " + degrees_text(state_.target->az) + " el " + degrees_text(state_.target->el);
     }
+    if (const auto waypoint = driver_->azimuth_waypoint()) {
+        // A stop lands here, not at the target: say so while it can still happen.
+        text += "; azimuth by waypoints: the leg under way ends at az " + degrees_text(*waypoint);
+    }
     text += "; el limits " + degrees_text(el_min_) + ".." + degrees_text(el_max_);
     text += options_.leapfrog ? "; leapfrog on" : "; leapfrog off";
     return text;

@@ -41,6 +41,15 @@ wait_for_listener() {
     kill -0 "$pid" 2>/dev/null
 }
 
+# doc_block DOC NAME: the lines of the fenced block that follows the line <!--run:NAME--> in DOC
+# (docs/usage.md marks the commands a newcomer runs; the demo prints them, tests/docs runs them).
+doc_block() {
+    awk -v mark="<!--run:$2-->" '
+        $0 == mark { found = 1; next }
+        found && /^```/ { if (inside) exit; inside = 1; next }
+        inside { print }' "$1"
+}
+
 # ---- a stock rotctld with the backend preloaded, against the emulator (trixie-smoke.sh,
 # arm-test.sh). Both run another system's rotctld through its own loader:
 #   LOADER --library-path LIBS --preload BACKEND ROTCTLD ...

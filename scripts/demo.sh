@@ -3,18 +3,21 @@
 # Copyright (C) 2026 the birdcage authors
 # The main job on the emulator, no hardware needed: for each dish variant, start the dish emulator
 # on a pseudo-terminal, start the distribution's stock rotctld with the Winegard backend preloaded,
-# and drive it with the stock rotctl client, printing what the dish does.
+# and drive it with the stock rotctl client, printing what the dish does; then print the commands
+# that run the TUI, the MCP server and the probe against an emulated dish (docs/usage.md).
 #
 #   ./scripts/demo.sh [variant ...]        variants: hal000 hal205 pro carryout2003 g2 (default: all)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${BIRDCAGE_BUILD_DIR:-$root/build}
-# Only what the demo runs (the backend and the emulator), not the test suite; the first time this
-# compiles the core from scratch, a few minutes on 2 cores, so the compiler's progress is shown.
+# What the demo runs (the backend and the emulator) and the programs its next steps name (the TUI,
+# the probe, and the sky scan the TUI launches), not the test suite; the first time this compiles
+# the core from scratch, a few minutes on 2 cores, so the compiler's progress is shown.
 "$root/scripts/setup.sh"
 [[ -f "$build/CMakeCache.txt" ]] || cmake -S "$root" -B "$build" -DBIRDCAGE_WERROR=ON >/dev/null
-echo "== Building the backend and the emulator (the first time takes a few minutes)"
-if ! cmake --build "$build" -j "$(nproc)" --target hamlib-winegard birdcage-sim 2>&1 | tee "$build/demo-build.log" |
+echo "== Building the backend, the emulator, the TUI and the probe (the first time takes a few minutes)"
+if ! cmake --build "$build" -j "$(nproc)" --target hamlib-winegard birdcage-sim birdcage-tui birdcage-probe \
+    birdcage-skyscan 2>&1 | tee "$build/demo-build.log" |
     { grep --line-buffered -E '^\[ *[0-9]+%\] (Building|Linking)' || true; }; then
     echo "demo: the build failed; the end of its log ($build/demo-build.log):" >&2
     tail -n 30 "$build/demo-build.log" >&2
@@ -59,13 +62,22 @@ for v in "${variants[@]}"; do
         echo "rotctld did not start; its log:"; cat "$work/$v.rotctld.log"; exit 1
     fi
     rc() { rotctl -m 2 -r "127.0.0.1:$port" "$@"; }
+    # All of `_`: through Hamlib's NET rotator (rotctl -m 2) only its first 63 characters arrive.
+    info() {
+        local line
+        exec 3<>"/dev/tcp/127.0.0.1/$port"
+        printf '_\n' >&3
+        IFS= read -r -t 10 line <&3 || line="(no answer)"
+        exec 3>&-
+        printf '%s\n' "$line"
+    }
     # The 2003 Carryout cannot report its position at rest: p is an error until a move has run.
     pos() {
         local out
         out=$(rc p 2>/dev/null | tr '\n' ' ') || true
-        [[ "$out" =~ ^-?[0-9.]+\ -?[0-9.]+\ $ ]] && echo "$out" || true
+        [[ "$out" =~ ^-?[0-9.]+\ -?[0-9.]+\ $ ]] && echo "${out% }" || true
     }
-    echo "info:     $(rc _ | tr '\n' ' ')"
+    info | fold -s -w 90 | sed 's/ *$//; 1s/^/info:     /; 2,$s/^/          /'
     p0=$(pos)
     echo "position: ${p0:-unknown (this dish reports its position only while it moves)}"
     echo "command:  P 180 45   (one target: the dish goes there and stops, whatever the pointing mode)"
@@ -92,3 +104,20 @@ for v in "${variants[@]}"; do
 done
 echo
 echo "demo finished"
+echo
+# The next steps are docs/usage.md's own commands (tests/docs/from_source.sh runs them as written),
+# with this build tree for build/.
+commands() {
+    doc_block "$root/docs/usage.md" "$1" | sed -e "s#\(^\|[ =]\)build/#\1${build#"$root"/}/#g" -e 's/^/      /'
+}
+echo "== Next: the TUI, the MCP server and the probe against an emulated G2"
+echo "   (docs/usage.md, \"From source, on the emulator\"), from $root, in three terminals:"
+echo "   1. the dish:"
+commands dish
+echo "   2. rotctld with this backend:"
+commands rotctld
+echo "   3. the position, then the TUI (q quits):"
+commands position
+commands tui
+echo "   The MCP server: docs/mcp.md. The probe needs the pty to itself: stop rotctld (Ctrl-C), then"
+commands probe

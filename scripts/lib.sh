@@ -41,6 +41,15 @@ wait_for_listener() {
     kill -0 "$pid" 2>/dev/null
 }
 
+# doc_block DOC NAME: the lines of the fenced block that follows the line <!--run:NAME--> in DOC
+# (docs/usage.md marks the commands a newcomer runs; the demo prints them, tests/docs runs them).
+doc_block() {
+    awk -v mark="<!--run:$2-->" '
+        $0 == mark { found = 1; next }
+        found && /^```/ { if (inside) exit; inside = 1; next }
+        inside { print }' "$1"
+}
+
 # ---- a stock rotctld with the backend preloaded, against the emulator (trixie-smoke.sh,
 # arm-test.sh). Both run another system's rotctld through its own loader:
 #   LOADER --library-path LIBS --preload BACKEND ROTCTLD ...
@@ -87,11 +96,11 @@ arrive() {
 
 # track_pass PORT SCALE STEP SECONDS CSV: tracks a pass (bench/passes/*.csv: t,az,el) through a
 # rotctld the way Gpredict does: one connection, and every STEP seconds of pass time a `p` then a
-# `P az el`, from where the pass rises above 20 deg (every dish's lowest elevation is below that)
-# for at most SECONDS of pass time. The pass clock runs SCALE times faster than the wall clock,
+# `P az el`, from where the pass rises above 20 deg (every dish's lowest elevation is below that;
+# MIN_EL, the optional sixth argument, sets another) for at most SECONDS of pass time. The pass clock runs SCALE times faster than the wall clock,
 # like the emulated dish. Every command must be answered; prints "COUNT AZ EL" of the last `P`.
 track_pass() {
-    local port=$1 scale=$2 step=$3 seconds=$4 csv=$5 t az el reply sent=0 last=
+    local port=$1 scale=$2 step=$3 seconds=$4 csv=$5 min_el=${6:-20} t az el reply sent=0 last=
     exec 3<>"/dev/tcp/127.0.0.1/$port"
     while IFS=, read -r t az el; do
         printf 'p\n' >&3
@@ -102,7 +111,7 @@ track_pass() {
         [[ $reply == "RPRT 0" ]] || { echo "FAIL: P $az $el at pass t=$t: $reply" >&2; exec 3>&-; return 1; }
         sent=$((sent + 1)) last="$az $el"
         sleep "$(awk -v s="$scale" -v d="$step" 'BEGIN { print d / s }')"
-    done < <(awk -F, -v step="$step" -v n="$seconds" '/^[0-9]/ && $3 >= 20 {
+    done < <(awk -F, -v step="$step" -v n="$seconds" -v min_el="$min_el" '/^[0-9]/ && $3 >= min_el {
                 if (t0 == "") t0 = $1
                 if ($1 - t0 > n) exit
                 if (($1 - t0) % step == 0) print $1 "," $2 "," $3 }' "$csv")

@@ -215,7 +215,7 @@ struct DeepOptions {
 
 struct Report {
     std::string port;
-    int baud = 0;
+    int baud = 0;  // 0 on a pty: no line speed applies there
     std::vector<int> bauds_tried;
     Location where;
     Identification variant;
@@ -227,7 +227,9 @@ struct Report {
 };
 
 void print_report(const Report& r, const Probe& probe, const DeepReport* deep) {
-    std::cout << "{\n  \"format_version\": 2,\n  \"port\": " << json_string(r.port) << ",\n  \"baud\": " << r.baud
+    std::cout << "{\n  \"format_version\": 2,\n  \"port\": " << json_string(r.port)
+              << ",\n  \"line\": " << (r.baud ? "\"serial\"" : "\"pty\"")
+              << ",\n  \"baud\": " << (r.baud ? std::to_string(r.baud) : std::string("null"))
               << ",\n  \"bauds_tried\": [";
     for (std::size_t i = 0; i < r.bauds_tried.size(); ++i)
         std::cout << (i ? ", " : "") << r.bauds_tried[i];
@@ -333,24 +335,33 @@ int run_probe(const std::string& path, std::optional<int> baud, std::optional<bi
     Report report;
     report.port = path;
     std::unique_ptr<birdcage::Transport> port;
-    for (const int candidate :
-         baud ? std::vector<int>{*baud} : std::vector<int>(candidate_bauds.begin(), candidate_bauds.end())) {
+    // A pty (the emulator) passes bytes whatever speed it is set to: one open, and no rate to report.
+    const bool pty = birdcage::is_pseudo_terminal(path);
+    std::vector<int> candidates =
+        baud ? std::vector<int>{*baud} : std::vector<int>(candidate_bauds.begin(), candidate_bauds.end());
+    if (pty)
+        candidates.resize(1);
+    for (const int candidate : candidates) {
         std::string error;
         auto opened = open_port(path, candidate, force_fd, error);
         if (!opened) {
             std::cerr << "birdcage-probe: cannot open " << path << ": " << error << '\n';
             return 1;
         }
-        report.bauds_tried.push_back(candidate);
-        progress("listening at " + std::to_string(candidate) + " baud");
+        if (pty) {
+            progress("listening on a pty: no line speed applies");
+        } else {
+            report.bauds_tried.push_back(candidate);
+            progress("listening at " + std::to_string(candidate) + " baud");
+        }
         if (answers(*opened)) {
             port = std::move(opened);
-            report.baud = candidate;
+            report.baud = pty ? 0 : candidate;
             break;
         }
     }
     if (!port) {
-        std::cerr << "birdcage-probe: no answer at any baud rate\n";
+        std::cerr << "birdcage-probe: no answer " << (pty ? "on the pty" : "at any baud rate") << '\n';
         std::cout << "{\"format_version\": 2, \"port\": " << json_string(path) << ", \"baud\": null}\n";
         return 1;
     }
@@ -460,7 +471,7 @@ releases, streams, changes state, writes NVS or reboots.
 
   --port PATH         serial device or pty (e.g. /dev/ttyUSB0)
   --baud N            line speed (default: probe tries 115200 57600 9600 19200 38400;
-                      record uses the variant's, or 115200)
+                      record uses the variant's, or 115200; a pty has none: not tried)
   --variant hal000|hal205|pro|carryout2003|g2
                       judge hazards by this firmware's rules (default: every variant's, the strictest)
   --fd                open PATH as a plain file descriptor, not through libserialport

@@ -193,6 +193,7 @@ extern "C" int winegard_rot_open(ROT* rot) {
     ControllerOptions options = priv->options;
     // `_` reports the rate the line really runs at (rotctld -s), not the table's.
     options.line_baud = port->type.rig == RIG_PORT_SERIAL ? baud : 0;
+    options.line_is_pty = is_pseudo_terminal(path);
     options.leapfrog = priv->pointing.mode == PointingMode::leapfrog;
     if (priv->time_scale != 1.0) {
         // Against an emulator running k times faster: the core's clock runs k times faster, and

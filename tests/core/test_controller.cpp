@@ -315,6 +315,20 @@ TEST_CASE_METHOD(G2Bench, "controller: describe() leads with the dish and its st
     CHECK(text.find("reset (R 1) homes the axes") > text.find("[g2, "));
 }
 
+// On a pty no line speed applies: a G2 emulated at rotctld's default -s must not read "57600 baud".
+TEST_CASE("controller: describe() names no line speed on a pty") {
+    FakeG2 dish;
+    FakeTransport wire([&](const std::string& c) { return dish.respond(c); });
+    FakeClock clock;
+    ControllerOptions options = options_for(VariantId::carryout_g2, clock);
+    options.line_baud = 57600;
+    options.line_is_pty = true;
+    Controller controller(wire, options);
+    REQUIRE(controller.initialize());
+    CHECK(controller.describe().rfind("Carryout G2: idle; [g2, pty, no line speed, prompt MOT>]", 0) == 0);
+    CHECK(controller.describe().find("baud") == std::string::npos);
+}
+
 TEST_CASE("controller: every dish's identity and its longest leading state fit get_info's 63 characters") {
     // The longest words a state can start with: the controller's, and the backend's for a dish
     // that is not answering (src/hamlib/winegard_ops.cpp).

@@ -222,6 +222,30 @@ TEST_CASE("controller wrap: a clockwise pass across north on the G2 is followed 
     CHECK(bench.controller->describe_wrap().find("mechanical az -300.00") != std::string::npos);
 }
 
+// 150 -> 330 on the G2 is 180 deg either way round: two legs, by 240, so that the firmware cannot
+// take the other way. `_` names the waypoint while that leg runs (where a stop would land).
+TEST_CASE("controller wrap: describe() names the waypoint a long azimuth move goes by while it runs") {
+    Bench bench(VariantId::carryout_g2, -210.0, 30.0, false);  // 150 = -210 after homing
+    REQUIRE(bench.controller->initialize());
+    CHECK(bench.controller->describe().find("waypoints") == std::string::npos);
+    REQUIRE(bench.controller->set_target({330.0, 30.0}, 0.0));
+    std::string while_first_leg;
+    for (int calls = 0; calls < 200 && bench.dish.sent.size() < 2; ++calls) {
+        bench.clock.now += 100ms;
+        REQUIRE(bench.controller->service());
+        if (bench.dish.sent.size() == 1 && while_first_leg.empty()) {
+            while_first_leg = bench.controller->describe();
+        }
+    }
+    CHECK(bench.dish.sent == std::vector<double>{240.0, 330.0});
+    CHECK(while_first_leg.find(
+              "; target az 330.00 el 30.00; azimuth by waypoints: the leg under way ends at az 240.00") !=
+          std::string::npos);
+    bench.run_until_idle();
+    CHECK(bench.dish.mech == Approx(-30).margin(0.01));
+    CHECK(bench.controller->describe().find("waypoints") == std::string::npos);
+}
+
 TEST_CASE("controller wrap: an anticlockwise pass across north on the Trav'ler starts on 420") {
     const bool mechanical = GENERATE(false, true);
     INFO((mechanical ? "mechanical" : "displayed") << " azimuth report");

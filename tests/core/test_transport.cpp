@@ -86,6 +86,22 @@ TEST_CASE("FdTransport over a pty: write, read, timeout, hang-up") {
     CHECK(port.read(buffer.data(), buffer.size(), Clock::now() + 1s).status.code == Errc::disconnected);
 }
 
+// `_` and the probe name no line speed on a pty: the emulator's link is a symlink to one.
+TEST_CASE("is_pseudo_terminal: a pty and a link to it are, a directory, a missing path and /dev/null are not") {
+    Pty pty;
+    CHECK(is_pseudo_terminal(pty.slave_path));
+    char dir_template[] = "/tmp/birdcage-pty-test.XXXXXX";
+    REQUIRE(::mkdtemp(dir_template) != nullptr);
+    const std::string link = std::string(dir_template) + "/dish.tty";
+    REQUIRE(::symlink(pty.slave_path.c_str(), link.c_str()) == 0);
+    CHECK(is_pseudo_terminal(link));
+    CHECK_FALSE(is_pseudo_terminal(std::string(dir_template)));
+    CHECK_FALSE(is_pseudo_terminal(std::string(dir_template) + "/missing"));
+    CHECK_FALSE(is_pseudo_terminal("/dev/null"));
+    ::unlink(link.c_str());
+    ::rmdir(dir_template);
+}
+
 TEST_CASE("FdTransport works on a non-blocking pipe (Hamlib hands us a non-blocking fd)") {
     std::array<int, 2> fds{};
     REQUIRE(::pipe(fds.data()) == 0);

@@ -12,8 +12,8 @@ Checked docs: README.md, docs/*.md, sim/README.md. A doc fails when it names
            source tree; a bare file name with one of this project's extensions (.cpp .hpp .h .sh
            .cmake .md) must exist somewhere in the tree; another project's path is written with
            that project's name first (gpredict/src/rotor-conf.c) and not checked;
-  section  `docs/X.md §n` (or `X.md §n`, or a bare §n in README.md, which cites
-           docs/firmware.md) for a section number X.md has no heading for; `(X.md, "Heading")`
+  section  `docs/X.md §n` (or `X.md §n`, or a bare §n in README.md or docs/variants.md, which
+           cite docs/firmware.md) for a section number X.md has no heading for; `(X.md, "Heading")`
            or `(README, "Heading")` for a heading that does not exist;
   type     a C++ type (CamelCase with two or more capitalised parts, or Name::member) as a whole
            backticked span or in a fenced block with no language (the drawings of the code)
@@ -170,6 +170,10 @@ def check_path_token(tree, token, fail):
             fail(token, "no file of that name in the repository")
 
 
+# The docs whose bare §n cite docs/firmware.md (they say so at the top).
+BARE_SECTIONS_CITE_FIRMWARE = ("README.md", "docs/variants.md")
+
+
 def check_doc(tree, doc, conf_keys, figures, problems):
     text = strip_comments(read(os.path.join(tree.root, doc)))
     prose, fenced = split_blocks(text)
@@ -204,11 +208,12 @@ def check_doc(tree, doc, conf_keys, figures, problems):
             continue  # a missing doc is reported as a path
         if number not in section_numbers(read(os.path.join(tree.root, target))):
             fail("section", f"{name} §{number}", f"{target} has no section {number}")
-    if doc == "README.md" and os.path.exists(os.path.join(tree.root, "docs/firmware.md")):
+    if doc in BARE_SECTIONS_CITE_FIRMWARE and os.path.exists(os.path.join(tree.root, "docs/firmware.md")):
         known = section_numbers(read(os.path.join(tree.root, "docs/firmware.md")))
-        for number in re.findall(r"(?<![\w.])§\s?(\d+(?:\.\d+)*)", text):
+        # A § after a doc's name cites that doc (checked above).
+        for number in re.findall(r"(?<![\w.])(?<!\.md )(?<!\.md` )(?<!\.md, )§\s?(\d+(?:\.\d+)*)", text):
             if number not in known:
-                fail("section", f"§{number}", "docs/firmware.md (which README's § cite) has no such section")
+                fail("section", f"§{number}", f"docs/firmware.md (which {doc}'s bare § cite) has no such section")
     for name, title in HEADING_REF.findall(text):
         title = " ".join(title.split())  # a citation wrapped across lines reads as one
         target = "README.md" if name == "README" else name
@@ -339,6 +344,7 @@ SELF_TEST_DOCS = {
                  "| `good_key` | 1 |\n",
     "docs/benchmarks.md": "# B\n\nRMS <!--fig:rms-->1.5–2.0°, about <!--fig:time-->45 minutes.\n",
     "docs/firmware.md": "# F\n\n## 1. One\n\n### 2 Two\n",
+    "docs/variants.md": "# V\n\nAs §1, and a.md §2.\n",
     "src/core/real.cpp": "struct RealType { int member; };\nint real_function() { return 0; }\n",
 }
 # Each break: (file, text to append, the kind and name the check must report).
@@ -350,6 +356,7 @@ SELF_TEST_BREAKS = [
     ("docs/a.md", "LD_PRELOAD=/usr/local/lib/libhamlib-winegard.so rotctld\n", "path: /usr/local/lib/libhamlib-winegard.so"),
     ("README.md", "See docs/a.md §7.\n", "section: a.md §7"),
     ("README.md", "As (§9).\n", "section: §9"),
+    ("docs/variants.md", "As (§8).\n", "section: §8"),
     ("docs/a.md", "(README, \"Nowhere\")\n", 'section: README, "Nowhere"'),
     ("README.md", "The `HamlibFdTransport`.\n", "type: HamlibFdTransport"),
     ("docs/a.md", "```\n  transport  MissingTransport over an fd\n```\n", "type: MissingTransport"),

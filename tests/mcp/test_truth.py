@@ -7,6 +7,7 @@ list per rotator, annotations and output schemas."""
 
 from __future__ import annotations
 
+import re
 import time
 
 import anyio
@@ -69,6 +70,45 @@ async def test_stop_that_cannot_wait_says_still_stopping_and_where_the_leg_ends(
         assert "still stopping" in stopping["message"] and "ends at az 300.00 el 30.00" in stopping["message"]
         assert g2_real.moving()
         assert near(rest(g2_real), (300.0, 30.0))
+
+
+async def start_split_move(session, rig: Rig) -> None:
+    """From az 150 to az 330 at el 30: 180 degrees either way round, which the backend turns in two
+    legs, by 240 (docs/mcp.md, "Long azimuth moves"); returns once the first leg is under way."""
+    await call(session, "move_to", {"azimuth": 150.0, "elevation": 30.0})
+    started = await call(session, "move_to", {"azimuth": 330.0, "elevation": 30.0, "wait": False})
+    assert started["outcome"] == "moving"
+    with anyio.fail_after(10):
+        while not rig.moving():
+            await anyio.sleep(0.02)
+
+
+async def test_stop_during_a_split_move_says_it_was_split_and_rests_at_the_waypoint(g2_real):
+    async with session_for(g2_real.port) as session:
+        await start_split_move(session, g2_real)
+        stopped = await call(session, "stop")
+        assert stopped["state"] == "stopped" and stopped["split"] is True, stopped
+        assert near((stopped["position"]["azimuth"], stopped["position"]["elevation"]), (240.0, 30.0)), stopped
+        assert near(rest(g2_real), (240.0, 30.0))
+        assert "the move to az 330.00 el 30.00 was split" in stopped["message"], stopped
+        # The waypoint is half-way from where the dish read when the leg was planned (e.g. 240.04).
+        named = re.search(r"the end of the leg under way, az (\d+\.\d\d)", stopped["message"])
+        assert named and abs(float(named.group(1)) - 240.0) <= 0.2, stopped
+        # Not split: a move that goes in one leg.
+        await call(session, "move_to", {"azimuth": 200.0, "elevation": 30.0, "wait": False})
+        plain = await call(session, "stop")
+        assert plain["split"] is False and "split" not in plain["message"], plain
+
+
+async def test_stop_that_cannot_wait_during_a_split_move_names_the_waypoint_as_the_leg_end(g2_real):
+    async with session_for(g2_real.port) as session:
+        await start_split_move(session, g2_real)
+        stopping = await call(session, "stop", {"wait_s": 0})
+        assert stopping["state"] == "stopping" and stopping["split"] is True, stopping
+        leg_end = stopping["leg_end"]
+        assert near((leg_end["azimuth"], leg_end["elevation"]), (240.0, 30.0)), stopping
+        assert "short of the move's target az 330.00 (the move was split" in stopping["message"], stopping
+        assert near(rest(g2_real), (240.0, 30.0))
 
 
 async def concurrently(session, first: tuple[str, dict], then: tuple[str, dict], rig: Rig) -> tuple[dict, dict]:

@@ -4,7 +4,6 @@
 #include "probe/console_io.hpp"
 
 #include <array>
-#include <filesystem>
 #include <iostream>
 
 #include "firmware/hazards.hpp"
@@ -16,12 +15,6 @@ namespace {
 
 using birdcage::Clock;
 
-bool is_pty(const std::string& path) {
-    std::error_code error;
-    const auto resolved = std::filesystem::canonical(path, error);
-    return (error ? path : resolved.string()).rfind("/dev/pts/", 0) == 0;
-}
-
 std::string last_line(std::string_view text) {
     const std::size_t end = text.find_last_of("\r\n");
     return std::string(end == std::string_view::npos ? text : text.substr(end + 1));
@@ -30,7 +23,7 @@ std::string last_line(std::string_view text) {
 }  // namespace
 
 std::unique_ptr<birdcage::Transport> open_port(const std::string& path, int baud, bool force_fd, std::string& error) {
-    if (!force_fd && !is_pty(path)) {
+    if (!force_fd && !birdcage::is_pseudo_terminal(path)) {
         auto serial = birdcage::SerialPortTransport::open(path, baud);
         if (serial)
             return std::move(serial.value);

@@ -41,6 +41,8 @@ class StopResult(BaseModel):
     position: Position = Field(description="where the dish stopped, or where it was when the wait ended")
     seconds: float = Field(description="from the stop command to the answer")
     leg_end: Position | None = Field(None, description="where the leg under way ends, when still stopping and known")
+    split: bool = Field(False, description="the backend had split the move into azimuth legs and the stop ended it "
+                        "at the end of the leg under way, short of its target")
     message: str
 
 

@@ -120,10 +120,17 @@ async def at_rest_elsewhere(bird: Birdcage, az: float, el: float, target: tuple[
         "client may have stopped or moved it)"])
 
 
-async def wait_stopped(bird: Birdcage, wait_s: float, target: tuple[float, float] | None) -> StopResult:
+# Why a stop can land short of a move's target on the azimuth axis (docs/mcp.md, "Long azimuth moves").
+SPLIT_WHY = ("the backend turns the azimuth in legs shorter than 180° so that the firmware cannot take the other "
+             "way round")
+
+
+async def wait_stopped(bird: Birdcage, wait_s: float, target: tuple[float, float] | None,
+                       waypoint: float | None = None) -> StopResult:
     """After `S`: polls until the rotator reports no motion (or, without status flags, its position
     holds), at most wait_s. `target` is what the backend named before the stop: with the axis seen
-    moving it tells where the leg under way ends."""
+    moving it tells where the leg under way ends; `waypoint`, named with it when the backend split
+    the move, is where the azimuth leg under way ends instead."""
     started = time.monotonic()
     first: tuple[float, float] | None = None
     previous: tuple[float, float] | None = None
@@ -146,19 +153,33 @@ async def wait_stopped(bird: Birdcage, wait_s: float, target: tuple[float, float
             travelled = azimuth_difference(first[0], az) + abs(first[1] - el)
             after = (f" (it finished the leg under way: {travelled:.1f}° after the stop was sent)"
                      if travelled > ARRIVAL_TOLERANCE_DEG else "")
+            # Split: it rests where the leg under way ended, short of the target (not when the last leg
+            # had started before the stop).
+            split = (waypoint is not None and target is not None
+                     and azimuth_difference(az, waypoint) <= ARRIVAL_TOLERANCE_DEG
+                     and azimuth_difference(az, target[0]) > ARRIVAL_TOLERANCE_DEG)
+            if split:
+                after += (f"; the move to az {target[0]:.2f} el {target[1]:.2f} was split ({SPLIT_WHY}): the stop "
+                          f"ended it at the end of the leg under way, az {waypoint:.2f}")
             return StopResult(state="stopped", position=Position(azimuth=az, elevation=el), seconds=seconds,
-                              message=f"stopped: the dish is at rest at az {az:.2f} el {el:.2f}{after}")
+                              split=split, message=f"stopped: the dish is at rest at az {az:.2f} el {el:.2f}{after}")
         if previous is not None and time.monotonic() - started >= wait_s:  # two readings: which axis moves
             leg_end = None
+            split = False
             if target is not None and previous is not None:
                 az_moving = azimuth_difference(previous[0], az) > SAME_POSITION_DEG
                 el_moving = abs(previous[1] - el) > SAME_POSITION_DEG
+                split = az_moving and waypoint is not None
                 if az_moving or el_moving:
-                    leg_end = Position(azimuth=target[0] if az_moving else az, elevation=target[1] if el_moving else el)
+                    leg_end = Position(azimuth=(waypoint if split else target[0]) if az_moving else az,
+                                       elevation=target[1] if el_moving else el)
             ends = (f"; the leg under way ends at az {leg_end.azimuth:.2f} el {leg_end.elevation:.2f}" if leg_end
                     else "; where the leg under way ends is not known")
+            if split:
+                ends += f", short of the move's target az {target[0]:.2f} (the move was split: {SPLIT_WHY})"
             return StopResult(
                 state="stopping", position=Position(azimuth=az, elevation=el), seconds=seconds, leg_end=leg_end,
+                split=split,
                 message=f"still stopping after {seconds:g} s: the dish is at az {az:.2f} el {el:.2f} and still "
                 f"moving (a Winegard finishes the leg under way; the rest of the move is dropped){ends}; "
                 "get_status says when it is at rest")

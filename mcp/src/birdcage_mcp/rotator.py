@@ -48,6 +48,13 @@ def named_target(info: str) -> tuple[float, float] | None:
     return None
 
 
+def named_waypoint(info: str) -> float | None:
+    """The azimuth where the leg under way ends when the backend split the move (a stop lands there)."""
+    if match := re.search(r"; azimuth by waypoints: the leg under way ends at az (-?[\d.]+)", info):
+        return float(match.group(1))
+    return None
+
+
 class Birdcage:
     """What the tools share: the rotctld connection and what was learned about the rotator."""
 

@@ -32,7 +32,7 @@ from .app import BirdcageServer, tool_errors
 from .models import (ConfResult, HomeResult, InfoResult, LimitsResult, LnbResult, MoveResult, ParkResult, Peak,
                      Position, ScanResult, SignalResult, StatusResult, StopResult)
 from .motion import ARRIVAL_TOLERANCE_DEG, POLL_INTERVAL_S, SAME_POSITION_DEG, same_position, settle, wait_stopped
-from .rotator import ENAVAIL, ENIMPL, NOT_OFFERED, Birdcage, check_in_range
+from .rotator import ENAVAIL, ENIMPL, NOT_OFFERED, Birdcage, check_in_range, named_target, named_waypoint
 from .rotctld import RotctldError, RotctldRefused
 from .scan import axis, find_peaks, serpentine
 
@@ -147,11 +147,12 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
         """Stops the rotator (rotctld `S`) and waits, at most wait_s, until it is at rest. A Winegard
         finishes the leg under way (the firmware has no abort for it) and drops the rest of the move.
         Answers "stopped" only when the rotator reports no motion, with where it stopped; otherwise
-        "stopping", with where it is and where the leg under way ends when known."""
-        target = await bird.reported_target()
+        "stopping", with where it is and where the leg under way ends when known. A long azimuth move
+        goes in legs (the backend splits it): the answer says so when the stop ended it between them."""
+        info = await bird.info_text()
         bird.claim_motion("stop")
         await bird.rot.ask("S")
-        return await wait_stopped(bird, wait_s, target)
+        return await wait_stopped(bird, wait_s, named_target(info), named_waypoint(info))
 
     @server.tool(annotations=MOVES)
     @tool_errors

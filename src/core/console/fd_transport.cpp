@@ -4,6 +4,7 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 
 #include <fcntl.h>
 #include <poll.h>
@@ -56,6 +57,12 @@ speed_t speed_for(int baud) {
 }  // namespace
 
 Transport::~Transport() = default;
+
+bool is_pseudo_terminal(const std::string& path) {
+    std::error_code error;
+    const auto resolved = std::filesystem::canonical(path, error);
+    return (error ? path : resolved.string()).rfind("/dev/pts/", 0) == 0;
+}
 
 FdTransport::FdTransport(int fd, bool owns_fd) : fd_(fd), owns_fd_(owns_fd) {}
 

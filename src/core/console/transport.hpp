@@ -51,6 +51,10 @@ private:
     bool owns_fd_;
 };
 
+// A pseudo-terminal (/dev/pts/N, or a link to one, such as the emulator's --link): no line speed
+// applies to it, whatever rate it was opened at.
+bool is_pseudo_terminal(const std::string& path);
+
 // Real serial ports through libserialport, for standalone tools. libserialport cannot open ptys
 // (codebases.md 3), so tests use FdTransport.
 class SerialPortTransport final : public Transport {

@@ -164,6 +164,13 @@ void AxisLegDriver::plan_azimuth_leg(Leg& leg) {
              ") on the way from " + degrees_text(from) + " to mechanical " + degrees_text(leg.final_mech_az));
 }
 
+std::optional<double> AxisLegDriver::azimuth_waypoint() const {
+    if (in_flight_ && in_flight_->axis == Axis::azimuth && in_flight_->mech_az != in_flight_->final_mech_az) {
+        return in_flight_->target.az;
+    }
+    return std::nullopt;
+}
+
 double AxisLegDriver::distance(const Leg& leg) const {
     if (leg.axis == Axis::azimuth) {
         const auto mech_az = c_.wrap.mechanical();

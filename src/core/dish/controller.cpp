@@ -488,8 +488,9 @@ std::string dish_identity(const FirmwareProfile& profile, bool auto_detected) {
 }
 
 // The rate is the one the port was opened at. No word on the variant's usual rate: a dish that
-// answered runs at this one (or the line is a pty or a USB adapter that ignores it); the advice
-// belongs to a dish that does not answer, where the synchroniser gives it.
+// answered runs at this one (or the line is a USB adapter that ignores it); the advice belongs to
+// a dish that does not answer, where the synchroniser gives it. On a pty (the emulator) no rate
+// applies, so none is named: the G2's "57600 baud" there would read as a wrong setting.
 std::string Controller::describe() const {
     std::string text = dish_identity(profile_, options_.detect) + ": ";
     if (!initialised_) {
@@ -502,7 +503,8 @@ std::string Controller::describe() const {
         text += "TV search ON, ";
     }
     text += homing_ ? "homing" : idle() ? "idle" : "moving";
-    text += "; [" + std::string(profile_.short_name) + ", " + std::to_string(line_baud()) + " baud";
+    text += "; [" + std::string(profile_.short_name) + ", " +
+            (options_.line_is_pty ? std::string("pty, no line speed") : std::to_string(line_baud()) + " baud");
     if (!session_.last_prompt().empty()) {
         text += ", prompt " + session_.last_prompt();
     }
@@ -527,6 +529,10 @@ std::string Controller::describe() const {
     }
     if (state_.target) {
         text += "; target az " + degrees_text(state_.target->az) + " el " + degrees_text(state_.target->el);
+    }
+    if (const auto waypoint = driver_->azimuth_waypoint()) {
+        // A stop lands here, not at the target: say so while it can still happen.
+        text += "; azimuth by waypoints: the leg under way ends at az " + degrees_text(*waypoint);
     }
     text += "; el limits " + degrees_text(el_min_) + ".." + degrees_text(el_max_);
     text += options_.leapfrog ? "; leapfrog on" : "; leapfrog off";

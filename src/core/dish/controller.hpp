@@ -47,6 +47,7 @@ struct ControllerOptions {
     bool detect = false;         // RotatorService: identify the variant at start (auto)
     std::string detection_note;  // how the variant was identified (shown by describe())
     int line_baud = 0;           // the rate the port was opened at (describe()); 0 = unknown
+    bool line_is_pty = false;    // a pseudo-terminal (the emulator): no rate applies (describe())
     LogSink log;
     // What the controller learns from the console's replies, as values (console_events.hpp), in
     // the order it was read; unset: nothing is reported.

@@ -58,6 +58,9 @@ public:
     virtual bool idle() const = 0;
     virtual bool leg_in_flight() const = 0;
     virtual MovingAxes moving_axes() const = 0;
+    // Where the azimuth leg in flight ends (display degrees) when that is a waypoint of a longer
+    // move (wrap::next_waypoint()) rather than the target: a stop ends the move there.
+    virtual std::optional<double> azimuth_waypoint() const { return std::nullopt; }
     // The console showed it is not where the controller left it: initialise again.
     virtual bool sync_lost() const = 0;
     // How long a small step (0.4 to 2 degrees) on `axis` takes this dish, from the command to the

@@ -27,6 +27,7 @@ public:
     bool idle() const override { return !in_flight_ && pending_.empty(); }
     bool leg_in_flight() const override { return in_flight_.has_value(); }
     MovingAxes moving_axes() const override;
+    std::optional<double> azimuth_waypoint() const override;
     bool sync_lost() const override { return false; }
     std::optional<double> learnt_step_seconds(Axis axis) const override;
     MotorTiming learnt_motor() const override;

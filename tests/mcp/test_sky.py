@@ -1,0 +1,197 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Copyright (C) 2026 the birdcage authors
+
+"""The sky tools against the truth: their answers are birdcage-track's, asked directly beside the
+server with the same clock; a track moves the dish as rotctld, asked directly, confirms; a stop
+ends it; the errors are the program's own words.
+
+The pass: bench/passes/iss-45 (its TLE in bench/passes/iss-45.tle), at the benchmark's site (45 N,
+93 W, 250 m): in the G2's window (18..65) from 221.5 s to 486 s after the TLE's epoch, highest
+45.0 deg at 353.5 s, leaving at azimuth 89.1 (bench/passes/iss-45.csv, python3-sgp4). Tracks run
+at time scale 20 (the emulator's and rotctld's too): the 265 s in the window take 13 s."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from datetime import datetime, timedelta, timezone
+from pathlib import Path
+
+import anyio
+import pytest
+
+from conftest import Rig, session_for
+from test_server import call, call_error
+from test_truth import near, rest
+
+pytestmark = pytest.mark.anyio
+
+ROOT = Path(__file__).resolve().parents[2]
+TLE = str(ROOT / "bench" / "passes" / "iss-45.tle")
+SATELLITE = "BIRDCAGE ISS-45"
+STATION = ["--lat", "45", "--lon", "-93", "--alt", "250"]
+EPOCH = datetime(2024, 6, 1, tzinfo=timezone.utc)
+# The pass in the G2's window, seconds after the epoch (bench/passes/iss-45.csv).
+AOS_S, TCA_S, LOS_S = 221.5, 353.5, 486.0
+LOS_AZ = 89.1
+# A clock that does not move: the server's children and the direct asks see the same instant.
+FROZEN = "1e-9"
+
+
+def at(seconds: float) -> str:
+    return (EPOCH + timedelta(seconds=seconds)).strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def track_program() -> str:
+    program = os.environ.get("BIRDCAGE_TRACK")
+    if not program:
+        pytest.fail("BIRDCAGE_TRACK is not set (tests/mcp/run.sh sets it from the build tree)", pytrace=False)
+    return program
+
+
+def sky_args(start_s: float, time_scale: str, tle: str = TLE) -> list[str]:
+    return ["--track-program", track_program(), *STATION, "--tle", tle, "--at", at(start_s), "--time-scale",
+            time_scale]
+
+
+def ask_directly(rig: Rig, *args: str, start_s: float) -> dict:
+    """birdcage-track itself, beside the server, on the same clock."""
+    done = subprocess.run([track_program(), "--host", "127.0.0.1", "--port", str(rig.port), *STATION, "--tle", TLE,
+                           "--at", at(start_s), "--time-scale", FROZEN, *args, "--json"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+def seconds_after_epoch(text: str) -> float:
+    return (datetime.fromisoformat(text.replace("Z", "+00:00")) - EPOCH).total_seconds()
+
+
+async def test_passes_and_what_is_up_are_birdcage_tracks_own_answers(g2):
+    start = 120.0
+    async with session_for(g2.port, extra_args=sky_args(start, FROZEN)) as session:
+        passes = await call(session, "get_passes", {"target": SATELLITE, "hours": 2})
+        assert passes == ask_directly(g2, "--passes", "--hours", "2", SATELLITE, start_s=start)
+        # The pass itself, against the bench's own ephemeris (python3-sgp4), cut to the G2's window.
+        assert passes["limits"]["el_min"] == 18.0 and passes["limits"]["el_max"] == 65.0
+        first = passes["passes"][0]
+        assert abs(seconds_after_epoch(first["aos"]) - AOS_S) <= 1.0, first
+        assert abs(seconds_after_epoch(first["tca"]) - TCA_S) <= 1.0, first
+        assert abs(seconds_after_epoch(first["los"]) - LOS_S) <= 1.0, first
+        assert abs(first["max_el"] - 45.0) <= 0.05 and abs(first["los_az"] - LOS_AZ) <= 0.2, first
+
+        following = await call(session, "get_next_pass", {"target": "99045"})
+        assert following["next_pass"] == first and following["in_progress"] is False
+        assert abs(following["seconds_to_aos"] - (AOS_S - start)) <= 1.0, following
+        assert "BIRDCAGE ISS-45: AOS" in following["message"]
+
+        visible = await call(session, "get_visible_targets")
+        assert visible == ask_directly(g2, "--visible", start_s=start)
+        names = {t["name"] for t in visible["targets"]}
+        assert SATELLITE not in names  # at 120 s it is still below the dish's floor
+
+        found = await call(session, "search_satellites", {"text": "iss-45"})
+        assert [(s["name"], s["norad"]) for s in found["satellites"]] == [(SATELLITE, 99045)]
+
+
+async def test_an_unknown_target_and_missing_tles_fail_in_the_programs_words(g2, tmp_path):
+    async with session_for(g2.port, extra_args=sky_args(120, FROZEN)) as session:
+        for tool in ("get_passes", "track"):
+            text = await call_error(session, tool, {"target": "NO SUCH SATELLITE"})
+            assert "NO SUCH SATELLITE" in text and "Traceback" not in text and "\n" not in text, text
+        assert not (await call(session, "get_tracking"))["tracking"]
+    empty = tmp_path / "empty.tle"
+    empty.write_text("")
+    async with session_for(g2.port, extra_args=sky_args(120, FROZEN, tle=str(empty))) as session:
+        text = await call_error(session, "track", {"target": SATELLITE})
+        assert "Traceback" not in text and "\n" not in text, text
+        before = g2.position()
+        assert not g2.moving() and g2.position() == before
+    async with session_for(g2.port, extra_args=["--track-program", str(tmp_path / "nowhere")]) as session:
+        text = await call_error(session, "get_visible_targets")
+        assert "cannot run" in text and "nowhere" in text, text
+
+
+async def test_a_track_follows_the_pass_to_los_as_rotctld_confirms(g2):
+    """From 200 s (the dish waits at the entry point) to LOS at 486 s: 14 s at time scale 20."""
+    progress: list[tuple[float, float | None, str]] = []
+
+    async def on_progress(done, total, message):
+        progress.append((done, total, message))
+
+    async with session_for(g2.port, extra_args=sky_args(200, "20")) as session:
+        seen = []
+        answers = {}
+
+        async def follow() -> None:
+            answers["track"] = await call(session, "track", {"target": SATELLITE}, progress=on_progress)
+
+        async with anyio.create_task_group() as group:
+            group.start_soon(follow)
+            with anyio.fail_after(60):
+                while "track" not in answers:
+                    status = await call(session, "get_tracking")
+                    if status["tracking"] and status["track"]["last"]:
+                        seen.append((status["track"]["last"]["dish"], g2.position()))
+                    if status["tracking"] and len(seen) == 3:
+                        refused = await call_error(session, "move_to", {"azimuth": 150.0, "elevation": 30.0})
+                        assert f"move_to refused: the dish is tracking {SATELLITE}" in refused, refused
+                    await anyio.sleep(0.5)
+        ended = answers["track"]
+        assert ended["outcome"] == "los", ended
+        assert ended["interrupted_by"] is None and ended["samples"] > 10, ended
+        # Its own figures, from the dish's readings against the target: the G2 keeps up at 20x.
+        assert ended["rms_error_deg"] < 1.0 and ended["max_error_deg"] < 3.0, ended
+        assert abs(seconds_after_epoch(ended["los"]) - LOS_S) <= 1.0, ended
+        # Progress: increasing sky seconds, out of the seconds to LOS, words for a person.
+        dones = [p[0] for p in progress]
+        assert dones == sorted(dones) and len(set(dones)) == len(dones) and len(dones) > 10
+        assert any("AOS in" in p[2] for p in progress) and any("LOS in" in p[2] for p in progress)
+        # During the track, rotctld asked directly had the dish where the track said, give or take
+        # the half second between the two readings (under 1 deg/s of sky at 20x: a few degrees).
+        assert len(seen) >= 3
+        for reported, direct in seen:
+            assert near((reported["azimuth"], reported["elevation"]), direct, 6.0), seen
+        # After LOS the dish rests at the window's edge where the satellite left it.
+        resting = rest(g2)
+        assert near(resting, (LOS_AZ, 18.0), 1.5), resting
+        last = ended["last"]["dish"]
+        assert near((last["azimuth"], last["elevation"]), resting, 1.0), (last, resting)
+
+
+async def test_stop_tracking_and_stop_end_the_track_and_the_dish_stays(g2):
+    async with session_for(g2.port, extra_args=sky_args(260, "20")) as session:
+        answers = {}
+
+        async def follow() -> None:
+            answers["track"] = await call(session, "track", {"target": SATELLITE})
+
+        async with anyio.create_task_group() as group:
+            group.start_soon(follow)
+            with anyio.fail_after(30):
+                while not ((await call(session, "get_tracking"))["track"] or {}).get("last"):
+                    await anyio.sleep(0.1)
+            stopped = await call(session, "stop_tracking")
+        assert stopped["stopped"] is True, stopped
+        assert stopped["track"]["outcome"] == "interrupted", stopped
+        assert stopped["track"]["interrupted_by"] == "stop_tracking", stopped
+        assert answers["track"]["outcome"] == "interrupted"
+        assert answers["track"]["interrupted_by"] == "stop_tracking"
+        # birdcage-track sent S and nothing after it: the dish comes to rest and stays there.
+        resting = rest(g2)
+        await anyio.sleep(1.0)  # 20 s of sky: a track still running would have moved it
+        assert g2.position() == resting and not g2.moving()
+        assert (await call(session, "stop_tracking"))["stopped"] is False
+
+        started = await call(session, "track", {"target": SATELLITE, "wait": False})
+        assert started["outcome"] in ("tracking", "waiting"), started
+        with anyio.fail_after(30):
+            while not (await call(session, "get_tracking"))["track"]["last"]:
+                await anyio.sleep(0.1)
+        halted = await call(session, "stop")
+        assert halted["message"].startswith(f"ended the tracking of {SATELLITE} first; "), halted
+        assert halted["state"] == "stopped"
+        status = await call(session, "get_tracking")
+        assert status["tracking"] is False and status["track"]["interrupted_by"] == "stop", status
+        assert near(rest(g2), (halted["position"]["azimuth"], halted["position"]["elevation"]), 0.02)

@@ -639,8 +639,8 @@ void draw_sky(const Ui& ui, const tui::Snapshot& s, int top, int height) {
     } else if (!ui.passes_of.empty() && !ui.passes_query.running()) {
         put(y++, x, "  no pass through the dish's window in the next 24 h");
     }
-    y = std::max(y + 1, top + height - 7);
-    draw_track(ui, y, x);
+    // The track's six lines at the bottom (the passes above end by then at 80x24).
+    draw_track(ui, std::max(y, top + height - 6), x);
     // The target against the dish: the rose with the dish's needle (@) and the target (X).
     tui::Snapshot view = s;
     view.target = ui.tracker.target_position      ? ui.tracker.target_position

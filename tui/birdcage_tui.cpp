@@ -7,12 +7,14 @@
 #include "birdcage_version.hpp"
 #include "cli_args.hpp"
 #include "scan_launcher.hpp"
+#include "sky_tracker.hpp"
 #include "station.hpp"
 
 #include <curses.h>
 
 #include <unistd.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -32,7 +34,7 @@ namespace tui = birdcage::tui;
 
 namespace {
 
-const char* const usage_text = R"(Usage: birdcage-tui [--host H] [--port P] [--log FILE]
+const char* const usage_text = R"(Usage: birdcage-tui [--host H] [--port P] [--log FILE] [sky options]
 
 A terminal UI for a rotator behind rotctld (any Hamlib rotator; the Winegard dish's signal, LNB,
 homing and variant where the birdcage backend offers them). It is one more rotctld client, so it
@@ -44,10 +46,20 @@ runs beside Gpredict or any other. It reconnects by itself when rotctld restarts
   --help        this text
   --version     the program's version
 
-Screens: 1 dashboard, 2 control, 3 signal, 4 info (Tab cycles).
+The sky screen runs birdcage-track (passes, what is up, tracking); it is given --host/--port and:
+  --track-program PATH  birdcage-track (default: beside this program, else on PATH)
+  --lat DEG --lon DEG   the station (east positive); default: BIRDCAGE_LAT/BIRDCAGE_LON
+  --alt M               the station's altitude; default: BIRDCAGE_ALT
+  --tle FILE|DIR        TLEs to read (repeatable; default: Gpredict's)
+  --at ISO-TIME         rehearsal: the sky's clock starts at this UTC time...
+  --time-scale K        ...and runs K times faster (as the emulator's -C time_scale)
+
+Screens: 1 dashboard, 2 control, 3 signal, 4 info, 5 sky (Tab cycles).
 Keys on every screen: arrows jog by the step, +/- choose the step (0.1, 1, 5, 10 deg),
-g go to AZ EL, s stop, k park, h home (R, where the rotator can), q quit.
+g go to AZ EL, s stop (a track too), k park, h home (R, where the rotator can), q quit.
 Signal screen: l toggles the LNB supply 13/18 V, n starts a sky scan (birdcage-skyscan), x stops it.
+Sky screen: [ ] choose a target, p its passes, t track it, x stop tracking, r refresh.
+While a track runs, moves (g, arrows, k, h, n) are refused: x or s ends it first.
 )";
 
 int usage_error(const std::string& message) {
@@ -60,25 +72,43 @@ extern "C" void on_quit_signal(int) {
     quit_signal = 1;
 }
 
-enum class Screen { dashboard, control, signal, info };
-constexpr const char* kScreenNames[] = {"Dashboard", "Control", "Signal", "Info"};
+enum class Screen { dashboard, control, signal, info, sky };
+constexpr const char* kScreenNames[] = {"Dashboard", "Control", "Signal", "Info", "Sky"};
+constexpr int kScreens = 5;
+// What is up is asked again this often while the sky screen shows (each ask reads the TLEs).
+constexpr double kSkyRefreshS = 30.0;
 constexpr double kSteps[] = {0.1, 1.0, 5.0, 10.0};
 constexpr int kMinColumns = 80, kMinLines = 24;
 
 enum Colour : short { kGood = 1, kTarget, kBad, kAccent };
 
 struct Prompt {
-    enum class Purpose { none, go, scan } purpose = Purpose::none;
+    enum class Purpose { none, go, scan, passes, track } purpose = Purpose::none;
     std::string label;
     std::string text;
 };
 
 struct Ui {
-    Ui(tui::Station& station_, std::string skyscan_, std::string log_path_)
-        : station(station_), skyscan(std::move(skyscan_)), log_path(std::move(log_path_)) {}
+    Ui(tui::Station& station_, std::string skyscan_, std::string log_path_, tui::SkyOptions sky_)
+        : station(station_),
+          skyscan(std::move(skyscan_)),
+          log_path(std::move(log_path_)),
+          sky(std::move(sky_)),
+          sky_clock(sky) {}
     tui::Station& station;
     std::string skyscan;
     std::string log_path;
+    // The sky screen: birdcage-track's answers, as it gave them.
+    tui::SkyOptions sky;
+    tui::SkyClock sky_clock;
+    tui::SkyQuery visible_query, passes_query;
+    std::vector<tui::VisibleTarget> visible;
+    std::string visible_time;
+    std::optional<std::chrono::steady_clock::time_point> visible_asked;
+    std::vector<tui::PassTimes> pass_list;
+    std::string passes_of;  // the target the passes are of (as asked; then as birdcage-track names it)
+    int selected = 0;
+    tui::Tracker tracker;
     Screen screen = Screen::dashboard;
     int step_index = 1;
     Prompt prompt;
@@ -483,6 +513,146 @@ void draw_info(const Ui& ui, const tui::Snapshot& s, int top, int height) {
     draw_log(ui, y, top + height);
 }
 
+// ---- the sky screen: birdcage-track's answers (docs/sky.md), nothing computed here ---------------
+
+// HH:MM:SS of an ISO time as birdcage-track prints it (UTC).
+std::string clock_of(const std::string& iso) {
+    return iso.size() >= 19 ? iso.substr(11, 8) : iso;
+}
+
+// "3m20s", "45s", "2h05m": how long until something, for a person.
+std::string span_text(double seconds) {
+    const long s = std::lround(std::max(0.0, seconds));
+    char text[32];
+    if (s >= 3600) {
+        std::snprintf(text, sizeof text, "%ldh%02ldm", s / 3600, s % 3600 / 60);
+    } else if (s >= 60) {
+        std::snprintf(text, sizeof text, "%ldm%02lds", s / 60, s % 60);
+    } else {
+        std::snprintf(text, sizeof text, "%lds", s);
+    }
+    return text;
+}
+
+std::string az_el_text(const std::optional<std::pair<double, double>>& p) {
+    return p ? "az " + fixed(p->first, 2, 6) + " el " + fixed(p->second, 2, 6) : std::string("--");
+}
+
+std::string selected_target(const Ui& ui) {
+    if (!ui.visible.empty()) {
+        return ui.visible[static_cast<std::size_t>(std::clamp(ui.selected, 0, static_cast<int>(ui.visible.size()) - 1))]
+            .name;
+    }
+    return ui.passes_of;
+}
+
+void draw_track(const Ui& ui, int y, int x) {
+    const tui::Tracker& t = ui.tracker;
+    put(y++, x, "Track (t starts, x stops)", A_BOLD);
+    if (!t.started()) {
+        put(y++, x, "nothing tracked; t tracks the chosen target");
+        return;
+    }
+    std::string state = t.target + ": " + t.phase;
+    if (t.phase == "waiting" && t.seconds_to_aos) {
+        state += ", AOS in " + span_text(*t.seconds_to_aos);
+    } else if (t.phase == "tracking" && t.seconds_to_los) {
+        state += ", LOS in " + span_text(*t.seconds_to_los);
+    } else if (t.phase == "starting" && t.aos) {
+        state += ", AOS " + clock_of(*t.aos);
+    }
+    put(y++, x, state, A_BOLD | colour(ui, t.running() ? kGood : kTarget));
+    if (t.phase == "waiting") {
+        put(y++, x, "waits at " + az_el_text(t.aim) + " for AOS" + (t.aos ? " " + clock_of(*t.aos) : ""));
+    } else {
+        put(y++, x, "target " + az_el_text(t.target_position), colour(ui, kTarget));
+    }
+    put(y++, x, "dish   " + az_el_text(t.dish_position), colour(ui, kGood));
+    if (t.running()) {
+        put(y++, x,
+            "error " + (t.error_deg ? fixed(*t.error_deg, 2) + " deg" : std::string("--")) +
+                (t.los ? "   LOS " + clock_of(*t.los) : "") + (t.max_el ? "  max el " + fixed(*t.max_el, 1) : ""));
+        return;
+    }
+    std::string end = "ended: " + t.phase;
+    if (t.rms_error_deg) {
+        end += ", rms " + fixed(*t.rms_error_deg, 2) + " max " + fixed(t.max_error_deg.value_or(NAN), 2) + " deg, " +
+               std::to_string(t.samples) + " samples";
+    }
+    if (t.stopped && t.phase == "interrupted") {
+        end += " (x/s)";
+    }
+    put(y++, x, end);
+    put(y++, x, t.reason);
+}
+
+void draw_sky(const Ui& ui, const tui::Snapshot& s, int top, int height) {
+    const int x = 1;
+    const int rose_width = 32, left_width = COLS - rose_width - 2;
+    int y = top;
+    // What is up now, from --visible: in the window first, then the highest.
+    std::string head = "Up now";
+    if (!ui.visible_time.empty()) {
+        head += " (" + clock_of(ui.visible_time) + " UTC)";
+    }
+    put(y, x, head, A_BOLD);
+    put(y, x + static_cast<int>(head.size()) + 2,
+        ui.visible_query.running() ? "asking birdcage-track..." : "* in the dish's window; r refreshes");
+    ++y;
+    constexpr int kRows = 7;
+    if (ui.visible.empty()) {
+        put(y, x + 2, ui.visible_asked ? "nothing above the dish's floor" : "r asks birdcage-track what is up");
+    }
+    const int count = static_cast<int>(ui.visible.size());
+    const int first = std::clamp(ui.selected - kRows + 1, 0, std::max(0, count - kRows));
+    for (int i = first; i < std::min(count, first + kRows); ++i) {
+        const auto& t = ui.visible[static_cast<std::size_t>(i)];
+        std::string name = t.name.substr(0, 18);
+        name.resize(18, ' ');
+        std::string kind = t.kind.substr(0, 9);
+        kind.resize(9, ' ');
+        const bool chosen = i == ui.selected;
+        put(y + i - first, x,
+            std::string(chosen ? "> " : "  ") + name + " " + kind + " az " + fixed(t.az, 1, 5) + " el " +
+                fixed(t.el, 1, 4) + (t.in_window ? " *" : ""),
+            chosen ? A_BOLD : A_NORMAL);
+    }
+    y += kRows + 1;
+    // The chosen target's passes through the dish's window, from --passes.
+    put(y++, x,
+        "Passes of " + (ui.passes_of.empty() ? std::string("(p asks for the chosen target)") : ui.passes_of) +
+            (ui.passes_query.running() ? "  asking..." : ""),
+        A_BOLD);
+    if (!ui.pass_list.empty()) {
+        put(y++, x, "  AOS       LOS       max el  az         AOS in");
+        for (std::size_t i = 0; i < std::min<std::size_t>(ui.pass_list.size(), 3); ++i) {
+            const auto& p = ui.pass_list[i];
+            const auto aos = tui::parse_iso_time(p.aos);
+            const double to_aos = aos ? *aos - ui.sky_clock.now() : std::nan("");
+            put(y++, x,
+                "  " + clock_of(p.aos) + "  " + clock_of(p.los) + "  " + fixed(p.max_el, 1, 6) + "  " +
+                    fixed(p.aos_az, 0, 3) + "->" + fixed(p.los_az, 0, 3) + "  " +
+                    (std::isnan(to_aos) ? std::string("?")
+                     : to_aos <= 0      ? std::string("now")
+                                        : span_text(to_aos)));
+        }
+    } else if (!ui.passes_of.empty() && !ui.passes_query.running()) {
+        put(y++, x, "  no pass through the dish's window in the next 24 h");
+    }
+    // The track's six lines at the bottom (the passes above end by then at 80x24).
+    draw_track(ui, std::max(y, top + height - 6), x);
+    // The target against the dish: the rose with the dish's needle (@) and the target (X).
+    tui::Snapshot view = s;
+    view.target = ui.tracker.target_position      ? ui.tracker.target_position
+                  : ui.tracker.phase == "waiting" ? ui.tracker.aim
+                                                  : std::nullopt;
+    if (!ui.tracker.running()) {
+        view.target.reset();
+    }
+    draw_compass(ui, view, top, left_width + 2, std::min(height, 15), rose_width);
+    put(top + std::min(height, 15), left_width + 4, "@ dish  X target", A_NORMAL);
+}
+
 void draw(Ui& ui, const tui::Snapshot& s) {
     erase();
     // Below 80x24 the screens overlap and the key bar is cut: say so, as cgps does, and keep going
@@ -503,7 +673,7 @@ void draw(Ui& ui, const tui::Snapshot& s) {
     title.resize(static_cast<std::size_t>(std::max(COLS, 0)), ' ');
     put(0, 0, title, A_REVERSE | (up ? A_NORMAL : A_BOLD));
     int x = 1;
-    for (int i = 0; i < 4; ++i) {
+    for (int i = 0; i < kScreens; ++i) {
         const bool current = static_cast<int>(ui.screen) == i;
         const std::string tab =
             (current ? "[" : " ") + std::to_string(i + 1) + " " + kScreenNames[i] + (current ? "]" : " ");
@@ -528,6 +698,9 @@ void draw(Ui& ui, const tui::Snapshot& s) {
         case Screen::info:
             draw_info(ui, s, body_top, body_height);
             break;
+        case Screen::sky:
+            draw_sky(ui, s, body_top, body_height);
+            break;
     }
     // Row LINES-2: the prompt or the last message; row LINES-1: the keys.
     if (ui.prompt.purpose != Prompt::Purpose::none) {
@@ -542,9 +715,11 @@ void draw(Ui& ui, const tui::Snapshot& s) {
         put(LINES - 2, 0, line);
         curs_set(0);
     }
-    std::string keys = "1-4/Tab screens  arrows jog  +/- step  g goto  s stop  k park  h home  q quit";
+    std::string keys = "1-5/Tab screens  arrows jog  +/- step  g goto  s stop  k park  h home  q quit";
     if (ui.screen == Screen::signal) {
-        keys = "1-4/Tab screens  l LNB 13/18  n sky scan  x stop scan  g goto  s stop  q quit";
+        keys = "1-5/Tab screens  l LNB 13/18  n sky scan  x stop scan  g goto  s stop  q quit";
+    } else if (ui.screen == Screen::sky) {
+        keys = "1-5/Tab screens  [ ] choose  p passes  t track  x stop track  r refresh  q quit";
     }
     put(LINES - 1, 0, keys, A_REVERSE);
     refresh();
@@ -552,7 +727,100 @@ void draw(Ui& ui, const tui::Snapshot& s) {
 
 // ---- keys ---------------------------------------------------------------------------------------
 
+// A command that moves the dish must not fight a running track: refused, with how to end the track.
+bool refused_while_tracking(Ui& ui, const std::string& what) {
+    if (!ui.tracker.running()) {
+        return false;
+    }
+    ui.message = what + " refused: tracking " + ui.tracker.target + " (x on the sky screen, or s, ends it)";
+    return true;
+}
+
+void ask_visible(Ui& ui) {
+    ui.visible_asked = std::chrono::steady_clock::now();
+    if (ui.visible_query.running()) {
+        return;
+    }
+    auto args = tui::sky_common_args(ui.sky, ui.sky_clock);
+    args.push_back("--visible");
+    std::string why;
+    if (!ui.visible_query.start(ui.sky.program, args, &why)) {
+        ui.message = why;
+    }
+}
+
+void ask_passes(Ui& ui, const std::string& target) {
+    if (target.empty()) {
+        ui.message = "type a target: a satellite, sun, moon, a planet";
+        return;
+    }
+    if (ui.passes_query.running()) {
+        ui.message = "still asking for the passes of " + ui.passes_of;
+        return;
+    }
+    auto args = tui::sky_common_args(ui.sky, ui.sky_clock);
+    args.insert(args.end(), {"--passes", "--hours", "24", "--count", "3", target});
+    ui.passes_of = target;
+    ui.pass_list.clear();
+    std::string why;
+    if (!ui.passes_query.start(ui.sky.program, args, &why)) {
+        ui.message = why;
+    }
+}
+
+void start_track(Ui& ui, const tui::Snapshot& s, const std::string& target) {
+    if (target.empty()) {
+        ui.message = "type a target: a satellite, sun, moon, a planet";
+        return;
+    }
+    if (s.link != tui::LinkState::connected) {
+        ui.message = "not connected: rotctld at " + ui.station.address() + " is not answering";
+        return;
+    }
+    if (ui.scan.running()) {
+        ui.message = "a sky scan is running (x on the signal screen stops it)";
+        return;
+    }
+    std::string why;
+    if (!ui.tracker.start(ui.sky.program, tui::sky_common_args(ui.sky, ui.sky_clock), target, &why)) {
+        ui.message = why;
+        return;
+    }
+    ui.message = "started: birdcage-track --json " + target;
+}
+
+// Reads what the sky programs printed since the last frame; asks what is up again while the sky
+// screen shows.
+void pump_sky(Ui& ui) {
+    ui.tracker.pump();
+    if (ui.visible_query.pump()) {
+        if (ui.visible_query.answer) {
+            ui.visible = tui::visible_targets(*ui.visible_query.answer);
+            ui.visible_time = ui.visible_query.answer->text_at("time");
+            ui.selected = std::clamp(ui.selected, 0, std::max(0, static_cast<int>(ui.visible.size()) - 1));
+        } else {
+            ui.message = "birdcage-track --visible: " + ui.visible_query.error;
+        }
+    }
+    if (ui.passes_query.pump()) {
+        if (ui.passes_query.answer) {
+            ui.pass_list = tui::passes(*ui.passes_query.answer);
+            ui.passes_of = ui.passes_query.answer->text_at("target", ui.passes_of);
+        } else {
+            ui.message = "birdcage-track --passes: " + ui.passes_query.error;
+        }
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (ui.screen == Screen::sky &&
+        (!ui.visible_asked || std::chrono::duration<double>(now - *ui.visible_asked).count() > kSkyRefreshS)) {
+        ask_visible(ui);
+    }
+}
+
 void jog(Ui& ui, double daz, double del) {
+    if (refused_while_tracking(ui, "jog")) {
+        return;
+    }
     // The station takes the dish's position when the jog runs (a fresh `p`), not from this screen.
     ui.station.submit({tui::Command::Kind::jog, daz, del, {}});
     ui.message.clear();
@@ -566,6 +834,9 @@ void submit_go(Ui& ui, const tui::Snapshot& s, const std::string& text) {
     std::string rest;
     if (!(in >> az >> el) || (in >> rest) || !std::isfinite(az) || !std::isfinite(el)) {
         ui.message = "type AZ EL in degrees, e.g. 200 35";
+        return;
+    }
+    if (refused_while_tracking(ui, "g")) {
         return;
     }
     // The rotator's own range, as rotctld announces it: outside it nothing is sent, nothing clamped.
@@ -610,6 +881,9 @@ void submit_scan(Ui& ui, const std::string& text) {
 }
 
 void open_scan_prompt(Ui& ui, const tui::Snapshot& s) {
+    if (refused_while_tracking(ui, "a sky scan")) {
+        return;
+    }
     if (ui.scan.running()) {
         ui.message = "a scan is running (x stops it)";
         return;
@@ -638,6 +912,10 @@ void prompt_key(Ui& ui, const tui::Snapshot& s, int key) {
         }
         if (done.purpose == Prompt::Purpose::scan)
             submit_scan(ui, done.text);
+        if (done.purpose == Prompt::Purpose::passes)
+            ask_passes(ui, done.text);
+        if (done.purpose == Prompt::Purpose::track)
+            start_track(ui, s, done.text);
     } else if (key == KEY_BACKSPACE || key == 127 || key == 8) {
         if (!ui.prompt.text.empty())
             ui.prompt.text.pop_back();
@@ -654,8 +932,17 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
         return;
     }
     const double step = kSteps[ui.step_index];
+    // A stop ends a track too, whatever the link does: birdcage-track sends `S` as it ends.
+    if ((key == 's' || key == 'S' || key == ' ') && ui.tracker.running()) {
+        ui.tracker.cancel();
+        ui.message = "tracking of " + ui.tracker.target + " stopped";
+        if (s.link == tui::LinkState::connected) {
+            ui.station.submit({tui::Command::Kind::stop, 0, 0, {}});
+        }
+        return;
+    }
     // Disconnected, every key that would talk to the rotator says so instead of doing nothing.
-    static const std::string kTalks = "gGsS kKhHlLnN";
+    static const std::string kTalks = "gGsS kKhHlLnNtT";
     const bool talks = (key > 0 && key < 128 && kTalks.find(static_cast<char>(key)) != std::string::npos) ||
                        key == KEY_LEFT || key == KEY_RIGHT || key == KEY_UP || key == KEY_DOWN;
     if (talks && s.link != tui::LinkState::connected) {
@@ -671,15 +958,16 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
         case '2':
         case '3':
         case '4':
+        case '5':
             ui.screen = static_cast<Screen>(key - '1');
             ui.message.clear();
             break;
         case '\t':
-            ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 1) % 4);
+            ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 1) % kScreens);
             ui.message.clear();
             break;
         case KEY_BTAB:
-            ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + 3) % 4);
+            ui.screen = static_cast<Screen>((static_cast<int>(ui.screen) + kScreens - 1) % kScreens);
             ui.message.clear();
             break;
         case KEY_LEFT:
@@ -716,12 +1004,16 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
             break;
         case 'k':
         case 'K':
+            if (refused_while_tracking(ui, "park"))
+                break;
             if (s.caps.can_park)
                 ui.station.submit({tui::Command::Kind::park, 0, 0, {}});
             ui.message = s.caps.can_park ? "" : "this rotator cannot park";
             break;
         case 'h':
         case 'H':
+            if (refused_while_tracking(ui, "home"))
+                break;
             if (s.caps.can_reset)
                 ui.station.submit({tui::Command::Kind::home, 0, 0, {}});
             ui.message = s.caps.can_reset ? "" : "this rotator cannot home (no R)";
@@ -751,6 +1043,38 @@ void key(Ui& ui, const tui::Snapshot& s, int key) {
             if (ui.screen == Screen::signal && ui.scan.running()) {
                 ui.scan.cancel();
                 ui.message = "scan stopped; birdcage-skyscan --resume continues it";
+            } else if (ui.screen == Screen::sky && ui.tracker.running()) {
+                ui.tracker.cancel();
+                ui.message = "tracking of " + ui.tracker.target + " stopped";
+            }
+            break;
+        case '[':
+        case ']':
+            if (ui.screen == Screen::sky && !ui.visible.empty()) {
+                const int count = static_cast<int>(ui.visible.size());
+                ui.selected = (ui.selected + (key == ']' ? 1 : count - 1)) % count;
+            }
+            break;
+        case 'p':
+        case 'P':
+            if (ui.screen == Screen::sky)
+                ui.prompt = {Prompt::Purpose::passes, "Passes of: ", selected_target(ui)};
+            break;
+        case 't':
+        case 'T':
+            if (ui.screen != Screen::sky)
+                break;
+            if (ui.tracker.running())
+                ui.message = "already tracking " + ui.tracker.target + " (x stops it)";
+            else
+                ui.prompt = {Prompt::Purpose::track, "Track: ", selected_target(ui)};
+            break;
+        case 'r':
+        case 'R':
+            if (ui.screen == Screen::sky) {
+                ask_visible(ui);
+                if (!ui.passes_of.empty())
+                    ask_passes(ui, ui.passes_of);
             }
             break;
         case KEY_RESIZE:
@@ -777,8 +1101,9 @@ void start_colour(Ui& ui) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string host = "localhost", log_path;
+    std::string host = "localhost", log_path, track_program;
     int port = 4533;
+    tui::SkyOptions sky;
     birdcage::cli::ArgCursor args(argc, argv);
     while (args.next()) {
         const std::string& arg = args.flag();
@@ -797,6 +1122,27 @@ int main(int argc, char** argv) {
             if (!v || v->empty())
                 return usage_error(arg + " needs a value");
             (arg == "--host" ? host : log_path) = *v;
+        } else if (arg == "--track-program" || arg == "--tle") {
+            const auto v = value();
+            if (!v || v->empty())
+                return usage_error(arg + " needs a value");
+            if (arg == "--tle")
+                sky.tles.push_back(*v);
+            else
+                track_program = *v;
+        } else if (arg == "--lat" || arg == "--lon" || arg == "--alt" || arg == "--time-scale") {
+            const auto v = value();
+            char* end = nullptr;
+            const double n = v ? std::strtod(v->c_str(), &end) : std::nan("");
+            if (!v || v->empty() || *end != '\0' || !std::isfinite(n) || (arg == "--time-scale" && n <= 0))
+                return usage_error(arg + (arg == "--time-scale" ? " needs a number above 0" : " needs a number"));
+            (arg == "--lat" ? sky.lat : arg == "--lon" ? sky.lon : arg == "--alt" ? sky.alt : sky.time_scale) = n;
+        } else if (arg == "--at") {
+            const auto v = value();
+            const auto at = v ? tui::parse_iso_time(*v) : std::nullopt;
+            if (!at)
+                return usage_error("--at needs an ISO 8601 UTC time, e.g. 2026-12-01T12:00:00Z");
+            sky.at = *at;
         } else if (arg == "--port") {
             const auto v = value();
             char* end = nullptr;
@@ -835,11 +1181,15 @@ int main(int argc, char** argv) {
 
     {
         tui::Station station(host, port);
-        Ui ui(station, tui::skyscan_program(argv[0]), log_path);
+        sky.host = host;
+        sky.port = port;
+        sky.program = track_program.empty() ? tui::tool_program(argv[0], "birdcage-track", "tools/sky") : track_program;
+        Ui ui(station, tui::skyscan_program(argv[0]), log_path, sky);
         start_colour(ui);
         while (!ui.quit && quit_signal == 0) {
             station.watch_signal(ui.screen == Screen::signal);
             ui.scan.pump();
+            pump_sky(ui);
             const tui::Snapshot s = station.snapshot();
             draw(ui, s);
             const int k = getch();
@@ -847,6 +1197,10 @@ int main(int argc, char** argv) {
                 key(ui, s, k);
             }
         }
+        // A track does not outlive the screen that shows it: birdcage-track sends `S` as it ends.
+        ui.tracker.cancel();
+        ui.visible_query.cancel();
+        ui.passes_query.cancel();
         endwin();
     }
     delscreen(terminal);

@@ -9,6 +9,7 @@ Paths come from the environment (tests/mcp/run.sh sets them from the build tree)
   BIRDCAGE_PRELOAD   LD_PRELOAD for rotctld (the backend, after the sanitizer runtime if any)
   ROTCTLD            rotctld (default /usr/bin/rotctld)
   BIRDCAGE_MCP       the server command (default: birdcage-mcp next to this Python)
+  BIRDCAGE_TRACK     birdcage-track (the build tree's, tools/sky/)
 """
 
 from __future__ import annotations
@@ -198,11 +199,12 @@ def server_command() -> tuple[str, list[str]]:
 
 
 @contextlib.asynccontextmanager
-async def session_for(port: int, message_handler=None):
+async def session_for(port: int, message_handler=None, extra_args: list[str] | None = None):
     """A client session with birdcage-mcp spawned over stdio, talking to rotctld on `port`;
-    `message_handler` receives the server's notifications."""
+    `message_handler` receives the server's notifications; `extra_args` go to the server."""
     command, args = server_command()
-    params = StdioServerParameters(command=command, args=[*args, "--host", "127.0.0.1", "--port", str(port)])
+    params = StdioServerParameters(command=command,
+                                   args=[*args, "--host", "127.0.0.1", "--port", str(port), *(extra_args or [])])
     async with stdio_client(params) as (read, write), \
             ClientSession(read, write, message_handler=message_handler) as session:
         await session.initialize()

@@ -5,22 +5,25 @@
 # extras from PyPI into a venv in the build directory, then runs pytest against the build tree's
 # emulator and backend behind the distribution's rotctld.
 #
-#   tests/mcp/run.sh --python PYTHON3 --venv DIR --sim BIRDCAGE_SIM --preload LD_PRELOAD [pytest args]
+#   tests/mcp/run.sh --python PYTHON3 --venv DIR --sim BIRDCAGE_SIM --preload LD_PRELOAD --track BIRDCAGE_TRACK
+#                    [pytest args]
 #
 # No network is an error, not a skip: a test that cannot install what it tests has not passed.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-python=python3 venv="" sim="" preload=""
+python=python3 venv="" sim="" preload="" track=""
 while (($#)); do
     case "$1" in
     --python) python=$2; shift 2 ;;
     --venv) venv=$2; shift 2 ;;
     --sim) sim=$2; shift 2 ;;
     --preload) preload=$2; shift 2 ;;
+    --track) track=$2; shift 2 ;;
     *) break ;;
     esac
 done
-[[ -n $venv && -n $sim && -n $preload ]] || { echo "run.sh: --venv, --sim and --preload are required" >&2; exit 2; }
+[[ -n $venv && -n $sim && -n $preload && -n $track ]] ||
+    { echo "run.sh: --venv, --sim, --preload and --track are required" >&2; exit 2; }
 
 if [[ ! -x $venv/bin/python ]]; then
     "$python" -m venv "$venv" || {
@@ -41,5 +44,6 @@ here=$root/tests/mcp
 # Nothing written into the source tree: no cache, no bytecode; the rootdir is this directory, so
 # pytest reads no configuration from elsewhere in the tree.
 cd "$(dirname "$venv")"
-BIRDCAGE_SIM=$sim BIRDCAGE_PRELOAD=$preload BIRDCAGE_MCP=$venv/bin/birdcage-mcp PYTHONDONTWRITEBYTECODE=1 \
+BIRDCAGE_SIM=$sim BIRDCAGE_PRELOAD=$preload BIRDCAGE_TRACK=$track BIRDCAGE_MCP=$venv/bin/birdcage-mcp \
+    PYTHONDONTWRITEBYTECODE=1 \
     exec "$venv/bin/python" -m pytest -p no:cacheprovider --rootdir "$here" -c /dev/null -v "$@" "$here"

@@ -16,8 +16,10 @@ from conftest import Rig, free_port, session_for
 
 pytestmark = pytest.mark.anyio
 
+SKY_TOOLS = {"search_satellites", "get_passes", "get_next_pass", "get_visible_targets", "track", "stop_tracking",
+             "get_tracking", "align"}
 TOOLS = {"get_position", "move_to", "stop", "park", "home", "get_status", "get_info", "get_limits",
-         "read_signal", "set_lnb", "get_conf", "sky_scan"}
+         "read_signal", "set_lnb", "get_conf", "sky_scan"} | SKY_TOOLS
 
 
 async def call(session, name, arguments=None, progress=None):
@@ -59,7 +61,10 @@ async def test_lists_tools_with_schemas_resources_and_prompts(g2):
         uris = {str(r.uri) for r in (await session.list_resources()).resources}
         assert uris == {"birdcage://position", "birdcage://limits", "birdcage://info"}
         prompts = {p.name for p in (await session.list_prompts()).prompts}
-        assert prompts == {"first_setup", "sky_scan_guide"}
+        assert prompts == {"first_setup", "sky_scan_guide", "tracking_guide"}
+        tracking_guide = await session.get_prompt("tracking_guide", {"target": "NOAA 19"})
+        assert "NOAA 19" in tracking_guide.messages[0].content.text
+        assert "Gpredict is the usual tracker" in tracking_guide.messages[0].content.text
         guide = await session.get_prompt("first_setup", {})
         assert "get_limits" in guide.messages[0].content.text
         scan_guide = await session.get_prompt("sky_scan_guide", {"region": "the Clarke belt"})

@@ -18,7 +18,7 @@ from test_server import TOOLS, call, call_error
 
 pytestmark = pytest.mark.anyio
 
-RECEIVER = {"read_signal", "set_lnb", "sky_scan"}
+RECEIVER = {"read_signal", "set_lnb", "sky_scan", "align"}
 
 
 def rest(rig: Rig, timeout: float = 30.0) -> tuple[float, float]:
@@ -225,7 +225,8 @@ async def test_an_unwritable_csv_path_says_why_and_moves_nothing(g2, tmp_path):
 async def test_tools_carry_annotations_and_output_schemas(g2):
     async with session_for(g2.port) as session:
         tools = {t.name: t for t in (await session.list_tools()).tools}
-        reading = {"get_position", "get_status", "get_info", "get_limits", "read_signal", "get_conf"}
+        reading = {"get_position", "get_status", "get_info", "get_limits", "read_signal", "get_conf",
+                   "search_satellites", "get_passes", "get_next_pass", "get_visible_targets", "get_tracking"}
         for name, tool in tools.items():
             assert tool.annotations is not None, name
             assert tool.annotations.read_only_hint is (name in reading), name
@@ -235,6 +236,9 @@ async def test_tools_carry_annotations_and_output_schemas(g2):
         assert tools["move_to"].annotations.destructive_hint is False
         assert tools["move_to"].annotations.idempotent_hint is True
         assert tools["sky_scan"].annotations.idempotent_hint is False
+        assert tools["track"].annotations.idempotent_hint is False
+        assert tools["track"].annotations.destructive_hint is False
+        assert set(tools["track"].output_schema["properties"]) >= {"outcome", "interrupted_by", "rms_error_deg"}
         assert set(tools["move_to"].output_schema["properties"]) >= {"outcome", "position", "interrupted_by"}
         assert tools["set_lnb"].input_schema["properties"]["volts"]["enum"] == [13, 18]
         assert "pointing" in tools["get_conf"].input_schema["properties"]["key"]["enum"]

@@ -4,6 +4,7 @@
 // The TUI's model (RotctldClient, Station) against the stock rotctld with the backend preloaded and
 // the emulated dish: what the screens show comes from these answers.
 #include "scan_launcher.hpp"
+#include "sky_tracker.hpp"
 #include "station.hpp"
 
 #include "harness.hpp"
@@ -265,4 +266,86 @@ TEST_CASE("a scan ended with x says it was stopped, not that it failed with stat
         10s));
     CHECK(scan.exit_status == 143);
     CHECK(scan.outcome() == "scan stopped");
+}
+
+// ---- the sky screen's reading of birdcage-track (docs/sky.md's machine interface) ----------------
+
+TEST_CASE("the JSON reader takes the machine interface's shapes and refuses what is not JSON") {
+    const auto visible = tui::parse_json(
+        R"({"time":"2024-06-01T00:00:00Z","targets":[{"name":"sun","kind":"sun","az":280.5,"el":20.1,"in_window":true},)"
+        R"({"name":"ISS \"Z\" \u00e9","kind":"satellite","az":-1.5e1,"el":19,"in_window":false},)"
+        R"({"name":"moon","kind":"moon","az":100,"el":40,"in_window":true}]})");
+    REQUIRE(visible);
+    const auto targets = tui::visible_targets(*visible);
+    REQUIRE(targets.size() == 3);
+    // In the window first, then the highest.
+    CHECK(targets[0].name == "moon");
+    CHECK(targets[1].name == "sun");
+    CHECK(targets[2].name == "ISS \"Z\" \xc3\xa9");
+    CHECK(targets[2].az == -15.0);
+    CHECK_FALSE(targets[2].in_window);
+    std::string why;
+    CHECK_FALSE(tui::parse_json(R"({"a":1,})", &why));
+    CHECK(why.find("member name") != std::string::npos);
+    CHECK_FALSE(tui::parse_json("{\"a\":1} trailing"));
+    CHECK_FALSE(tui::parse_json("[1, nul]"));
+    CHECK(tui::parse_iso_time("2024-06-01T00:03:41Z") == Approx(1717200221.0));
+    CHECK(tui::parse_iso_time("2024-06-01T00:03:41.250Z") == Approx(1717200221.25));
+    CHECK_FALSE(tui::parse_iso_time("yesterday"));
+    CHECK(tui::iso_time(1717200221.25) == "2024-06-01T00:03:41.250Z");
+}
+
+TEST_CASE("a track is followed event by event, and a stop ends it as interrupted") {
+    // A stand-in speaking the JSON lines; the tmux test drives the real program.
+    const std::string script = BIRDCAGE_TUI_FIXTURES "/track-events.sh";
+    tui::Tracker tracker;
+    std::string why;
+    REQUIRE(tracker.start("/bin/sh", {script}, "iss", &why));
+    CHECK(tracker.phase == "starting");
+    REQUIRE(e2e::wait_until(
+        [&] {
+            tracker.pump();
+            return tracker.phase == "tracking";
+        },
+        10s));
+    CHECK(tracker.target == "ISS (ZARYA)");
+    CHECK(tracker.los == "2024-06-01T00:08:06Z");
+    CHECK(tracker.aim == std::make_pair(313.75, 18.0));
+    CHECK(tracker.dish_position == std::make_pair(313.9, 19.4));
+    CHECK(tracker.error_deg == Approx(0.12));
+    CHECK(tracker.seconds_to_los == Approx(256));
+    tracker.cancel();
+    REQUIRE(e2e::wait_until(
+        [&] {
+            tracker.pump();
+            return !tracker.running();
+        },
+        10s));
+    CHECK(tracker.phase == "interrupted");
+    CHECK(tracker.stopped);
+    CHECK(tracker.samples == 7);
+    CHECK(tracker.rms_error_deg == Approx(0.2));
+    CHECK(tracker.reason == "stopped; sent S");
+}
+
+TEST_CASE("a track that cannot start says why in the program's own words") {
+    tui::Tracker tracker;
+    std::string why;
+    CHECK_FALSE(tracker.start("/nonexistent/birdcage-track", {}, "iss", &why));
+    CHECK(why.find("cannot run") != std::string::npos);
+    REQUIRE(tracker.start(
+        "/bin/sh", {"-c", "echo \"birdcage-track: unknown target '$2'\" >&2; exit 1", "birdcage-track"}, "nope", &why));
+    REQUIRE(e2e::wait_until(
+        [&] {
+            tracker.pump();
+            return !tracker.running();
+        },
+        10s));
+    CHECK(tracker.phase == "error");
+    CHECK(tracker.reason == "birdcage-track: unknown target 'nope'");
+    tui::SkyQuery query;
+    REQUIRE(query.start("/bin/sh", {"-c", "echo 'birdcage-track: no TLE names ZZZ' >&2; exit 1"}, &why));
+    REQUIRE(e2e::wait_until([&] { return query.pump(); }, 10s));
+    CHECK_FALSE(query.answer);
+    CHECK(query.error == "birdcage-track: no TLE names ZZZ");
 }

@@ -19,6 +19,7 @@ from pydantic import ValidationError
 
 from .rotator import ALL_TOOLS, Birdcage
 from .rotctld import RotctldError
+from .sky import Sky
 
 logger = logging.getLogger(__name__)
 
@@ -69,9 +70,10 @@ def tool_errors(function):
 
 
 class BirdcageServer(MCPServer):
-    def __init__(self, bird: Birdcage, *args: Any, **kwargs: Any):
+    def __init__(self, bird: Birdcage, sky: Sky, *args: Any, **kwargs: Any):
         super().__init__(*args, **kwargs)
         self.bird = bird
+        self.sky = sky
         self._listed: frozenset[str] | None = None  # what the client was last shown
 
     @staticmethod

@@ -23,11 +23,15 @@ ENAVAIL = -11
 ENIMPL = -4
 
 # Tools every rotator gets; the others depend on what it answers (Birdcage.offer).
-CORE_TOOLS = ("get_position", "move_to", "get_status", "get_info", "get_limits")
-RECEIVER_TOOLS = ("read_signal", "set_lnb", "sky_scan")
+# The sky tools run birdcage-track, a rotctld client like this server: any rotator can track.
+SKY_TOOLS = ("search_satellites", "get_passes", "get_next_pass", "get_visible_targets", "track", "stop_tracking",
+             "get_tracking")
+CORE_TOOLS = ("get_position", "move_to", "get_status", "get_info", "get_limits", *SKY_TOOLS)
+# birdcage-align measures the geostationary satellites with the tuner.
+RECEIVER_TOOLS = ("read_signal", "set_lnb", "sky_scan", "align")
 # In the order the server registers them.
 ALL_TOOLS = ("get_position", "move_to", "stop", "park", "home", "get_status", "get_info", "get_limits", "read_signal",
-             "set_lnb", "get_conf", "sky_scan")
+             "set_lnb", "get_conf", "sky_scan", *SKY_TOOLS, "align")
 
 
 def number_text(value: float) -> str:

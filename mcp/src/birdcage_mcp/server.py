@@ -6,7 +6,9 @@
 It is a rotctld client, so it runs beside Gpredict or any other client and drives any Hamlib
 rotator; the Winegard extras (signal, LNB, sky scan, the backend's own description) are offered
 where the rotator answers for them. It has no raw-console tool: every command goes through rotctld
-to the backend, whose session layer refuses the firmware's hazard commands.
+to the backend, whose session layer refuses the firmware's hazard commands. The sky (satellites,
+passes, tracking, alignment) comes from birdcage-track and birdcage-align, run as child processes
+(sky.py): the server computes no position itself.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import csv
 import json
 import os
 import re
+import signal
 import tempfile
 import time
 from datetime import datetime, timezone
@@ -29,12 +32,14 @@ from mcp_types import ToolAnnotations
 from pydantic import Field
 
 from .app import BirdcageServer, tool_errors
-from .models import (ConfResult, HomeResult, InfoResult, LimitsResult, LnbResult, MoveResult, ParkResult, Peak,
-                     Position, ScanResult, SignalResult, StatusResult, StopResult)
+from .models import (AlignResult, ConfResult, HomeResult, InfoResult, LimitsResult, LnbResult, MoveResult,
+                     NextPassResult, ParkResult, PassesResult, Peak, Position, ScanResult, SearchResult, SignalResult,
+                     StatusResult, StopResult, StopTrackingResult, TrackingStatus, TrackResult, VisibleResult)
 from .motion import ARRIVAL_TOLERANCE_DEG, POLL_INTERVAL_S, SAME_POSITION_DEG, same_position, settle, wait_stopped
 from .rotator import ENAVAIL, ENIMPL, NOT_OFFERED, Birdcage, check_in_range, named_target, named_waypoint
 from .rotctld import RotctldError, RotctldRefused
 from .scan import axis, find_peaks, serpentine
+from .sky import ALIGN, Sky, SkyClock, SkyOptions, check_target, first_line, parse_time
 
 try:
     __version__ = version("birdcage-mcp")
@@ -64,12 +69,17 @@ MOVES = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent
 SETS = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent_hint=True, open_world_hint=False)
 HOMES = ToolAnnotations(read_only_hint=False, destructive_hint=True, idempotent_hint=True, open_world_hint=False)
 SCANS = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent_hint=False, open_world_hint=False)
+# A track moves the dish for as long as the pass lasts; calling it again starts another.
+TRACKS = ToolAnnotations(read_only_hint=False, destructive_hint=False, idempotent_hint=False, open_world_hint=False)
 
 
-def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
+def build_server(host: str = "localhost", port: int = 4533, sky_options: SkyOptions | None = None) -> BirdcageServer:
     bird = Birdcage(host, port)
+    sky = Sky(sky_options or SkyOptions())
+    sky.options.host, sky.options.port = host, port
     server = BirdcageServer(
         bird,
+        sky,
         "birdcage",
         version=__version__,
         instructions=(
@@ -77,7 +87,12 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
             f"{host}:{port}. Angles are degrees: azimuth clockwise from north, elevation above the horizon. "
             "Read get_limits before moving: a target outside them is refused. move_to waits until the dish has "
             "settled and says when another command interrupted it; stop waits until the dish is at rest. Signal, "
-            "LNB and sky_scan are offered only for a rotator with a tuner (a Winegard G2 behind the birdcage backend)."
+            "LNB and sky_scan are offered only for a rotator with a tuner (a Winegard G2 behind the birdcage backend). "
+            "Tracking without Gpredict, for a headless station: search_satellites, get_passes/get_next_pass and "
+            "get_visible_targets say what can be followed; track follows a satellite, the Sun, the Moon or a planet "
+            "until it leaves the dish's window (progress as it goes, the pointing error at the end); stop_tracking "
+            "ends it. While a track runs, move_to, park, home and sky_scan are refused; stop ends the tracking too. "
+            "The tracking_guide prompt says more."
         ),
     )
 
@@ -106,7 +121,9 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
         settled. A target outside the rotator's range is refused (the range is named); this server never
         clamps. Answers where the dish is and how the move ended: arrived; clamped (the birdcage backend
         took a nearer target, from its az_min/az_max conf); interrupted (by stop, another move_to or
-        another rotctld client: it says which); or at rest short of the target."""
+        another rotctld client: it says which); or at rest short of the target. Refused while a track
+        runs (stop_tracking first)."""
+        sky.check_idle("move_to")
         await bird.check_target(azimuth, elevation)
         requested = Position(azimuth=azimuth, elevation=elevation)
         sent = (azimuth % 360.0, elevation)
@@ -148,17 +165,25 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
         finishes the leg under way (the firmware has no abort for it) and drops the rest of the move.
         Answers "stopped" only when the rotator reports no motion, with where it stopped; otherwise
         "stopping", with where it is and where the leg under way ends when known. A long azimuth move
-        goes in legs (the backend splits it): the answer says so when the stop ended it between them."""
+        goes in legs (the backend splits it): the answer says so when the stop ended it between them.
+        A running track is ended first (its birdcage-track sends `S` as it ends)."""
+        ended = ""
+        if (running := sky.running) is not None:
+            await running.stop("stop")
+            ended = f"ended the tracking of {running.target} first; "
         info = await bird.info_text()
         bird.claim_motion("stop")
         await bird.rot.ask("S")
-        return await wait_stopped(bird, wait_s, named_target(info), named_waypoint(info))
+        stopped = await wait_stopped(bird, wait_s, named_target(info), named_waypoint(info))
+        stopped.message = ended + stopped.message
+        return stopped
 
     @server.tool(annotations=MOVES)
     @tool_errors
     async def park() -> ParkResult:
         """Sends the rotator to its park position (rotctld `K`); returns at once, the dish moves on
-        (get_status says when it is at rest)."""
+        (get_status says when it is at rest). Refused while a track runs."""
+        sky.check_idle("park")
         bird.claim_motion("park")
         try:
             await bird.rot.ask("K")
@@ -172,7 +197,8 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
     @tool_errors
     async def home() -> HomeResult:
         """Homes the rotator's axes (rotctld `R 1`; a Carryout G2 runs its homing routine, get_status
-        says BUSY meanwhile). Returns at once."""
+        says BUSY meanwhile). Returns at once. Refused while a track runs."""
+        sky.check_idle("home")
         bird.claim_motion("home")
         try:
             await bird.rot.ask("R", 1)
@@ -299,6 +325,7 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
         birdcage-skyscan program; rotctld should run with `-C pointing=none`."""
         if az_min > az_max or el_min > el_max:
             raise ToolError("az_min must not exceed az_max, nor el_min el_max")
+        sky.check_idle("sky_scan")
         await bird.require_receiver("sky_scan")
         limits = await bird.limits()
         for name, value in (("az_min", az_min), ("az_max", az_max)):
@@ -387,6 +414,202 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
             await asyncio.sleep(POLL_INTERVAL_S)
         raise ToolError(f"the dish did not reach az {az:g} el {el:g} within 180 s")
 
+    # ---- the sky: birdcage-track / birdcage-align as child processes (sky.py) ----
+
+    def when(text: str | None) -> str:
+        return text.replace("T", " ").split(".")[0].rstrip("Z") + " UTC" if text else "?"
+
+    @server.tool(annotations=READS)
+    @tool_errors
+    async def search_satellites(
+        text: Annotated[str, Field(description="part of a satellite's name, or its NORAD number", min_length=1)],
+    ) -> SearchResult:
+        """Satellites in the TLE files birdcage-track reads (Gpredict's, or those the server was started
+        with) whose name contains the text, or whose NORAD number it is (birdcage-track --search)."""
+        return SearchResult(**await sky.query("--search", text, what="search_satellites"))
+
+    @server.tool(annotations=READS)
+    @tool_errors
+    async def get_passes(
+        target: Annotated[str, Field(description="a satellite (name, unique prefix or NORAD number), sun, moon, a "
+                                                 "planet, radec:RA,DEC or azel:AZ,EL")],
+        hours: Annotated[float, Field(description="how far ahead to look", gt=0, le=240)] = 24,
+        count: Annotated[int | None, Field(description="at most this many passes", ge=1, le=100)] = None,
+    ) -> PassesResult:
+        """The target's passes through the dish's window in the next hours: AOS and LOS are where it
+        enters and leaves the elevation range the dish can reach (e.g. 18..65 on a Carryout G2), not the
+        horizon; with the highest point and the azimuths (birdcage-track --passes)."""
+        check_target(target)
+        args = ["--passes", "--hours", f"{hours:g}"] + (["--count", str(count)] if count else [])
+        return PassesResult(**await sky.query(*args, target, what="get_passes"))
+
+    @server.tool(annotations=READS)
+    @tool_errors
+    async def get_next_pass(
+        target: Annotated[str, Field(description="a satellite (name, unique prefix or NORAD number), sun, moon, a "
+                                                 "planet, radec:RA,DEC or azel:AZ,EL")],
+        hours: Annotated[float, Field(description="how far ahead to look", gt=0, le=240)] = 24,
+    ) -> NextPassResult:
+        """The target's next pass through the dish's window (or the one under way) and how long until
+        it starts; says so when there is none within the hours searched."""
+        check_target(target)
+        answer = await sky.query("--passes", "--hours", f"{hours:g}", "--count", "1", target, what="get_next_pass")
+        now = sky.options.clock.now()
+        passes = answer.pop("passes", [])
+        name = answer.get("target", target)
+        window = answer.get("limits", {})
+        if not passes:
+            return NextPassResult(
+                **answer, next_pass=None, in_progress=False,
+                message=f"no pass of {name} through the dish's window (el {window.get('el_min', 0):g}.."
+                        f"{window.get('el_max', 90):g}) in the next {hours:g} h")
+        first = passes[0]
+        to_aos = (parse_time(first["aos"]) - now).total_seconds()
+        in_progress = to_aos <= 0 < (parse_time(first["los"]) - now).total_seconds()
+        start = ("under way now" if in_progress else f"AOS {when(first['aos'])} (in {to_aos / 60:.0f} min)")
+        return NextPassResult(
+            **answer, next_pass=first, in_progress=in_progress, seconds_to_aos=round(max(to_aos, 0.0), 1),
+            message=f"{name}: {start} at az {first['aos_az']:.1f}; highest {first['max_el']:.1f} deg at "
+                    f"{when(first['tca'])} (az {first['tca_az']:.1f}); LOS {when(first['los'])} at az "
+                    f"{first['los_az']:.1f}; {first['duration_s']:.0f} s in the dish's window")
+
+    @server.tool(annotations=READS)
+    @tool_errors
+    async def get_visible_targets() -> VisibleResult:
+        """What is above the dish's elevation floor now: the Sun, the Moon, the planets and every
+        satellite in the TLE files, with azimuth, elevation and whether it is inside the dish's window
+        (birdcage-track --visible)."""
+        return VisibleResult(**await sky.query("--visible", what="get_visible_targets"))
+
+    async def follow(tracking, ctx: Context) -> TrackResult:
+        """Progress notifications from the track's JSON lines until it ends."""
+        reported = -1.0
+        try:
+            async for event in tracking.samples():
+                shown = tracking.progress(event)
+                if shown is not None and shown[0] > reported:
+                    reported = shown[0]
+                    await ctx.report_progress(shown[0], shown[1], shown[2])
+        except asyncio.CancelledError:
+            # The client gave up on the call: the dish must not go on following what nobody watches.
+            await asyncio.shield(tracking.stop("the track call, cancelled by the client"))
+            raise
+        return tracking.result()
+
+    @server.tool(annotations=TRACKS)
+    @tool_errors
+    async def track(
+        target: Annotated[str, Field(description="a satellite (name, unique prefix or NORAD number), sun, moon, a "
+                                                 "planet, radec:RA,DEC or azel:AZ,EL")],
+        ctx: Context,
+        duration_s: Annotated[float | None, Field(description="follow for this long (seconds of the sky's clock) "
+                                                              "instead of until LOS", gt=0)] = None,
+        park_at_los: Annotated[bool, Field(description="park the dish when the track ends")] = False,
+        wait: Annotated[bool, Field(description="wait until the track ends (default true); false: return once it "
+                                                "has started, then get_tracking / stop_tracking")] = True,
+    ) -> TrackResult:
+        """Points the dish at the target and follows it (birdcage-track): when it is not yet in the
+        dish's window, the dish waits at the point where it will enter; then it follows until LOS (or
+        duration_s), with progress notifications (target, dish, pointing error, seconds to LOS). Answers
+        how it ended: los or duration, with the RMS and largest pointing error measured from the dish's
+        own readings; interrupted, and by what (stop_tracking, stop, a cancelled call); unreachable
+        (it never enters the window). One track at a time; move_to, park, home and sky_scan are refused
+        while it runs. Gpredict is the usual tracker: this is for a station without one."""
+        check_target(target)
+        if (running := sky.running) is not None:
+            raise ToolError(f"track refused: already tracking {running.target}; call stop_tracking first")
+        bird.claim_motion(f"track({target})")
+        tracking = await sky.start_track(target, duration_s, park_at_los)
+        await tracking.wait_started()
+        if tracking.plan is None:  # it ended before planning: unknown target, no TLE, rotctld away
+            raise ToolError(f"track {target}: {tracking.why_failed()}")
+        if not wait:
+            return tracking.result()
+        return await follow(tracking, ctx)
+
+    @server.tool(annotations=MOVES)
+    @tool_errors
+    async def stop_tracking() -> StopTrackingResult:
+        """Ends the running track: birdcage-track gets SIGTERM, stops sending, sends the rotator `S` and
+        reports how the track went. Answers where the dish is afterwards."""
+        running = sky.running
+        if running is None:
+            last = sky.tracking.result() if sky.tracking is not None else None
+            return StopTrackingResult(stopped=False, track=last, message="nothing is being tracked" + (
+                f"; the last track ({last.target}) ended: {last.outcome}" if last else ""))
+        await running.stop("stop_tracking")
+        bird.claim_motion("stop_tracking")
+        result = running.result()
+        try:
+            position = await position_now()
+        except RotctldError:
+            position = None
+        where = f"; the dish is at az {position.azimuth:.2f} el {position.elevation:.2f}" if position else ""
+        return StopTrackingResult(stopped=True, track=result, position=position,
+                                  message=f"tracking of {result.target} ended ({result.outcome}: {result.reason})"
+                                          + where)
+
+    @server.tool(annotations=READS)
+    @tool_errors
+    async def get_tracking() -> TrackingStatus:
+        """Whether a track runs, and how it goes: the plan (AOS, LOS, highest elevation), the last
+        sample (target, dish, pointing error); or how the last track ended."""
+        if sky.tracking is None:
+            return TrackingStatus(tracking=False)
+        return TrackingStatus(tracking=sky.running is not None, track=sky.tracking.result())
+
+    @server.tool(annotations=SCANS)
+    @tool_errors
+    async def align(
+        ctx: Context,
+        sources: Annotated[list[str] | None, Field(description="geostationary satellites to measure (names from "
+                                                               "the catalogue; default: birdcage-align's choice)")] = None,
+    ) -> AlignResult:
+        """Measures how the dish sits against the sky (birdcage-align: it scans known geostationary
+        satellites with the G2's tuner and fits the mount model, docs/sky.md): the four terms with their
+        uncertainty, the residuals per satellite and the -C lines that correct the dish. It writes
+        nothing: the lines go into the rotctld service's OPTIONS by hand. Refused while a track runs;
+        takes minutes (progress per point)."""
+        sky.check_idle("align")
+        await bird.require_receiver("align")
+        args = ["--json"]
+        for source in sources or []:
+            check_target(source)
+            args += ["--source", source]
+        bird.claim_motion("align")
+        process = await sky.spawn(ALIGN, args)
+        result, errors = None, []
+        reported = -1.0
+
+        async def read_errors() -> None:
+            async for raw in process.stderr:
+                errors.append(raw.decode(errors="replace"))
+
+        reader = asyncio.create_task(read_errors())
+        try:
+            async for raw in process.stdout:
+                try:
+                    event = json.loads(raw)
+                except ValueError:
+                    continue
+                if event.get("event") == "progress" and event.get("done", -1) > reported:
+                    reported = event["done"]
+                    await ctx.report_progress(event["done"], event.get("total"), f"{event.get('phase', '')} "
+                                              f"{event['done']}/{event.get('total', '?')}")
+                elif event.get("event") == "result":
+                    result = event
+            await reader
+            status = await process.wait()
+        except asyncio.CancelledError:
+            if process.returncode is None:
+                process.send_signal(signal.SIGTERM)  # birdcage-align stops the dish as it ends
+            raise
+        if status != 0 or result is None:
+            raise ToolError(f"align: {first_line(''.join(errors)) or f'birdcage-align exited with status {status}'}")
+        result.pop("event", None)
+        return AlignResult(**result, message="measured; nothing was written: add " + " ".join(
+            result.get("conf_lines", [])) + " to rotctld's OPTIONS (e.g. /etc/default/birdcage-rotctld) and restart it")
+
     # ---- resources ----
 
     @server.resource("birdcage://position", mime_type="application/json",
@@ -449,6 +672,30 @@ def build_server(host: str = "localhost", port: int = 4533) -> BirdcageServer:
             "6. Give me the CSV path and the plot command the result names."
         )
 
+    @server.prompt(description="Follow a satellite, the Sun or the Moon with the dish on a station without Gpredict")
+    def tracking_guide(target: str = "the next good pass of a satellite I name") -> str:
+        return (
+            f"Help me track {target} with the dish.\n"
+            "Gpredict is the usual tracker (it drives rotctld itself, docs/gpredict.md); these tools are for a "
+            "headless station, or when I ask you to do it. If Gpredict's rotator control is engaged, tell me to "
+            "disengage it first: two clients would fight over the dish.\n"
+            "1. get_limits: the dish's elevation window (e.g. 18..65 on a Carryout G2). Passes are cut to it.\n"
+            "2. Find the target: search_satellites for a satellite's name or NORAD number (ask me when several "
+            "match); the Sun, the Moon and the planets go by name. get_visible_targets says what is up now.\n"
+            "3. get_next_pass (or get_passes for the next hours): tell me the AOS, the highest elevation and the "
+            "LOS in local words, and how long until it starts. A pass whose highest point stays below the "
+            "window's floor cannot be tracked.\n"
+            "4. track the target: it waits at the entry point until AOS, then follows until LOS; report its "
+            "progress now and then, not every notification. With wait false it returns once started; then "
+            "get_tracking says how it goes.\n"
+            "5. At the end, report the outcome truthfully: the RMS and largest pointing error it measured, or "
+            "that it was interrupted and by what, or why it failed. Never claim the dish followed the target "
+            "when the outcome says otherwise.\n"
+            "stop_tracking ends a track (the dish stops); stop does too. While a track runs, move_to, park, home "
+            "and sky_scan are refused: end the track first. Never point the dish at the Sun with a receiver "
+            "attached unless I ask: its heat can damage the LNB."
+        )
+
     return server
 
 
@@ -456,13 +703,43 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(
         prog="birdcage-mcp",
         description="MCP server (stdio) that drives a rotator through rotctld: position, moves, park, "
-        "homing, and a Winegard G2's signal, LNB and sky scan.",
+        "homing, a Winegard G2's signal, LNB and sky scan, and tracking satellites, the Sun, the Moon and the "
+        "planets (with birdcage-track) for a station without Gpredict.",
     )
     parser.add_argument("--host", default="localhost", help="rotctld's host (default localhost)")
     parser.add_argument("--port", type=int, default=4533, help="rotctld's TCP port (default 4533)")
+    sky = parser.add_argument_group(
+        "the sky (birdcage-track and birdcage-align run as child processes; they read the station from these "
+        "options or from BIRDCAGE_LAT / BIRDCAGE_LON / BIRDCAGE_ALT)")
+    sky.add_argument("--track-program", default=os.environ.get("BIRDCAGE_TRACK"), metavar="PATH",
+                     help="birdcage-track (default: $BIRDCAGE_TRACK, else the one on PATH)")
+    sky.add_argument("--align-program", default=os.environ.get("BIRDCAGE_ALIGN"), metavar="PATH",
+                     help="birdcage-align (default: $BIRDCAGE_ALIGN, else the one on PATH)")
+    sky.add_argument("--lat", type=float, help="the station's latitude, degrees north")
+    sky.add_argument("--lon", type=float, help="the station's longitude, degrees east (west negative)")
+    sky.add_argument("--alt", type=float, help="the station's altitude, metres")
+    sky.add_argument("--tle", action="append", default=[], metavar="FILE|DIR",
+                     help="TLEs to read (repeatable; default: Gpredict's, as birdcage-track finds them)")
+    sky.add_argument("--at", metavar="ISO-TIME",
+                     help="rehearsal: the sky's clock starts at this time (UTC) when the server starts")
+    sky.add_argument("--time-scale", type=float, metavar="K",
+                     help="rehearsal: the sky's clock runs K times faster (as the emulator's and rotctld's "
+                          "-C time_scale)")
     parser.add_argument("--version", action="version", version=f"birdcage-mcp {__version__}")
     args = parser.parse_args(argv)
-    build_server(args.host, args.port).run("stdio")
+    try:
+        at = parse_time(args.at) if args.at else None
+    except ValueError:
+        parser.error(f"--at {args.at!r} is not an ISO 8601 time (e.g. 2026-12-01T12:00:00Z)")
+    if args.time_scale is not None and not args.time_scale > 0:
+        parser.error("--time-scale must be above 0")
+    options = SkyOptions(track_program=args.track_program, align_program=args.align_program, lat=args.lat,
+                         lon=args.lon, alt=args.alt, tles=args.tle, clock=SkyClock(at, args.time_scale))
+    server = build_server(args.host, args.port, options)
+    try:
+        server.run("stdio")
+    finally:
+        server.sky.close()  # no track outlives the server that answers for it
 
 
 if __name__ == "__main__":

@@ -44,15 +44,8 @@ bool ScanLauncher::start(const std::string& program, const std::vector<std::stri
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
-    std::vector<std::string> argv_text{program};
-    argv_text.insert(argv_text.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& a : argv_text) {
-        argv.push_back(a.data());
-    }
-    argv.push_back(nullptr);
     pid_t pid = -1;
-    const int rc = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+    const int rc = spawn_program(program, args, actions, &pid);
     posix_spawn_file_actions_destroy(&actions);
     ::close(pipe_fds[1]);
     if (rc != 0) {
@@ -158,6 +151,18 @@ std::string skyscan_program(const std::string& argv0) {
         }
     }
     return "birdcage-skyscan";
+}
+
+int spawn_program(const std::string& program, const std::vector<std::string>& args,
+                  const posix_spawn_file_actions_t& actions, pid_t* pid) {
+    std::vector<std::string> argv_text{program};
+    argv_text.insert(argv_text.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : argv_text) {
+        argv.push_back(a.data());
+    }
+    argv.push_back(nullptr);
+    return ::posix_spawnp(pid, program.c_str(), &actions, nullptr, argv.data(), environ);
 }
 
 }  // namespace birdcage::tui

@@ -5,6 +5,7 @@
 // ("birdcage-skyscan: 12/77  az ... ETA ..."), for the signal screen's launcher.
 #pragma once
 
+#include <spawn.h>
 #include <sys/types.h>
 #include <optional>
 #include <string>
@@ -45,5 +46,11 @@ private:
 // Where the launcher finds birdcage-skyscan: beside this program (an install or a build tree puts
 // both in one directory), else on PATH.
 std::string skyscan_program(const std::string& argv0);
+
+// Starts `program args...` (looked up on PATH as a shell would) with the file actions given: the
+// one place the TUI's child programs (the sky scan, birdcage-track) are started. Returns
+// posix_spawnp's error number (0: started, its pid in *pid).
+int spawn_program(const std::string& program, const std::vector<std::string>& args,
+                  const posix_spawn_file_actions_t& actions, pid_t* pid);
 
 }  // namespace birdcage::tui

@@ -3,6 +3,8 @@
 
 #include "sky_tracker.hpp"
 
+#include "scan_launcher.hpp"
+
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -15,8 +17,6 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
-
-extern char** environ;
 
 namespace birdcage::tui {
 
@@ -128,15 +128,8 @@ bool Child::start(const std::string& program, const std::vector<std::string>& ar
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_adddup2(&actions, out_fds[1], STDOUT_FILENO);
     posix_spawn_file_actions_adddup2(&actions, err_fds[1], STDERR_FILENO);
-    std::vector<std::string> argv_text{program};
-    argv_text.insert(argv_text.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& a : argv_text) {
-        argv.push_back(a.data());
-    }
-    argv.push_back(nullptr);
     pid_t pid = -1;
-    const int rc = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+    const int rc = spawn_program(program, args, actions, &pid);
     posix_spawn_file_actions_destroy(&actions);
     ::close(out_fds[1]);
     ::close(err_fds[1]);

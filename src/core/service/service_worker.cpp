@@ -315,7 +315,7 @@ Status ServiceWorker::resume(AzEl target) {
     return aim(target,
                azimuth_direction_hint(prediction, sky_position(), previous_client_target_, target,
                                       sky_limits_at(target.az).min),
-               now);
+               now, prediction);
 }
 
 // Predictive steering aims ahead of the satellite and moves in small steps; a dish that needs a
@@ -403,7 +403,7 @@ Status ServiceWorker::accept_target(AzEl target, Clock::time_point sent_at, std:
         return aim(wanted,
                    azimuth_direction_hint(estimate, sky_position(), previous_client_target_, target,
                                           sky_limits_at(target.az).min),
-                   now);
+                   now, estimate);
     }
     emit(options_.log, LogLevel::verbose, "predictive: " + predictor_.describe());
     // On a track the aim is kept, and steering moves it only when the satellite is a deadband
@@ -422,12 +422,12 @@ Status ServiceWorker::steer() {
     }
     const auto now = options_.clock.now();
     const std::optional<AzEl> dish = sky_position();
+    const std::optional<Prediction> estimate = predictor_.predict(now);
     // The limits where the satellite is (its estimate), else where the client last aimed.
     auto limits_azimuth = [&] {
         if (mount_.identity()) {
             return 0.0;  // any: the limits are the same all round
         }
-        const std::optional<Prediction> estimate = predictor_.predict(now);
         return estimate ? estimate->position.az : client_target_ ? client_target_->az : dish.value_or(AzEl{}).az;
     };
     const ElLimits limits = sky_limits_at(limits_azimuth());
@@ -456,18 +456,18 @@ Status ServiceWorker::steer() {
     aim_ = decision->aim;
     const double az_rate = decision->az_rate != 0.0 ? decision->az_rate
                            : client_target_
-                               ? azimuth_direction_hint(predictor_.predict(now), dish, previous_client_target_,
-                                                        *client_target_, sky_limits_at(client_target_->az).min)
+                               ? azimuth_direction_hint(estimate, dish, previous_client_target_, *client_target_,
+                                                        sky_limits_at(client_target_->az).min)
                                : 0.0;
-    return aim(decision->aim, az_rate, now);
+    return aim(decision->aim, az_rate, now, estimate);
 }
 
-Status ServiceWorker::aim(AzEl sky_target, double sky_az_rate, Clock::time_point now) {
+Status ServiceWorker::aim(AzEl sky_target, double sky_az_rate, Clock::time_point now,
+                          const std::optional<Prediction>& estimate) {
     std::optional<wrap::PassAhead> ahead = predictor_.pass_ahead(now);
     if (mount_.identity()) {
         return controller_->set_target(sky_target, sky_az_rate, ahead);
     }
-    const std::optional<Prediction> estimate = predictor_.predict(now);
     const double el_rate = estimate ? estimate->el_rate : 0.0;
     const double dish_az_rate = dish_azimuth_rate(mount_, sky_target, sky_az_rate, el_rate);
     if (ahead) {

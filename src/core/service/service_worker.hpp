@@ -108,7 +108,7 @@ private:
     // The seam: a sky target (with its sky azimuth rate, for the cable-wrap branch) handed to the
     // controller in the dish's axes, with the pass ahead likewise; and the dish's last reading in
     // the sky.
-    Status aim(AzEl sky_target, double sky_az_rate, Clock::time_point now);
+    Status aim(AzEl sky_target, double sky_az_rate, Clock::time_point now, const std::optional<Prediction>& estimate);
     std::optional<AzEl> sky_position() const;
     // The controller's elevation limits (dish axes) as sky elevations near sky azimuth `sky_az`:
     // a tilted base reaches lower on one side than on the other.

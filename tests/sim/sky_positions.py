@@ -47,7 +47,7 @@ GEO_RADIUS_KM = 42164.17
 
 
 def sky_at(sim, utc, lat, lon, alt, mount=None):
-    command = [sim, "--sky-at", utc, "--lat", str(lat), "--lon", str(lon), "--alt", str(alt)]
+    command = [*sim, "--sky-at", utc, "--lat", str(lat), "--lon", str(lon), "--alt", str(alt)]
     if mount:
         command += ["--mount", ",".join(f"{k}={v}" for k, v in mount.items())]
     text = subprocess.run(command, check=True, capture_output=True, text=True).stdout
@@ -107,7 +107,7 @@ def sky_to_dish(az, el, mount):
 
 
 def main():
-    sim = sys.argv[1]
+    sim = sys.argv[1:]  # the emulator's command: its path, after qemu's words in a cross build
     failures = []
     sun_az = sun_el = belt_az = belt_el = mount_worst = 0.0
     belt_count = 0

@@ -53,11 +53,11 @@ def wait_until(condition, what):
 
 
 def main():
-    sim = sys.argv[1]
+    sim = sys.argv[1:]  # the emulator's command: its path, after qemu's words in a cross build
     fd, path = tempfile.mkstemp(prefix="birdcage-truth-", suffix=".csv")
     os.close(fd)
     mount = ",".join(f"{k}={v}" for k, v in MOUNT.items())
-    emulator = subprocess.Popen([sim, "--variant", "g2", "--time-scale", "20", "--epoch", EPOCH, "--mount", mount,
+    emulator = subprocess.Popen([*sim, "--variant", "g2", "--time-scale", "20", "--epoch", EPOCH, "--mount", mount,
                                  "--truth", path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     failures = []
     try:

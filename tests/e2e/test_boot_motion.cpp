@@ -66,8 +66,8 @@ void run_cell(const Cell& cell) {
     o.motor.az_velocity = o.motor.el_velocity = 26.6;
     o.motor.accel = 4.8;
     if (cell.variant == Variant::carryout2003) {
-        o.start_az = 200.0;           // 0..360: no second branch
-        o.start_el = 50.0;            //
+        o.start_az = 200.0;  // its travel is 0..360: no second branch
+        o.start_el = 50.0;
         o.carryout_search_seconds = 0.0;  // its search off (all DIP switches up, docs/firmware.md §8.2)
     }
     e2e::Rig rig(o, cell.model, {"-C", "time_scale=" + std::to_string(scale)});
@@ -78,9 +78,8 @@ void run_cell(const Cell& cell) {
     const birdcage::sim::Pose pose = rig.dish().true_position();
     INFO("dish at az " << pose.az << " el " << pose.el << (rig.dish().moving() ? " (moving)" : " (at rest)")
                        << "; rotctld log, last part:\n"
-                       << rig.rotctld_log_text().substr(rig.rotctld_log_text().size() > 4000
-                                                            ? rig.rotctld_log_text().size() - 4000
-                                                            : 0));
+                       << rig.rotctld_log_text().substr(
+                              rig.rotctld_log_text().size() > 4000 ? rig.rotctld_log_text().size() - 4000 : 0));
     REQUIRE(settled);
     e2e::RotctldConnection::Position reported;
     const bool reports = e2e::wait_until(

@@ -378,8 +378,9 @@ public:
 
     // link_path if given, else /dev/pts/N (a new N after reconnect(), hence by value).
     std::string device_path() const;
-    Pose true_position() const;         // displayed az in [0,360), el
-    double true_mechanical_az() const;  // az including cable-wrap turns
+    Pose true_position() const;                        // displayed az in [0,360), el
+    double true_mechanical_az() const;                 // az including cable-wrap turns
+    double move_time(int axis, double degrees) const;  // Console::move_time()
     bool moving() const;
     bool search_running() const;
     std::vector<Sample> history() const;  // true position over simulated time

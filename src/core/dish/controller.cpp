@@ -339,8 +339,8 @@ Status Controller::poll_at_rest() {
 // before brakes for seconds, a boot move may still run. A leg sent then is misjudged (the firmware
 // runs it only once the axis has stopped, so it looks stopped short, and the azimuth mapping
 // learnt from it is wrong), and a branch assumed from a reading in motion is not where the dish
-// rests. So until readings agree over at_rest_span idle() is false, legs wait and service() reads
-// the dish. A dish seen moving must stay still for longer: between two moves its firmware has
+// rests. So until readings agree over at_rest_span legs wait and service() reads the dish (idle()
+// only once it is seen moving). A dish seen moving must stay still for longer: between two moves its firmware has
 // queued (a calibration's legs) a motor that starts late leaves it still for seconds.
 void Controller::note_start_reading(const AzEl& reading) {
     if (!start_rest_) {
@@ -424,7 +424,7 @@ Status Controller::service_start_motion() {
     }
     note_start_reading(position.value);
     // Moving at this reading: a G2 whose TV search is enabled never rests on its own (docs/firmware.md 6.2).
-    if (start_rest_ && start_rest_->moving && start_rest_->still_at == t && profile_.tracker_disable_nvs_index >= 0 &&
+    if (start_rest_ && start_rest_->moving && start_rest_->still_at >= t && profile_.tracker_disable_nvs_index >= 0 &&
         !tracker_checked_) {
         if (Status checked = check_tracker_disabled(); !checked) {
             return checked;
@@ -525,8 +525,9 @@ bool Controller::needs_reinit() const {
     return !motor_menu_.empty() && !session_.menu().empty() && session_.menu() != motor_menu_;
 }
 
+// Not yet known at rest is not moving: legs wait (service()), but nothing is under way.
 bool Controller::idle() const {
-    return !homing_ && !start_rest_ && driver_->idle();
+    return !homing_ && !(start_rest_ && start_rest_->moving) && driver_->idle();
 }
 
 // Homing holds the shell like a leg does: the console must stay in the motor menu.

@@ -115,8 +115,8 @@ public:
     bool homing() const { return homing_.has_value(); }
     Status home();  // start_home(), then service() until it ends (blocking)
     bool unhomed() const { return state_.unhomed; }
-    // False also while the dish is not yet known at rest since initialisation (or since it moved on
-    // its own while a leg waited).
+    // False also while the dish, seen moving since initialisation (or moving on its own while a leg
+    // waited), has not come to rest. Not yet known at rest, it is idle but its legs wait.
     bool idle() const;
     // How long a small step takes this dish, as its own legs timed it (MoveDriver).
     std::optional<double> learnt_step_seconds(Axis axis) const;

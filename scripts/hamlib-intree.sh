@@ -19,7 +19,7 @@
 #     windows-cross-no-features line, Debian's mingw-w64) and compiles what the patch touches.
 # Prints each stage's time; exits non-zero with one FAIL line on any failure.
 #
-#   scripts/hamlib-intree.sh [--patches DIR] [--sim BIRDCAGE_SIM] [--mingw] [--full] TARBALL [BUILD_DIR]
+#   scripts/hamlib-intree.sh [--patches DIR] [--sim BIRDCAGE_SIM] [--mingw] [--full] [--reuse] TARBALL [BUILD_DIR]
 # BUILD_DIR: default build-hamlib/<tarball name> in the clone (git-ignored), kept afterwards:
 # hamlib/ (the patched git tree), build/ (Hamlib's build), patches/, logs/, birdcage/ (this
 # project's CMake build, for the emulator), times.txt, summary.txt.
@@ -27,6 +27,8 @@
 # --mingw: the Windows cross check of step 5 (needs g++-mingw-w64-x86-64-posix).
 # --full: build the whole tree instead (with the switch, then without it, and with --mingw the
 #   whole Windows cross build), and check that libhamlib needs no C++ runtime without the switch.
+# --reuse: keep BUILD_DIR's patched, configured tree and write only rotators/winegard afresh (for
+#   work on the backend; the patches are not rewritten).
 # HAMLIB_WINEGARD_FAMILY: the rotator backend number proposed (default: the next free one in the
 # tree's rotlist.h).
 set -euo pipefail
@@ -37,15 +39,16 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 fail() { echo "hamlib-intree: FAIL: $*" >&2; exit 1; }
 # Any other command that fails ends the script (set -e) with one line naming it.
 trap 'echo "hamlib-intree: FAIL: line $LINENO: $BASH_COMMAND" >&2' ERR
-usage() { sed -n '21,31s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; }
+usage() { sed -n '21,33s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; }
 
-patches= sim= mingw=0 full=0 args=()
+patches= sim= mingw=0 full=0 reuse=0 args=()
 while (($#)); do
     case "$1" in
     --patches) [[ $# -ge 2 ]] || fail "--patches needs a directory"; patches=$2; shift 2 ;;
     --sim) [[ $# -ge 2 ]] || fail "--sim needs the emulator's path"; sim=$2; shift 2 ;;
     --mingw) mingw=1; shift ;;
     --full) full=1; shift ;;
+    --reuse) reuse=1; shift ;;
     -h | --help) usage; exit 0 ;;
     -*) echo "hamlib-intree: unknown option '$1'" >&2; usage >&2; exit 2 ;;
     *) args+=("$1"); shift ;;
@@ -89,6 +92,8 @@ fi
 [[ -x $sim ]] || fail "no emulator at $sim"
 sim=$(cd "$(dirname "$sim")" && pwd)/$(basename "$sim")
 
+# The patched tree, its patches, and its configured build (all but --reuse).
+make_tree() {
 # ---- 1. the pristine tree -----------------------------------------------------------------------
 say "unpacking $tarball into $tree"
 rm -rf "$tree" "$build" "$patches" "$out/build-off" "$out/build-mingw"
@@ -150,11 +155,7 @@ EOF
 g format-patch -q -o "$patches" "$pristine"..HEAD
 patch_stat=$(g diff --shortstat "$pristine" HEAD)
 say "patches: $(ls "$patches" | tr '\n' ' ')($(echo $patch_stat))"
-
-# ---- 3. bootstrap, configure, build --------------------------------------------------------------
-stage_start=$SECONDS
-(cd "$tree" && ./bootstrap) >"$logs/bootstrap.log" 2>&1 || { tail -30 "$logs/bootstrap.log" >&2; fail "bootstrap"; }
-stage bootstrap
+}
 
 # Only what rotctld and rotctl need: no static library, no language bindings, no optional
 # hardware backends that pull in libraries.
@@ -166,13 +167,29 @@ configure_hamlib() {
         --without-python-binding --without-tcl-binding --without-lua-binding --disable-winradio \
         --without-indi --without-libusb --disable-html-matrix --without-readline "$@")
 }
-stage_start=$SECONDS
-configure_hamlib "$build" --with-winegard >"$logs/configure.log" 2>&1 ||
-    { tail -30 "$logs/configure.log" >&2; fail "configure --with-winegard"; }
-grep -q '^ROT_BACKEND_LIST = .*rotators/winegard' "$build/Makefile" &&
-    grep -q '^#define HAVE_WINEGARD 1' "$build/include/hamlib/config.h" ||
-    fail "configure --with-winegard did not add rotators/winegard; see $logs/configure.log"
-stage configure
+
+if ((reuse)) && [[ -f $build/Makefile && -d $tree/.git ]]; then
+    say "reusing $tree and $build: rotators/winegard written afresh"
+    python3 "$root/scripts/hamlib_contribution.py" backend --update "$root" "$tree" >"$out/summary.txt" ||
+        fail "generating the backend (above)"
+    family=$(sed -n 's/^#define ROT_WINEGARD \([0-9]*\)$/\1/p' "$tree/include/hamlib/rotlist.h")
+    patch_stat="(reused tree)"
+else
+    make_tree
+
+    # ---- 3. bootstrap, configure, build ----------------------------------------------------------
+    stage_start=$SECONDS
+    (cd "$tree" && ./bootstrap) >"$logs/bootstrap.log" 2>&1 || { tail -30 "$logs/bootstrap.log" >&2; fail "bootstrap"; }
+    stage bootstrap
+
+    stage_start=$SECONDS
+    configure_hamlib "$build" --with-winegard >"$logs/configure.log" 2>&1 ||
+        { tail -30 "$logs/configure.log" >&2; fail "configure --with-winegard"; }
+    grep -q '^ROT_BACKEND_LIST = .*rotators/winegard' "$build/Makefile" &&
+        grep -q '^#define HAVE_WINEGARD 1' "$build/include/hamlib/config.h" ||
+        fail "configure --with-winegard did not add rotators/winegard; see $logs/configure.log"
+    stage configure
+fi
 
 # libhamlib (its rule builds the convenience libraries of every backend it links), then the two
 # programs; the rest of the tree (tests, docs, the other utilities) is not needed here.
@@ -182,7 +199,8 @@ build_hamlib() {
         nice make -j2 -C "$dir" >"$log" 2>&1
     else
         nice make -j2 -C "$dir/lib" >"$log" 2>&1 && nice make -j2 -C "$dir/security" >>"$log" 2>&1 &&
-            nice make -j2 -C "$dir/src" libhamlib.la >>"$log" 2>&1 &&
+            nice make -j2 -C "$dir/rotators/winegard" >>"$log" 2>&1 &&
+            nice make -j2 -C "$dir/src" hamlibdatetime.h libhamlib.la >>"$log" 2>&1 &&
             nice make -j2 -C "$dir/tests" rotctld rotctl >>"$log" 2>&1
     fi
 }
@@ -212,11 +230,17 @@ listed=$("$rotctl" -l | awk '/Winegard/ {print $1}' | sort -n | tr '\n' ' ')
 [[ $listed == "$expected" ]] || fail "rotctl -l lists the Winegard models as '$listed', expected '$expected'"
 auto_model=${expected%% *}
 say "rotctl -l: Winegard models $listed"
-# The conf keys the generated conf table has are the ones rotctl -L lists.
+# The conf keys the generated conf table has are the ones rotctl -L lists beside Hamlib's own
+# (those another serial rotator, the GS-232A, lists too).
+conf_keys() {
+    "$rotctl" -m "$1" -r /nonexistent/port -L 2>/dev/null | sed -n 's/^\([a-z_0-9]*\): ".*/\1/p' | sort || true
+}
 conf_expected=$(sed -n 's/^conf keys: //p' "$out/summary.txt" | tr ' ' '\n' | sort | tr '\n' ' ')
-conf_listed=$("$rotctl" -m "$auto_model" -L | sed -n 's/^\([a-z_0-9]*\): ".*/\1/p' | sort | tr '\n' ' ')
-[[ -n $conf_expected && $conf_listed == *"$conf_expected"* ]] ||
-    fail "rotctl -L lists '$conf_listed', the conf table '$conf_expected'"
+serial_model=$("$rotctl" -l | awk '$NF == "ROT_MODEL_GS232A" {print $1}')
+conf_listed=$(comm -23 <(conf_keys "$auto_model") <(conf_keys "$serial_model") | tr '\n' ' ')
+[[ -n $conf_expected && $conf_listed == "$conf_expected" ]] ||
+    fail "rotctl -L lists '$conf_listed' beside Hamlib's keys, the conf table '$conf_expected'"
+say "rotctl -L: the conf table's ${conf_expected// /, }"
 
 # rot_open on a port where nothing answers: an error within boot_timeout (here 1 s: the
 # synchroniser still gives a console three rounds, about 5 s), never a wait without end.
@@ -226,7 +250,8 @@ m, s = pty.openpty(); os.symlink(os.ttyname(s), sys.argv[1]); time.sleep(120)' "
 pids+=($!)
 wait_for 10 test -e "$silent" || fail "no silent pty"
 open_start=$SECONDS
-if timeout 60 "$rotctld" -m $((auto_model + 5)) -r "$silent" -T 127.0.0.1 -t 0 -C boot_timeout=1 -vvvv \
+g2_model=$("$rotctl" -l | awk '/Winegard/ && /Carryout G2/ {print $1}')
+if timeout 60 "$rotctld" -m "$g2_model" -r "$silent" -T 127.0.0.1 -t 0 -C boot_timeout=1 -vvvv \
     >"$logs/silent.log" 2>&1; then
     fail "rotctld opened a port where nothing answers"
 fi
@@ -340,7 +365,7 @@ if ((mingw)); then
         say "mingw: $(ls "$out"/build-mingw/src/.libs/*.dll | xargs -n1 basename) and $(ls "$out"/build-mingw/tests/.libs/rotctld.exe "$out"/build-mingw/tests/rotctld.exe 2>/dev/null | head -1 | xargs -r basename)"
     else
         # What the patch touches on this host: rot_reg.c, rotator.h's rot_caps, rotctl's w.
-        nice make -C "$out/build-mingw/src" rot_reg.lo rotator.lo >"$logs/build-mingw.log" 2>&1 &&
+        nice make -C "$out/build-mingw/src" hamlibdatetime.h rot_reg.lo rotator.lo >"$logs/build-mingw.log" 2>&1 &&
             nice make -C "$out/build-mingw/tests" rotctld-rotctl_parse.o rotctl-rotctl_parse.o >>"$logs/build-mingw.log" 2>&1 ||
             { grep -E "error" "$logs/build-mingw.log" | head >&2; fail "compiling the patched files for Windows"; }
         say "mingw: the patched rot_reg.c, rotator.c and rotctl_parse.c compile for x86_64-w64-mingw32"

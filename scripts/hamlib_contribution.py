@@ -6,7 +6,9 @@
 nothing here comes from a build of the project.
 
   hamlib_contribution.py hook ROOT TREE        rot_caps.send_cmd, and rotctl's w using it
-  hamlib_contribution.py backend ROOT TREE     rotators/winegard/, from src/hamlib and src/core
+  hamlib_contribution.py backend [--update] ROOT TREE
+                                               rotators/winegard/, from src/hamlib and src/core
+                                               (--update: over an existing one, writing what changed)
   hamlib_contribution.py register ROOT TREE [FAMILY]
                                                rotlist.h, rot_reg.c, configure.ac, src/Makefile.am;
                                                prints the backend number used
@@ -42,6 +44,13 @@ def write(path, text):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)
+
+
+def write_changed(path, text):
+    """Writes only what changed, so that a rebuild of a reused tree compiles only that."""
+    if os.path.isfile(path) and read(path) == text:
+        return
+    write(path, text)
 
 
 def edit(tree, rel, change):
@@ -144,7 +153,7 @@ def project_includes(text):
     return re.findall(r'^\s*#\s*include\s+"([^"]+)"', text, re.M)
 
 
-def backend(root, tree):
+def backend(root, tree, update=False):
     hamlib_src = os.path.join(root, "src/hamlib")
     core = os.path.join(root, "src/core")
     # The glue: the caps and C interface, the operations, the in-tree parts.
@@ -185,19 +194,31 @@ def backend(root, tree):
     def hamlib_headers(text):
         def keep(m):
             return m.group(0) if os.path.isfile(os.path.join(tree, "include", m.group(1))) else ""
-        return re.sub(r'^#include "(hamlib/[a-z_]+\.h)"\n', keep, text, flags=re.M)
+        return re.sub(r'^#include "(hamlib/[a-z_]+\.h)"[^\n]*\n', keep, text, flags=re.M)
 
     backend_dir = os.path.join(tree, BACKEND)
-    if os.path.exists(backend_dir):
+    if os.path.exists(backend_dir) and not update:
         die("%s exists in this Hamlib already" % BACKEND)
     texts = {rel: hamlib_headers(text) for rel, text in texts.items()}
     for rel, text in texts.items():
-        write(os.path.join(backend_dir, rel), text)
+        write_changed(os.path.join(backend_dir, rel), text)
 
     sources = sorted(texts, key=lambda s: (s.count("/"), s))
     template = read(os.path.join(root, "upstream/hamlib/Makefile.am.in"))
-    makefile = template.replace("@WINEGARD_SOURCES@", " \\\n".join("\t" + s for s in sources))
-    write(os.path.join(backend_dir, "Makefile.am"), makefile)
+    # The C library's sources are written in the template; the C++ library has the others.
+    c_sources = re.search(r"^libhamlib_winegard_la_SOURCES = (.*)$", template, re.M).group(1).split()
+    if sorted(c_sources) != sorted(s for s in sources if s in ("winegard.c", "winegard.h")):
+        die("upstream/hamlib/Makefile.am.in's C sources are not the caps (winegard.c, winegard.h)")
+    makefile = template.replace("@WINEGARD_SOURCES@",
+                                " \\\n".join("\t" + s for s in sources if s not in c_sources))
+    write_changed(os.path.join(backend_dir, "Makefile.am"), makefile)
+    if update:  # what the backend no longer has
+        for directory, _, names in os.walk(backend_dir):
+            for n in names:
+                rel = os.path.relpath(os.path.join(directory, n), backend_dir)
+                if rel not in texts and rel != "Makefile.am" and not rel.startswith(("Makefile", ".")) \
+                        and rel.endswith((".c", ".h", ".cpp", ".hpp")):
+                    os.remove(os.path.join(directory, n))
 
     # Every include resolves within the backend, to Hamlib, or to the system.
     for rel, text in texts.items():
@@ -273,7 +294,9 @@ def register(root, tree, family_arg):
         lines[k + 1:k + 1] = [m.group(1) + "With Winegard backend" + gap + "${cf_with_winegard}"]
 
     def src_makefile(lines):
-        i = last(lines, r"^libhamlib_la_LIBADD\s*=", "src/Makefile.am")
+        # After libhamlib's LIBADD and DEPENDENCIES, which it appends to.
+        i = max(last(lines, r"^libhamlib_la_LIBADD\s*=", "src/Makefile.am"),
+                last(lines, r"^libhamlib_la_DEPENDENCIES\s*=", "src/Makefile.am"))
         while lines[i].rstrip().endswith("\\"):
             i += 1
         lines[i + 1:i + 1] = [""] + read(os.path.join(root, "upstream/hamlib/src-Makefile.am.in")).rstrip("\n").split("\n")
@@ -288,6 +311,8 @@ def register(root, tree, family_arg):
 def main(argv):
     if len(argv) >= 3 and argv[0] == "hook":
         hook(argv[1], argv[2])
+    elif len(argv) >= 4 and argv[0] == "backend" and argv[1] == "--update":
+        backend(argv[2], argv[3], update=True)
     elif len(argv) >= 3 and argv[0] == "backend":
         backend(argv[1], argv[2])
     elif len(argv) >= 3 and argv[0] == "register":

@@ -173,7 +173,7 @@ using namespace birdcage;
 using namespace birdcage::hamlib;
 
 extern "C" int winegard_rot_init(ROT* rot) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         if (rot == nullptr || rot->caps == nullptr || state_of(rot) == nullptr) {
             throw std::invalid_argument("rot_init without a rotator");
         }
@@ -195,7 +195,7 @@ extern "C" int winegard_rot_init(ROT* rot) {
 }
 
 extern "C" int winegard_rot_cleanup(ROT* rot) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         delete &priv_of(rot);
         ROTSTATE(rot)->priv = nullptr;
         return RIG_OK;
@@ -203,7 +203,7 @@ extern "C" int winegard_rot_cleanup(ROT* rot) {
 }
 
 extern "C" int winegard_rot_open(ROT* rot) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         WinegardPriv& priv = priv_of(rot);
         hamlib_port_t* port = ROTPORT(rot);
         rot_debug(RIG_DEBUG_VERBOSE, "winegard: opening %s on %s\n", rot->caps->model_name, port->pathname);
@@ -214,7 +214,7 @@ extern "C" int winegard_rot_open(ROT* rot) {
 #endif
         Result<PortLink> link = open_port_link(rot);
         if (!link) {
-            return report(__func__, link.status);
+            return report(where, link.status);
         }
         const int baud = port->parm.serial.rate > 0 ? port->parm.serial.rate : rot->caps->serial_rate_max;
         ControllerOptions options = priv.options;
@@ -240,7 +240,7 @@ extern "C" int winegard_rot_open(ROT* rot) {
         priv.service->set_pointing(priv.pointing);
         if (Status st = priv.service->start(); !st) {
             priv.service.reset();
-            return report(__func__, st);
+            return report(where, st);
         }
         if (priv.service->initialising()) {
             say(RIG_DEBUG_WARN, "open: the dish is still booting after boot_timeout; rot_open returns and the " +
@@ -252,7 +252,7 @@ extern "C" int winegard_rot_open(ROT* rot) {
 }
 
 extern "C" int winegard_rot_close(ROT* rot) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         WinegardPriv& priv = priv_of(rot);
         if (priv.service) {
             priv.service->shutdown();
@@ -263,26 +263,26 @@ extern "C" int winegard_rot_close(ROT* rot) {
 }
 
 extern "C" int winegard_set_position(ROT* rot, azimuth_t az, elevation_t el) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         RotatorService* service = open_service(rot);
         if (service == nullptr) {
             return not_open();
         }
         rot_debug(RIG_DEBUG_VERBOSE, "winegard: set_position %.2f %.2f\n", static_cast<double>(az),
                   static_cast<double>(el));
-        return report(__func__, service->set_target({static_cast<double>(az), static_cast<double>(el)}));
+        return report(where, service->set_target({static_cast<double>(az), static_cast<double>(el)}));
     });
 }
 
 extern "C" int winegard_get_position(ROT* rot, azimuth_t* az, elevation_t* el) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         RotatorService* service = open_service(rot);
         if (service == nullptr) {
             return not_open();
         }
         Result<AzEl> pos = service->position();
         if (!pos) {
-            return report(__func__, pos.status);
+            return report(where, pos.status);
         }
         *az = static_cast<azimuth_t>(pos.value.az);
         *el = static_cast<elevation_t>(pos.value.el);
@@ -291,29 +291,29 @@ extern "C" int winegard_get_position(ROT* rot, azimuth_t* az, elevation_t* el) {
 }
 
 extern "C" int winegard_stop(ROT* rot) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         RotatorService* service = open_service(rot);
         if (service == nullptr) {
             return not_open();
         }
-        return report(__func__, service->stop());
+        return report(where, service->stop());
     });
 }
 
 extern "C" int winegard_park(ROT* rot) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         RotatorService* service = open_service(rot);
         if (service == nullptr) {
             return not_open();
         }
-        return report(__func__, service->park());
+        return report(where, service->park());
     });
 }
 
 // Hamlib defines one rotator reset type, ROT_RESET_ALL (1, `R 1`): the homing run. Any other
 // number names nothing Hamlib knows, so it is refused rather than taken as a request to home.
 extern "C" int winegard_reset(ROT* rot, rot_reset_t reset) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         if (reset != ROT_RESET_ALL) {
             rot_debug(RIG_DEBUG_ERR,
                       "winegard: reset type %d is not supported; only ROT_RESET_ALL (%d, rotctl R %d) homes\n", reset,
@@ -324,12 +324,12 @@ extern "C" int winegard_reset(ROT* rot, rot_reset_t reset) {
         if (service == nullptr) {
             return not_open();
         }
-        return report(__func__, service->reset());
+        return report(where, service->reset());
     });
 }
 
 extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         RotatorService* service = open_service(rot);
         if (service == nullptr) {
             return not_open();
@@ -355,7 +355,7 @@ extern "C" int winegard_get_status(ROT* rot, rot_status_t* status) {
 extern "C" const char* winegard_get_info(ROT* rot) {
     static const char unavailable[] = "Winegard: no information (see the debug log)";
     const char* info = unavailable;
-    guarded(__func__, [&]() -> int {
+    guarded(__func__, [&, where = __func__]() -> int {
         WinegardPriv& priv = priv_of(rot);
         priv.info = describe(priv);
         info = priv.info.c_str();
@@ -365,7 +365,7 @@ extern "C" const char* winegard_get_info(ROT* rot) {
 }
 
 extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t val) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         WinegardPriv& priv = priv_of(rot);
         RotatorService* service = priv.service.get();
         if (service == nullptr) {
@@ -375,7 +375,7 @@ extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t va
             case tok_rssi_samples: {
                 const double samples = static_cast<double>(val.f);
                 if (!std::isfinite(samples) || samples < 1.0 || samples > rssi_max_samples) {
-                    return report(__func__,
+                    return report(where,
                                   {Errc::invalid_argument, "RSSI_SAMPLES is 1.." + std::to_string(rssi_max_samples)});
                 }
                 priv.rssi_samples = static_cast<int>(std::lround(samples));
@@ -384,13 +384,13 @@ extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t va
             case tok_lnb_volts: {
                 const auto supply = lnb_supply_from_volts(static_cast<double>(val.f));
                 if (!supply) {
-                    return report(__func__, supply.status);
+                    return report(where, supply.status);
                 }
                 rot_debug(RIG_DEBUG_VERBOSE, "winegard: LNB supply %d V\n", lnb_volts(supply.value));
-                return report(__func__, service->set_lnb_supply(supply.value));
+                return report(where, service->set_lnb_supply(supply.value));
             }
             case tok_rssi:
-                return report(__func__, {Errc::invalid_argument, "RSSI is read only"});
+                return report(where, {Errc::invalid_argument, "RSSI is read only"});
             default:
                 return -RIG_EINVAL;
         }
@@ -398,7 +398,7 @@ extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t va
 }
 
 extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* val) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         WinegardPriv& priv = priv_of(rot);
         RotatorService* service = priv.service.get();
         if (service == nullptr) {
@@ -408,7 +408,7 @@ extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* v
             case tok_rssi: {
                 const auto reading = service->read_signal(priv.rssi_samples);
                 if (!reading) {
-                    return report(__func__, reading.status);
+                    return report(where, reading.status);
                 }
                 val->f = static_cast<float>(reading.value.average);
                 return RIG_OK;
@@ -418,17 +418,17 @@ extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* v
                 return RIG_OK;
             case tok_lnb_volts:
                 if (service->profile().receiver_menu.empty()) {
-                    return report(__func__, {Errc::unsupported,
-                                             std::string(service->profile().display_name) + " has no satellite tuner"});
+                    return report(where, {Errc::unsupported,
+                                          std::string(service->profile().display_name) + " has no satellite tuner"});
                 }
                 if (const auto supply = service->lnb_supply()) {
                     val->f = static_cast<float>(lnb_volts(*supply));
                     return RIG_OK;
                 }
                 // Never a made-up 18: after rotctld restarts the dish may still be at 13 V.
-                return report(__func__, {Errc::not_initialised,
-                                         "the LNB supply is unknown: the dish's DVB dis did not say it "
-                                         "and it has not been set since open (V LNB 13|18 sets it)"});
+                return report(where, {Errc::not_initialised,
+                                      "the LNB supply is unknown: the dish's DVB dis did not say it "
+                                      "and it has not been set since open (V LNB 13|18 sets it)"});
             default:
                 return -RIG_EINVAL;
         }
@@ -439,7 +439,7 @@ extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* v
 // session (its menu, its echo), past the hazard rule, from a TCP client rotctld never asks who it
 // is. `w r` at the G2's MOT> releases the motors. Nothing is sent; the client is told why.
 extern "C" int winegard_send_cmd(ROT* rot, const char* cmd, char* reply, int reply_len) {
-    return guarded(__func__, [&]() -> int {
+    return guarded(__func__, [&, where = __func__]() -> int {
         priv_of(rot);
         if (reply != nullptr && reply_len > 0) {
             reply[0] = '\0';

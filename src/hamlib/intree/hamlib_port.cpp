@@ -13,7 +13,10 @@
 // 1000 ms, or rotctld's `-C timeout=`), and asks read_block only for bytes the port already holds.
 #include "winegard_priv.hpp"
 
+// Hamlib's port I/O; its header has no C++ guard of its own.
+extern "C" {
 #include "iofunc.h"
+}
 
 #include <poll.h>
 #include <sys/ioctl.h>

@@ -8,8 +8,9 @@
 #ifndef WINEGARD_HAMLIB_H
 #define WINEGARD_HAMLIB_H
 
-#include "hamlib/port.h"
-#include "hamlib/rot_state.h"
 #include "hamlib/rotator.h"
+
+#include "hamlib/port.h" /* master: split out of rig.h, after rotator.h */
+#include "hamlib/rot_state.h"
 
 #endif /* WINEGARD_HAMLIB_H */

@@ -191,16 +191,17 @@ else
     stage configure
 fi
 
-# libhamlib (its rule builds the convenience libraries of every backend it links), then the two
-# programs; the rest of the tree (tests, docs, the other utilities) is not needed here.
+# libhamlib with every backend it links, then the two programs; the rest of the tree (the other
+# utilities, tests, docs) is not needed here. The top Makefile's own SUBDIRS loop, narrowed to
+# those directories.
 build_hamlib() {
-    local dir=$1 log=$2
+    local dir=$1 log=$2 upto_src
     if ((full)); then
         nice make -j2 -C "$dir" >"$log" 2>&1
     else
-        nice make -j2 -C "$dir/lib" >"$log" 2>&1 && nice make -j2 -C "$dir/security" >>"$log" 2>&1 &&
-            nice make -j2 -C "$dir/rotators/winegard" >>"$log" 2>&1 &&
-            nice make -j2 -C "$dir/src" hamlibdatetime.h libhamlib.la >>"$log" 2>&1 &&
+        upto_src=$(make -s -C "$dir" -f Makefile -f - print-subdirs <<<'print-subdirs: ; @echo $(SUBDIRS)' |
+            tr ' ' '\n' | sed '/^src$/q' | tr '\n' ' ')
+        nice make -j2 -C "$dir" SUBDIRS="$upto_src" >"$log" 2>&1 &&
             nice make -j2 -C "$dir/tests" rotctld rotctl >>"$log" 2>&1
     fi
 }

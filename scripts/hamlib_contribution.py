@@ -280,12 +280,16 @@ def register(root, tree, family_arg):
                           "#endif"]
 
     def configure(lines):
-        # Beside INDI's switch (the other C++ rotator backend), after the C++ compiler check
-        # (cf_with_cxx) and before the HTML matrix's.
+        # Beside INDI's switch (the other C++ rotator backend), before the HTML matrix's; but
+        # after configure's C++11 check wherever that is (4.6 makes it late): it appends its -std
+        # to CXX, and the last -std wins.
         i = first(lines, r"^dnl Check if libgd-dev is installed", "configure.ac")
-        lines[i:i] = read(os.path.join(root, "upstream/hamlib/configure.ac.in")).rstrip("\n").split("\n") + [""]
+        cxx11 = first(lines, r"^\s*AX_CXX_COMPILE_STDCXX\(\[11\]", "configure.ac's C++11 check")
+        if cxx11 > i:
+            i = cxx11 + 1
+        lines[i:i] = [""] + read(os.path.join(root, "upstream/hamlib/configure.ac.in")).rstrip("\n").split("\n") + [""]
         if first(lines, r"cf_with_cxx=|\[cf_with_cxx\]", "configure.ac's C++ check") > i:
-            die("configure.ac checks for a C++ compiler after INDI's switch")
+            die("configure.ac checks for a C++ compiler after the Winegard switch")
         j = last(lines, r"^rotators/indi/Makefile$", "configure.ac's AC_CONFIG_FILES")
         lines[j + 1:j + 1] = ["rotators/winegard/Makefile"]
         k = last(lines, r"^\s*With INDI support\s", "configure.ac's summary")

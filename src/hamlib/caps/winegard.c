@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
 /*
  *  Hamlib Rotator backend - Winegard motorised satellite dishes
  *  Copyright (C) 2026 the birdcage authors
@@ -17,8 +18,6 @@
  *   Foundation, Inc., 51 Franklin Street, Fifth Floor, Boston, MA  02110-1301  USA
  *
  */
-
-/* SPDX-License-Identifier: LGPL-2.1-or-later */
 
 /*
  * One rot_caps per firmware variant of the Winegard consoles (Trav'ler,

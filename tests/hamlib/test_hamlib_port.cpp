@@ -90,7 +90,7 @@ TEST_CASE("the in-tree port link moves the console's bytes through Hamlib's port
     port->parm.serial.stop_bits = 1;
     port->parm.serial.parity = RIG_PARITY_NONE;
     port->parm.serial.handshake = RIG_HANDSHAKE_NONE;
-    port->timeout = 100;  // each wait a slice of it
+    port->timeout = 100;                 // each wait a slice of it
     REQUIRE(port_open(port) == RIG_OK);  // as rot_open opens it
 
     auto link = hamlib::open_port_link(&rot);

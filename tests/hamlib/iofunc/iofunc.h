@@ -12,9 +12,9 @@
 
 #include <hamlib/rig.h>
 
-int port_open(hamlib_port_t *p);
-int port_close(hamlib_port_t *p, rig_port_t port_type);
-int read_block(hamlib_port_t *p, unsigned char *rxbuffer, size_t count);
-int write_block(hamlib_port_t *p, const unsigned char *txbuffer, size_t count);
+int port_open(hamlib_port_t* p);
+int port_close(hamlib_port_t* p, rig_port_t port_type);
+int read_block(hamlib_port_t* p, unsigned char* rxbuffer, size_t count);
+int write_block(hamlib_port_t* p, const unsigned char* txbuffer, size_t count);
 
 #endif

@@ -119,10 +119,10 @@ track_pass() {
     echo "$sent $last"
 }
 
-# dish_e2e LABEL VARIANT NAME MODEL ROTCTLD...: the end-to-end check every rotctld route passes
+# dish_e2e LABEL VARIANT NAME MODEL ROTCTLD...: the end-to-end check every preload route passes
 # (arm-test.sh: an ARM rotctld under qemu with the backend preloaded; trixie-smoke.sh: Debian 13's
-# rotctld through its own loader with the backend preloaded; hamlib-intree.sh: a rotctld built from
-# Hamlib's source with the backend in it). ROTCTLD... is the command line that runs
+# rotctld through its own loader with the backend preloaded; hamlib-intree.sh has its own, at real
+# time: the in-tree backend has no time_scale key). ROTCTLD... is the command line that runs
 # that rotctld (a loader and its options first, if any). It opens the emulated VARIANT as MODEL
 # (the auto-detecting model, no -s: auto-detection finds the baud rate too); `_` must name NAME
 # as auto-detected; `P`/`p` reach a target the dish itself prints; a pass is tracked the way

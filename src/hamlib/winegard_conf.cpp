@@ -141,8 +141,10 @@ const ConfParam kConfParams[] = {
      [](const WinegardPriv& priv) {
          return std::string(priv.pointing.mode == birdcage::PointingMode::leapfrog ? "1" : "0");
      }},
-    {3, "boot_timeout", "Boot timeout", "Seconds to wait at open for a booting dish to finish homing", RIG_CONF_NUMERIC,
-     ControllerOptions::boot_timeout_range_s,
+    {3, "boot_timeout", "Boot timeout",
+     "Seconds rot_open waits for the console: silent until then, open fails; still booting, the dish is initialised in "
+     "the background (s: BUSY)",
+     RIG_CONF_NUMERIC, ControllerOptions::boot_timeout_range_s,
      [](const birdcage::FirmwareProfile&) { return format_seconds(ControllerOptions{}.boot_timeout); },
      [](const char* text, WinegardPriv& priv) {
          double number = 0;
@@ -228,6 +230,7 @@ const ConfParam kConfParams[] = {
          return parse_in(text, PointingOptions::deadband_range_deg, &priv.pointing.deadband_deg);
      },
      [](const WinegardPriv& priv) { return format_number(priv.pointing.deadband_deg); }},
+#if defined(BIRDCAGE_PRELOAD)
     {11, "time_scale", "Time scale",
      "Emulator runs only: the dish's clock runs this many times faster than real time (birdcage-sim --time-scale)",
      RIG_CONF_NUMERIC, birdcage::DishClock::scale_range,
@@ -236,6 +239,7 @@ const ConfParam kConfParams[] = {
          return parse_in(text, birdcage::DishClock::scale_range, &priv.time_scale);
      },
      [](const WinegardPriv& priv) { return format_number(priv.time_scale); }},
+#endif
     {12,
      "az_mapping",
      "Azimuth mapping",
@@ -444,7 +448,7 @@ confparams winegard_ext_levels[4];
 // Once per process, however many times Hamlib initialises the backend; Hamlib keeps pointers into
 // the tables, so they are filled in place and never change afterwards.
 extern "C" int winegard_init_tables(void) {
-    static const int result = []() -> int {
+    static const int result = birdcage::hamlib::guarded(__func__, []() -> int {
         struct Target {
             const char* short_name;
             confparams* list;
@@ -479,42 +483,48 @@ extern "C" int winegard_init_tables(void) {
                       18.0f, 5.0f);
         winegard_ext_levels[3] = confparams{};  // RIG_CONF_END
         return RIG_OK;
-    }();
+    });
     return result;
 }
 
 extern "C" int winegard_set_conf(ROT* rot, hamlib_token_t token, const char* val) {
-    const ConfParam* c = conf_param(token);
-    if (c == nullptr) {
-        rot_debug(RIG_DEBUG_ERR, "winegard: unknown conf token %ld\n", static_cast<long>(token));
-        return -RIG_EINVAL;
-    }
-    // Every parameter is read once, at open: the controller, the service and its pointing are built
-    // from them then. A value set afterwards (rotctl's `C`) would be stored and echoed by get_conf
-    // while the running service kept the old one, so it is refused and the client is told.
-    if (priv_of(rot)->service) {
-        rot_debug(RIG_DEBUG_ERR,
-                  "winegard: %s can only be set before the rotator is opened; pass -C %s=%s when starting "
-                  "rotctld (or rotctl)\n",
-                  c->name, c->name, val);
-        return -RIG_EINVAL;
-    }
-    if (!c->parse(val, *priv_of(rot))) {
-        rot_debug(RIG_DEBUG_ERR, "winegard: bad value \"%s\" for %s\n", val, c->name);
-        return -RIG_EINVAL;
-    }
-    return RIG_OK;
+    return birdcage::hamlib::guarded(__func__, [&]() -> int {
+        const ConfParam* c = conf_param(token);
+        if (c == nullptr) {
+            rot_debug(RIG_DEBUG_ERR, "winegard: unknown conf token %ld\n", static_cast<long>(token));
+            return -RIG_EINVAL;
+        }
+        // Every parameter is read once, at open: the controller, the service and its pointing are
+        // built from them then. A value set afterwards (rotctl's `C`) would be stored and echoed by
+        // get_conf while the running service kept the old one, so it is refused and the client is told.
+        if (priv_of(rot).service) {
+            rot_debug(RIG_DEBUG_ERR,
+                      "winegard: %s can only be set before the rotator is opened; pass -C %s=%s when starting "
+                      "rotctld (or rotctl)\n",
+                      c->name, c->name, val);
+            return -RIG_EINVAL;
+        }
+        if (!c->parse(val, priv_of(rot))) {
+            rot_debug(RIG_DEBUG_ERR, "winegard: bad value \"%s\" for %s\n", val, c->name);
+            return -RIG_EINVAL;
+        }
+        return RIG_OK;
+    });
 }
 
 extern "C" int winegard_get_conf2(ROT* rot, hamlib_token_t token, char* val, int val_len) {
-    const ConfParam* c = conf_param(token);
-    if (c == nullptr) {
-        return -RIG_EINVAL;
-    }
-    std::snprintf(val, static_cast<std::size_t>(val_len), "%s", c->format(*priv_of(rot)).c_str());
-    return RIG_OK;
+    return birdcage::hamlib::guarded(__func__, [&]() -> int {
+        const ConfParam* c = conf_param(token);
+        if (c == nullptr) {
+            return -RIG_EINVAL;
+        }
+        std::snprintf(val, static_cast<std::size_t>(val_len), "%s", c->format(priv_of(rot)).c_str());
+        return RIG_OK;
+    });
 }
 
+#if defined(BIRDCAGE_PRELOAD)
 extern "C" int winegard_get_conf(ROT* rot, hamlib_token_t token, char* val) {
     return winegard_get_conf2(rot, token, val, 128);  // Hamlib's own buffer size for get_conf
 }
+#endif

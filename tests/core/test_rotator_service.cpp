@@ -56,6 +56,7 @@ struct Dish {
     std::atomic<bool> unplug{false};
     std::atomic<bool> reboot{false};
     std::atomic<int> stall{0};
+    std::atomic<bool> booting{false};  // answers every line with boot output, never a prompt
     FakeTransport* current = nullptr;
 
     FakeTransport::Responder responder() {
@@ -64,6 +65,10 @@ struct Dish {
             if (unplug.exchange(false)) {
                 current->hang_up();
                 return {};
+            }
+            if (booting) {
+                g2.menu = "TRK";
+                return {command + "\r\n", "Bootloader v1.01\r\n"};
             }
             if (reboot.exchange(false)) {
                 g2.menu = "TRK";
@@ -212,4 +217,29 @@ TEST_CASE("service: with a mount model the dish is sent its own axes, clamped th
     REQUIRE(service.park());
     const FirmwareProfile& g2 = service.profile();
     CHECK(eventually([&] { return same(dish_target(), {g2.park_az, g2.park_el}, 0.005) && service.idle(); }));
+}
+
+TEST_CASE("service: a dish still booting when opened is initialised in the background, its target kept") {
+    Dish dish;
+    dish.booting = true;
+    RotatorService service(dish.open(), g2_options(), fast_timing());
+    // boot_timeout (200 ms) runs out with the boot heard: start() returns, the worker carries on.
+    REQUIRE(service.start());
+    CHECK(service.initialising());
+    CHECK_FALSE(service.answering());
+    CHECK(service.position().status.code == Errc::timeout);
+    CHECK(service.describe().find("INITIALISING for ") != std::string::npos);
+    REQUIRE(service.set_target({250, 40}));  // kept for when the dish is up
+    dish.booting = false;
+    REQUIRE(eventually([&] { return !service.initialising() && static_cast<bool>(service.position()); }));
+    CHECK(service.recoveries() == 0);  // its first initialisation, not a recovery
+    CHECK(eventually([&] { return dish.target_az() == Approx(250) && service.idle(); }));
+}
+
+TEST_CASE("service: a console that stays silent fails the start at boot_timeout") {
+    RotatorService service(std::make_unique<FakeTransport>(), g2_options(), fast_timing());
+    const Status started = service.start();
+    CHECK(started.code == Errc::timeout);
+    CHECK(started.message.find("silent") != std::string::npos);
+    CHECK_FALSE(service.initialising());
 }

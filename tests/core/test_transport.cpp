@@ -10,7 +10,8 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "console/transport.hpp"
+#include "console/fd_transport.hpp"
+#include "console/serial_port_transport.hpp"
 
 using namespace birdcage;
 using namespace std::chrono_literals;

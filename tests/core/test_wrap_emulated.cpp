@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "birdcage_sim/emulator.hpp"
-#include "console/transport.hpp"
+#include "console/fd_transport.hpp"
 #include "dish/controller.hpp"
 #include "tracking/wrap.hpp"
 

@@ -25,8 +25,8 @@
 
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
+#include "console/fd_transport.hpp"
 #include "console/session.hpp"
-#include "console/transport.hpp"
 #include "dish/controller.hpp"
 #include "firmware/protocol.hpp"
 #include "firmware/variants.hpp"

@@ -16,7 +16,7 @@
 
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
-#include "console/transport.hpp"
+#include "console/fd_transport.hpp"
 #include "dish/controller.hpp"
 #include "golden.hpp"
 

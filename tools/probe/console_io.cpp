@@ -6,6 +6,8 @@
 #include <array>
 #include <iostream>
 
+#include "console/fd_transport.hpp"
+#include "console/serial_port_transport.hpp"
 #include "firmware/hazards.hpp"
 #include "firmware/menus.hpp"
 #include "firmware/prompt.hpp"

@@ -7,8 +7,8 @@
 // waits, the position model) is in the dish's time. Against real hardware that is the steady
 // clock; against the emulator run with `birdcage-sim --time-scale k` the dish lives k times faster
 // than real time, and tests may drive time by hand. Real waits (poll() on the serial line, a
-// worker's sleep) convert a dish duration with to_real(), so one conf key (time_scale) changes
-// every timing at once and no loop mixes the two clocks.
+// worker's sleep) convert a dish duration with to_real(), so one setting (the preload build's conf
+// key time_scale) changes every timing at once and no loop mixes the two clocks.
 #pragma once
 
 #include <chrono>

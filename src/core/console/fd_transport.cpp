@@ -1,17 +1,19 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
+#include "console/fd_transport.hpp"
+
 #include <array>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
-#include <filesystem>
+#include <memory>
+#include <string>
 
 #include <fcntl.h>
 #include <poll.h>
 #include <termios.h>
 #include <unistd.h>
-
-#include "console/transport.hpp"
 
 namespace birdcage {
 namespace {
@@ -55,14 +57,6 @@ speed_t speed_for(int baud) {
 }
 
 }  // namespace
-
-Transport::~Transport() = default;
-
-bool is_pseudo_terminal(const std::string& path) {
-    std::error_code error;
-    const auto resolved = std::filesystem::canonical(path, error);
-    return (error ? path : resolved.string()).rfind("/dev/pts/", 0) == 0;
-}
 
 FdTransport::FdTransport(int fd, bool owns_fd) : fd_(fd), owns_fd_(owns_fd) {}
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 the birdcage authors
 
-#include <libserialport.h>
+#include "console/serial_port_transport.hpp"
 
-#include "console/transport.hpp"
+#include <libserialport.h>
 
 namespace birdcage {
 namespace {

@@ -195,14 +195,4 @@ void CombinedMoveDriver::cancel() {
     finish(arrived ? "arrived" : "aborted by stop");
 }
 
-std::unique_ptr<MoveDriver> make_move_driver(const MoveContext& context) {
-    switch (context.profile.move_style) {
-        case MoveStyle::per_axis_a:
-            return std::make_unique<AxisLegDriver>(context);
-        case MoveStyle::combined_g:
-            return std::make_unique<CombinedMoveDriver>(context);
-    }
-    return std::make_unique<AxisLegDriver>(context);
-}
-
 }  // namespace birdcage

@@ -42,7 +42,9 @@ struct ControllerOptions {
     // How the firmware maps an azimuth command onto its travel (az_mapping.hpp), as the user states
     // it; nullopt (auto): learnt from where the dish goes.
     std::optional<azmap::Mapping> az_mapping;
-    std::chrono::milliseconds boot_timeout{15 * 60 * 1000};
+    // The longest opening waits for the console (RotatorService::start(), rot_open): a line silent
+    // that long fails the open; a dish heard booting is initialised in the background instead.
+    std::chrono::milliseconds boot_timeout{60 * 1000};
     bool skip_init = false;      // user says the dish is ready (already in the motor menu)
     bool detect = false;         // RotatorService: identify the variant at start (auto)
     std::string detection_note;  // how the variant was identified (shown by describe())
@@ -116,6 +118,9 @@ public:
     bool homing() const { return homing_.has_value(); }
     Status home();  // start_home(), then service() until it ends (blocking)
     bool unhomed() const { return state_.unhomed; }
+    // After an initialisation that failed: the console was heard booting meanwhile, so it may yet
+    // come up (a silent line may be nothing at all).
+    bool boot_heard() const { return session_.reboot_seen(); }
     // False also while the dish, seen moving since initialisation (or moving on its own while a leg
     // waited), has not come to rest. Not yet known at rest, it is idle but its legs wait.
     bool idle() const;

@@ -69,7 +69,6 @@ constexpr FirmwareProfile travler_hal000_profile() {
     p.id = VariantId::travler_hal000;
     p.short_name = "hal000";
     p.display_name = "Trav'ler HAL 0.0.00";
-    p.model_index = 1;
     p.baud = 57600;
     p.line_ending = "\r";
     p.root_prompt = "";
@@ -108,7 +107,6 @@ constexpr FirmwareProfile travler_hal205_profile() {
     p.id = VariantId::travler_hal205;
     p.short_name = "hal205";
     p.display_name = "Trav'ler HAL 2.05";
-    p.model_index = 2;
     p.baud = 57600;
     p.line_ending = "\r";
     p.root_prompt = "";
@@ -146,7 +144,6 @@ constexpr FirmwareProfile travler_pro_profile() {
     p.id = VariantId::travler_pro;
     p.short_name = "pro";
     p.display_name = "Trav'ler Pro";
-    p.model_index = 3;
     p.baud = 57600;  // unconfirmed; irrelevant on the USB CDC-ACM link (5.1)
     p.line_ending = "\r";
     p.root_prompt = "";
@@ -183,7 +180,6 @@ constexpr FirmwareProfile carryout2003_profile() {
     p.id = VariantId::carryout2003;
     p.short_name = "carryout2003";
     p.display_name = "Carryout HAL 1.00.065";
-    p.model_index = 4;
     p.baud = 57600;
     p.line_ending = "\r";
     p.root_prompt = "";
@@ -221,7 +217,6 @@ constexpr FirmwareProfile carryout_g2_profile() {
     p.id = VariantId::carryout_g2;
     p.short_name = "g2";
     p.display_name = "Carryout G2";
-    p.model_index = 5;
     p.baud = 115200;
     p.line_ending = "\r";
     p.root_prompt = "TRK>";
@@ -286,7 +281,6 @@ constexpr FirmwareProfile auto_detect_profile() {
     p.id = VariantId::carryout_g2;  // not used for decisions; the quirks below are the G2's worst case
     p.short_name = "auto";
     p.display_name = "Auto-detect";
-    p.model_index = 0;
     p.baud = 57600;
     p.line_ending = "\r";
     p.root_prompt = "TRK>";  // the G2's: the guard refuses `q` there while the variant is unknown

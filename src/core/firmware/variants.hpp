@@ -63,7 +63,6 @@ struct FirmwareProfile {
     VariantId id;
     std::string_view short_name;  // "hal000", "hal205", "pro", "carryout2003", "g2"
     std::string_view display_name;
-    int model_index;  // Hamlib model = family * 100 + model_index
     int baud;
     std::string_view line_ending;
 

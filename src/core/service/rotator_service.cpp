@@ -7,13 +7,17 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <string>
 #include <utility>
 
 namespace birdcage {
 namespace {
 
-// How long a receiver request may wait for the leg in flight: a full G2 azimuth slew (~40 s).
-constexpr std::chrono::milliseconds receiver_wait_for_leg{45000};
+// How long a receiver request may wait for the leg in flight before it is refused as busy. rotctld
+// answers one client's command at a time, so the wait holds every client's `p`: a tracking leg
+// ends within it, a slew (a G2's full turn takes ~40 s) does not, and the client asks again.
+constexpr std::chrono::milliseconds receiver_wait_for_leg{3000};
 
 }  // namespace
 
@@ -41,7 +45,24 @@ Status RotatorService::start() {
         return st;
     }
     mailbox_.open();
-    thread_ = std::thread([this] { worker_.run(); });
+    thread_ = std::thread([this] {
+        // Nothing may leave the thread (std::terminate would end the host process): the service
+        // closes, reports the dish as not answering and says why, and refuses new mail.
+        const auto stopped = [this](const std::string& why) {
+            ServiceSnapshot dish = mailbox_.view().dish;
+            dish.recovering = true;
+            dish.recovery_reason = why;
+            mailbox_.publish(dish);
+            mailbox_.close(Status{Errc::io, why});
+        };
+        try {
+            worker_.run();
+        } catch (const std::exception& e) {
+            stopped(std::string("the service stopped on an internal error: ") + e.what());
+        } catch (...) {
+            stopped("the service stopped on an internal error");
+        }
+    });
     return Status::ok();
 }
 
@@ -186,6 +207,10 @@ bool RotatorService::recovering() const {
     return mailbox_.view().dish.recovering;
 }
 
+bool RotatorService::initialising() const {
+    return mailbox_.view().dish.initialising;
+}
+
 bool RotatorService::answering() const {
     return !not_answering(mailbox_.view().dish);
 }
@@ -207,8 +232,8 @@ std::string RotatorService::describe() const {
     const ServiceSnapshot& dish = view.dish;
     std::string text = dish.description;
     if (dish.recovering) {
-        text += "; RECOVERING for " + std::to_string(whole_seconds_since(dish.recovering_since)) +
-                " s: " + dish.recovery_reason;
+        text += std::string(dish.initialising ? "; INITIALISING for " : "; RECOVERING for ") +
+                std::to_string(whole_seconds_since(dish.recovering_since)) + " s: " + dish.recovery_reason;
     } else if (not_answering(dish)) {
         text += "; NOT ANSWERING for " + std::to_string(whole_seconds_since(dish.last_answer_at)) + " s (" +
                 dish.last_error.message + ")";

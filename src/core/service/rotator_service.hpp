@@ -43,8 +43,10 @@ public:
     // Before start(): how the dish's axes sit against the sky (docs/sky.md §1; default: aligned).
     // Targets and position() are then in the sky; limits and cable wrap stay in the dish's axes.
     void set_mount(MountModel mount);
-    // Initialises the dish (blocking: boot wait, search stop, motor menu), reads the position
-    // once, then starts the worker. Fails without starting anything if the dish cannot be reached.
+    // Initialises the dish (blocking, at most ControllerOptions::boot_timeout: boot wait, search
+    // stop, motor menu), reads the position once, then starts the worker. Fails without starting
+    // anything if the dish cannot be reached; a dish heard booting is left to the worker
+    // (initialising()), and the calls meanwhile answer as while it recovers.
     Status start();
     // Stops the worker; the controller is left as it is (a leg in flight finishes on its own).
     void shutdown();
@@ -83,8 +85,11 @@ public:
     bool idle() const;
     // True from reset() until the home has run. position() keeps answering meanwhile.
     bool homing() const;
-    // True while the worker re-initialises the dish (after a reboot, hang-up or lost sync).
+    // True while the worker re-initialises the dish (after a reboot, hang-up or lost sync, or at
+    // open: initialising()).
     bool recovering() const;
+    // True while the dish, still booting when start() returned, has not been initialised yet.
+    bool initialising() const;
     // False while the dish cannot be asked: recovering, or silent for ServiceTiming::max_position_age.
     bool answering() const;
     // How many times the worker has recovered the dish (re-initialised it) since start().

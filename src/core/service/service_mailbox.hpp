@@ -66,6 +66,9 @@ struct ServiceSnapshot {
     // The worker cannot ask the dish (rebooting, re-initialising, adapter unplugged, out of sync):
     // `position` stays the last reading until the recovery has read a fresh one.
     bool recovering = false;
+    // The recovery is the dish's first initialisation: it was still booting when the service
+    // started (ServiceWorker::start()), and nothing has been read from it yet.
+    bool initialising = false;
     std::string recovery_reason;
     Clock::time_point recovering_since{};  // steady (real) time, like last_answer_at
     unsigned recoveries = 0;

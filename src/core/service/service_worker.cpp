@@ -67,10 +67,20 @@ Status ServiceWorker::start() {
         pointing_.mode = profile_->predictive_by_default ? PointingMode::predictive : PointingMode::none;
         mode_from_dish_ = true;
     }
-    if (Status st = controller_->initialize(); !st) {
-        return st;
-    }
     predictor_.set_dish_limits(controller_->el_min(), controller_->el_max());
+    if (Status st = controller_->initialize(); !st) {
+        // A dish heard booting may yet take minutes (a Carryout calibrates for 10-15): the caller
+        // is not held for it. A silent line, or any other failure, fails the start.
+        if (st.code != Errc::timeout || !controller_->boot_heard()) {
+            return st;
+        }
+        emit(options_.log, LogLevel::warning,
+             "the dish is still booting: it is initialised in the background (" + st.message + ")");
+        begin_recovery("initialising: the dish was still booting when opened");
+        published_.initialising = true;
+        publish(st, true);
+        return Status::ok();
+    }
     read_lnb_supply_at_open();
     // A dish that answers its menus but not a position query is still usable for moves; the error
     // is published and reported by position() until a poll succeeds.
@@ -123,13 +133,7 @@ Clock::duration ServiceWorker::step() {
         }
         if (verdict.action != RecoveryAction::none) {
             emit(options_.log, LogLevel::warning, "recovering: " + verdict.reason);
-            attempts_ = 0;
-            backoff_ = std::chrono::milliseconds{0};
-            reinitialised_ = false;
-            recovery_started_ = options_.clock.now();
-            published_.recovering = true;
-            published_.recovery_reason = verdict.reason;
-            published_.recovering_since = Clock::now();
+            begin_recovery(verdict.reason);
             entered_recovery = true;
         }
     }
@@ -201,6 +205,16 @@ ServiceWorker::Outcome ServiceWorker::work_on(const ServiceMail& mail) {
     return out;
 }
 
+void ServiceWorker::begin_recovery(const std::string& reason) {
+    attempts_ = 0;
+    backoff_ = std::chrono::milliseconds{0};
+    reinitialised_ = false;
+    recovery_started_ = options_.clock.now();
+    published_.recovering = true;
+    published_.recovery_reason = reason;
+    published_.recovering_since = Clock::now();
+}
+
 ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
     if (mail.stop) {
         // `S` while the dish cannot be asked: nothing is resumed (the mailbox dropped the target)
@@ -228,10 +242,13 @@ ServiceWorker::Outcome ServiceWorker::recover(const ServiceMail& mail) {
     consecutive_failures_ = 0;
     published_.recovering = false;
     published_.last_answer_at = Clock::now();  // recover_once() has just read the position
-    ++published_.recoveries;
     mailbox_.dish_rebooted();
+    const bool first = std::exchange(published_.initialising, false);
+    if (!first) {
+        ++published_.recoveries;
+    }
     emit(options_.log, LogLevel::warning,
-         "recovered after " + std::to_string(attempts_) + " attempt(s)" +
+         std::string(first ? "initialised" : "recovered") + " after " + std::to_string(attempts_) + " attempt(s)" +
              (mail.latest_target ? "; resuming the last target" : ""));
     // Targets posted meanwhile were kept by the mailbox (its latest target); a stop cleared it.
     return {mail.latest_target ? resume(*mail.latest_target) : Status::ok(), true};

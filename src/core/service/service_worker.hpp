@@ -70,9 +70,11 @@ public:
     // in [0, 360)).
     AzEl in_the_sky(AzEl dish_axes) const;
 
-    // Before the worker runs, on the caller's thread (blocking): identifies the variant if asked,
-    // initialises the dish (boot wait, search stop, motor menu), reads the position once and
-    // publishes it. Fails without side effects on the mailbox if the dish cannot be reached.
+    // Before the worker runs, on the caller's thread: identifies the variant if asked, initialises
+    // the dish (boot wait, search stop, motor menu), reads the position once and publishes it.
+    // Bounded by ControllerOptions::boot_timeout: a console still silent then fails the start
+    // without side effects on the mailbox; one heard booting (a known variant) is left to the
+    // worker, which initialises it as it recovers a rebooted dish (initialising in the snapshot).
     Status start();
     // One pass over the mail and the dish. Returns how long to wait (dish time) before the next
     // pass unless mail arrives.
@@ -99,6 +101,7 @@ private:
     };
     Outcome work_on(const ServiceMail& mail);
     Outcome recover(const ServiceMail& mail);
+    void begin_recovery(const std::string& reason);
     Status recover_once();
     Status read_position_afresh();
     Status resume(AzEl target);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* Copyright (C) 2026 the birdcage authors */
 
-/* What the caps file (src/hamlib/winegard.c) takes from Hamlib's private src/register.h, for
+/* What the caps file (src/hamlib/caps/winegard.c) takes from Hamlib's private src/register.h, for
  * the preload build, which compiles it against an installed Hamlib: the versioned entry point
  * (ABI 4 names it initrots4_winegard; the preload build refuses any other ABI). The model numbers
  * rotlist.h would give come from winegard_rotlist.h, which the build generates from

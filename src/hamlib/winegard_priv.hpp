@@ -20,8 +20,8 @@
 #include "dish/receiver.hpp"
 #include "firmware/variants.hpp"
 #include "service/rotator_service.hpp"
-#include "tracking/mount_model.hpp"
 #include "service/service_worker.hpp"
+#include "tracking/mount_model.hpp"
 #include "tracking/steering.hpp"
 
 #include <exception>

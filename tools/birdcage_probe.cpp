@@ -267,8 +267,15 @@ void print_report(const Report& r, const Probe& probe, const DeepReport* deep) {
 
 // Each root listing word the firmware facts name as a menu: entered, its `?` read, left with its
 // exit word. Listed commands are never sent: on a real MOT> listing they move the motors.
+// Behind a bare `>` root a submenu is told from the root only on a console whose submenus name
+// themselves: the probe knows that once it has left one (`MOT>`, then `>`); a word that then
+// answers at `>` is no submenu here.
 void walk_menus(Probe& probe, Report& report) {
-    const bool root_names_itself = !birdcage::prompt_word(report.where.root_prompt).value_or("").empty();
+    const auto names_itself = [](const std::string& prompt) {
+        return !birdcage::prompt_word(prompt).value_or("").empty();
+    };
+    const bool root_told_apart = names_itself(report.where.root_prompt) ||
+                                 std::any_of(report.where.left.begin(), report.where.left.end(), names_itself);
     for (const auto& entry : report.root_help) {
         if (entry.name == "q" || entry.name == "?" || entry.name == "help")
             continue;
@@ -277,10 +284,10 @@ void walk_menus(Probe& probe, Report& report) {
             report.not_entered.emplace_back(entry.name, "not a menu the firmware facts name: never sent");
             continue;
         }
-        if (!root_names_itself) {
+        if (!root_told_apart) {
             report.not_entered.emplace_back(entry.name,
-                                            "the root prompt is a bare `>`: the probe could not tell a "
-                                            "submenu from the root, so it enters none");
+                                            "the root prompt is a bare `>` and no submenu was seen naming itself: "
+                                            "the probe could not tell a submenu from the root, so it enters none");
             continue;
         }
         if (probe.prompt != report.where.root_prompt)

@@ -626,6 +626,12 @@ Dialect draw_dialect(Variant variant, std::uint32_t seed) {
             draw.pick({TravlerBootMoves::park, TravlerBootMoves::home_return, TravlerBootMoves::none});
         said << "travler_boot_moves: " << travler_boot_moves_name(o.travler_boot_moves) << "\n";
     }
+    // Whether a bare root's submenus name themselves is as open as the root's own prompt (§14
+    // HAL0.1, CO.2): drawn last, for the same reason.
+    if (o.prompt_style == PromptStyle::bare && draw.chance(0.4)) {
+        o.prompt_style = PromptStyle::bare_root;
+        said << "prompt_submenus: named (`MOT>` behind a bare root)\n";
+    }
     dialect.description = said.str();
     return dialect;
 }

@@ -206,7 +206,8 @@ void Engine::print_line(std::string_view text) {
 }
 
 void Engine::print_prompt() {
-    const bool named = profile.fixed_prompts || options.prompt_style == PromptStyle::named;
+    const bool named = profile.fixed_prompts || options.prompt_style == PromptStyle::named ||
+                       (options.prompt_style == PromptStyle::bare_root && !menus.back()->shell_root);
     output.append(options.prompt_prefix);
     if (named)
         output.append(menus.back()->prompt_name);

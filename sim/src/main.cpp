@@ -309,9 +309,11 @@ const std::vector<Flag>& flags() {
              o.home_report = choice<HomeReport>(
                  f, v, {{"wrap-limits", HomeReport::wrap_limits}, {"g2plus", HomeReport::g2plus_status}});
          }},
-        {"--prompt-style", "named|bare", "Trav'ler/Carryout prompts `TRK>` or `>` (default named)",
+        {"--prompt-style", "named|bare|bare-root",
+         "Trav'ler/Carryout prompts `TRK>`, `>` everywhere, or `>` at the root only (default named)",
          [](Options& o, auto f, auto v) {
-             o.prompt_style = choice<PromptStyle>(f, v, {{"named", PromptStyle::named}, {"bare", PromptStyle::bare}});
+             o.prompt_style = choice<PromptStyle>(
+                 f, v, {{"named", PromptStyle::named}, {"bare", PromptStyle::bare}, {"bare-root", PromptStyle::bare_root}});
          }},
         {"--prompt-space", "yes|no", "a space after the prompt (default no)",
          [](Options& o, auto f, auto v) { o.prompt_space = yes_no(f, v); }},

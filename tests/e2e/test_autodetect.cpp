@@ -107,6 +107,11 @@ TEST_CASE("auto-detect (90100) identifies every emulated variant without sending
          "HAL 2.05",
          [](Options& o) { o.prompt_style = birdcage::sim::PromptStyle::bare; },
          {"motor"}},
+        {"hal000 bare root, named submenus, left in mot",
+         Variant::travler_hal000,
+         "HAL 0.0.00",
+         [](Options& o) { o.prompt_style = birdcage::sim::PromptStyle::bare_root; },
+         {"mot"}},
         {"hal000 booting", Variant::travler_hal000, "HAL 0.0.00", [](Options& o) { o.already_booted = false; }},
         // `?` answers one line, a label then the command words, at `>` prompts: dish up and booting
         // (where `NoGPS` alone ties the two Trav'ler HALs).

@@ -101,6 +101,15 @@ Setting bare_prompts() {
     return {"bare > prompts", [](Options& o) { o.prompt_style = birdcage::sim::PromptStyle::bare; }};
 }
 
+// `>` at the root, `MOT>` in the motor menu, where the backend finds the console.
+Setting bare_root_left_in_motor_menu(const VariantUnderTest& v) {
+    const std::vector<std::string> keys = v.motor_menu_keys;
+    return {"bare > root, named submenus, left inside the motor menu",
+            [](Options& o) { o.prompt_style = birdcage::sim::PromptStyle::bare_root; },
+            {},
+            [keys](birdcage::sim::Emulator& dish) { e2e::type_into(dish, keys); }};
+}
+
 void run_all(const VariantUnderTest& v, const std::vector<Setting>& settings) {
     for (const Setting& s : settings) {
         DYNAMIC_SECTION(s.name) {
@@ -149,7 +158,8 @@ const std::vector<Setting> search_running = {
 }  // namespace
 
 TEST_CASE("hal000: every unknown-behaviour switch and start-up situation", "[e2e][variants][hal000]") {
-    run_all(kHal000, concat(common_switches(), position_query_switches(), std::vector<Setting>{bare_prompts()},
+    run_all(kHal000, concat(common_switches(), position_query_switches(),
+                            std::vector<Setting>{bare_prompts(), bare_root_left_in_motor_menu(kHal000)},
                             init_situations(kHal000), search_running));
 }
 
@@ -184,6 +194,7 @@ TEST_CASE("pro: every unknown-behaviour switch and start-up situation", "[e2e][v
 TEST_CASE("carryout2003: every unknown-behaviour switch and start-up situation", "[e2e][variants][carryout2003]") {
     const std::vector<Setting> own = {
         bare_prompts(),
+        bare_root_left_in_motor_menu(kCarryout),
         {"g not aborted by input", [](Options& o) { o.g_aborts_on_input = false; }},
     };
     // No TV-search case: the 2003 Carryout's search cannot be stopped from the console (8.2).

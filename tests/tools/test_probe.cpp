@@ -214,6 +214,30 @@ TEST_CASE("birdcage-probe at every Trav'ler HAL submenu prompt sends no hazard",
         probe_from(own(sim::Variant::travler_hal205), {menu}, "TRK>", "hal205");
 }
 
+TEST_CASE("birdcage-probe behind a bare root whose submenus name themselves walks the menus", "[submenus]") {
+    sim::Options options = own(sim::Variant::travler_hal000);
+    options.prompt_style = sim::PromptStyle::bare_root;
+    // Left in MOT>: out with `q` to `>`, which the probe now tells from a submenu.
+    probe_from(options, {"mot"}, ">", "");
+    sim::Emulator dish(options);
+    type_into(dish, {"mot"});
+    int status = -1;
+    const std::string report = run_with_status(
+        std::string(BIRDCAGE_PROBE_PATH) + " --port " + dish.device_path() + " --baud 115200 2>/dev/null", status);
+    INFO(report);
+    CHECK(status == 0);
+    CHECK_THAT(report, !Catch::Contains("could not tell a submenu"));
+    CHECK_THAT(report, Catch::Contains("\"prompt\": \"MOT>\"") && Catch::Contains("\"prompt\": \"NVS>\""));
+    CHECK(dish.hazards_received() == 0);
+    // At the root from the start, nothing shows how submenus look: it enters none and says why.
+    sim::Emulator at_root(options);
+    const std::string unseen = run_with_status(
+        std::string(BIRDCAGE_PROBE_PATH) + " --port " + at_root.device_path() + " --baud 115200 2>/dev/null", status);
+    INFO(unseen);
+    CHECK_THAT(unseen, Catch::Contains("no submenu was seen naming itself"));
+    CHECK(at_root.hazards_received() == 0);
+}
+
 TEST_CASE("birdcage-probe at every Carryout 2003 and Trav'ler Pro submenu prompt sends no hazard", "[submenus]") {
     for (const char* menu : {"target", "motor", "dvb", "os", "nvs"})
         probe_from(own(sim::Variant::carryout2003), {menu}, "TRK>", "carryout2003");
@@ -247,7 +271,14 @@ void probe_dialects(sim::Variant variant, const char* menu) {
         CHECK(dish.hazards_received() == 0);
         CHECK(dish.shell_alive());
         const bool named = options.prompt_style == sim::PromptStyle::named || variant == sim::Variant::carryout_g2;
-        if (named) {
+        if (options.prompt_style == sim::PromptStyle::bare_root) {
+            // `>` at the root only: the probe left the named menu, so it tells a submenu from the
+            // root and walks the menus.
+            CHECK(status == 0);
+            CHECK(field(report, "root_prompt").find("TRK") == std::string::npos);
+            CHECK_THAT(field(report, "final_prompt"), !Catch::Contains("MOT") && !Catch::Contains("MOTOR"));
+            CHECK_THAT(report, !Catch::Contains("could not tell a submenu"));
+        } else if (named) {
             // A named prompt, decorated or not: out of the menu, at the root, the variant named
             // (or, where the evidence is thin, left unnamed; never a wrong one).
             CHECK(status == 0);

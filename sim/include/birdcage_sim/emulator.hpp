@@ -30,10 +30,12 @@ const char* variant_name(Variant);
 // TRK>", §6.1). LF CR is a common embedded-shell habit; CR alone breaks travler_init.py's
 // readline (§3.6) and is offered only to try that.
 enum class LineEnding { crlf, lf, lfcr, cr };
-enum class AzReport { displayed, mechanical };     // §14 G2.4 (and §3.3: `a` may show the wrap)
-enum class OutOfRange { clamp, reject };           // §14 HAL0.4, G2.6; §3.4 "unreliable below 15"
-enum class MoveAck { immediate, after_motion };    // §14 G2.3
-enum class PromptStyle { named, bare };            // Trav'ler/Carryout 2003 prompts, §14 HAL0.1, CO.2
+enum class AzReport { displayed, mechanical };   // §14 G2.4 (and §3.3: `a` may show the wrap)
+enum class OutOfRange { clamp, reject };         // §14 HAL0.4, G2.6; §3.4 "unreliable below 15"
+enum class MoveAck { immediate, after_motion };  // §14 G2.3
+// Trav'ler/Carryout 2003 prompts (§14 HAL0.1, CO.2): `TRK>`/`MOT>`, `>` everywhere, or `>` at the
+// root while submenus name themselves (`MOT>`).
+enum class PromptStyle { named, bare, bare_root };
 enum class BootMarker { no_gps, no_lnb_voltage };  // HAL 2.05 boot-complete line, §4.2
 // What a Trav'ler (HAL 0.0.00, 2.05, Pro) does with its motors at power-up, before its ready line
 // (§3.2, §5.2, §14 HAL0.9). The sources say only that it calibrates, "finding its position and wrap

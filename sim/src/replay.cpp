@@ -68,7 +68,8 @@ void Replayer::pump() {
         if (matched_ < entry.bytes.size() && used < input_.size()) {
             if (matched_ == 0 && answer_poke())
                 continue;
-            diverge(entry.bytes.substr(0, matched_) + input_, "");
+            // Every byte received since this chunk began, the matched ones once (not twice).
+            diverge(entry.bytes.substr(0, matched_) + input_.substr(used), "");
             return;
         }
         input_.erase(0, used);

@@ -369,7 +369,7 @@ extern "C" const char* winegard_get_info(ROT* rot) {
 extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t val) {
     return guarded(__func__, [&, where = __func__]() -> int {
         WinegardPriv& priv = priv_of(rot);
-        RotatorService* service = priv.service.get();
+        RotatorService* service = open_service(rot);
         if (service == nullptr) {
             return not_open();
         }
@@ -402,7 +402,7 @@ extern "C" int winegard_set_ext_level(ROT* rot, hamlib_token_t token, value_t va
 extern "C" int winegard_get_ext_level(ROT* rot, hamlib_token_t token, value_t* val) {
     return guarded(__func__, [&, where = __func__]() -> int {
         WinegardPriv& priv = priv_of(rot);
-        RotatorService* service = priv.service.get();
+        RotatorService* service = open_service(rot);
         if (service == nullptr) {
             return not_open();
         }

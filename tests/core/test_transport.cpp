@@ -12,30 +12,13 @@
 
 #include "console/fd_transport.hpp"
 #include "console/serial_port_transport.hpp"
+#include "pty_pair.hpp"
 
 using namespace birdcage;
+using birdcage::testing::Pty;
 using namespace std::chrono_literals;
 
 namespace {
-
-struct Pty {
-    int master = -1;
-    std::string slave_path;
-    Pty() {
-        master = ::posix_openpt(O_RDWR | O_NOCTTY);
-        REQUIRE(master >= 0);
-        REQUIRE(::grantpt(master) == 0);
-        REQUIRE(::unlockpt(master) == 0);
-        slave_path = ::ptsname(master);
-    }
-    ~Pty() {
-        if (master >= 0) {
-            ::close(master);
-        }
-    }
-    Pty(const Pty&) = delete;
-    Pty& operator=(const Pty&) = delete;
-};
 
 std::string read_all(Transport& transport, std::size_t want) {
     std::string got;

@@ -16,6 +16,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "../core/pty_pair.hpp"
 #include "winegard_priv.hpp"
 
 extern "C" {
@@ -23,30 +24,10 @@ extern "C" {
 }
 
 using namespace birdcage;
+using birdcage::testing::Pty;
 using namespace std::chrono_literals;
 
 namespace {
-
-struct Pty {
-    int master = -1;
-    std::string slave_path;
-    Pty() {
-        master = ::posix_openpt(O_RDWR | O_NOCTTY);
-        REQUIRE(master >= 0);
-        REQUIRE(::grantpt(master) == 0);
-        REQUIRE(::unlockpt(master) == 0);
-        slave_path = ::ptsname(master);
-    }
-    ~Pty() { hang_up(); }
-    void hang_up() {
-        if (master >= 0) {
-            ::close(master);
-            master = -1;
-        }
-    }
-    Pty(const Pty&) = delete;
-    Pty& operator=(const Pty&) = delete;
-};
 
 // What the dish end reads within a second.
 std::string dish_reads(int fd, std::size_t want) {

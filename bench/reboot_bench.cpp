@@ -20,7 +20,11 @@
 //   * the RMS from --late-from to the end of the window, the same stretch of the pass in a run with
 //     the reboot and in one without (--no-reboot): tracking there differs from tracking before the
 //     reboot because the pass does (the satellite climbs and speeds up), so this is the comparison
-//     that tells lost state from geometry.
+//     that tells lost state from geometry;
+//   * the goal the backend can answer for: back on the satellite (within 1 deg for 5 s) after the
+//     ready line, against the motors' travel time from where the calibration left the dish to where
+//     the satellite is then (the emulated motors' move time, AZ then EL, start-up delays included),
+//     and the slack between the two (goal: at most 1 s).
 // --boot-moves runs each reading of the Trav'ler's unknown power-up calibration (sim/README.md,
 // `travler_boot_moves`; docs/firmware.md §3.2).
 // The default pass and window put the reboot where the `park` calibration (AZ 0, EL 45, an
@@ -118,6 +122,7 @@ struct RunResult {
     double late_deg = 0.0;       // --late-from to the end of the window
     double ready_after_s = NAN;  // pass seconds from the power cut to the ready line
     double back_after_s = NAN;   // pass seconds from the reboot until the dish is within 1 deg again
+    double travel_s = NAN;       // the motors' move time from the dish at the ready line to the satellite then
     int error_streak = 0;
     bool disengaged = false;
 };
@@ -229,6 +234,19 @@ RunResult run_once(const Dish& d, birdcage::sim::TravlerBootMoves boot_moves, co
                 if (holds) {
                     back = true;
                     r.back_after_s = t - s.reboot_at;
+                    // Where the calibration left the dish at the ready line, and where the satellite
+                    // is when the dish is back on it: what the motors must cover, one axis at a time.
+                    const double ready_t = s.reboot_at + r.ready_after_s;
+                    std::size_t at_ready = 0;
+                    while (at_ready + 1 < history.size() && client.pass_time_of(history[at_ready + 1].t) <= ready_t) {
+                        ++at_ready;
+                    }
+                    if (!std::isnan(r.ready_after_s)) {
+                        const birdcage::sim::Sample& from = history[at_ready];
+                        const double el_to = std::clamp(sat.el, d.el_min, d.el_max);
+                        r.travel_s = rig.dish().move_time(0, e2e::angle_between(from.az, sat.az)) +
+                                     rig.dish().move_time(1, std::fabs(el_to - from.el));
+                    }
                 }
             }
             if (back) {
@@ -317,7 +335,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "reboot_bench: backend %s\n", e2e::backend_library().c_str());  // stdout: the table
         std::printf(
             "variant boot_moves run ready_after_s ready_to_stop_s rms_deg available_deg before_deg after_deg "
-            "late_deg max_deg back_after_s error_streak disengaged\n");
+            "late_deg max_deg back_after_s back_after_ready_s travel_s slack_s error_streak disengaged\n");
         for (const std::string& name : s.variants) {
             const auto d =
                 std::find_if(dishes().begin(), dishes().end(), [&](const Dish& x) { return x.name == name; });
@@ -331,9 +349,11 @@ int main(int argc, char** argv) {
                 }
                 for (int run = 1; run <= s.runs; ++run) {
                     const RunResult r = run_once(*d, *moves, s);
-                    std::printf("%s %s %d %.1f %.3f %.2f %.2f %.2f %.2f %.2f %.1f %.1f %d %s\n", name.c_str(),
-                                reading.c_str(), run, r.ready_after_s, r.ready_to_stop_s, r.rms_deg, r.available_deg,
-                                r.before_deg, r.after_deg, r.late_deg, r.max_deg, r.back_after_s, r.error_streak,
+                    const double back_after_ready = r.back_after_s - r.ready_after_s;
+                    std::printf("%s %s %d %.1f %.3f %.2f %.2f %.2f %.2f %.2f %.1f %.1f %.2f %.2f %.2f %d %s\n",
+                                name.c_str(), reading.c_str(), run, r.ready_after_s, r.ready_to_stop_s, r.rms_deg,
+                                r.available_deg, r.before_deg, r.after_deg, r.late_deg, r.max_deg, r.back_after_s,
+                                back_after_ready, r.travel_s, back_after_ready - r.travel_s, r.error_streak,
                                 r.disengaged ? "yes" : "no");
                     std::fflush(stdout);
                 }

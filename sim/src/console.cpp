@@ -28,6 +28,9 @@ Pose Console::position() const {
 double Console::mechanical_az() const {
     return engine_->motors.axis(axis_az).position();
 }
+double Console::move_time(int axis, double degrees) const {
+    return Axis::move_time(engine_->motors.axis(axis == 0 ? axis_az : axis_el).params(), degrees);
+}
 bool Console::moving() const {
     return engine_->motors.moving();
 }

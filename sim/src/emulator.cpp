@@ -318,6 +318,11 @@ double Emulator::true_mechanical_az() const {
     return impl_->console.mechanical_az();
 }
 
+double Emulator::move_time(int axis, double degrees) const {
+    std::lock_guard lock(impl_->mutex);
+    return impl_->console.move_time(axis, degrees);
+}
+
 bool Emulator::moving() const {
     std::lock_guard lock(impl_->mutex);
     return impl_->console.moving();

@@ -577,6 +577,7 @@ void Engine::start_boot() {
     boot_steps_ = with_extra_boot_lines(profile.boot_script(*this), options.boot_extra);
     boot_index_ = 0;
     boot_resume_at_ = now;
+    boot_motion_ = false;
 }
 
 void Engine::reboot() {
@@ -584,7 +585,9 @@ void Engine::reboot() {
 }
 
 void Engine::run_boot() {
-    while (booting_ && now >= boot_resume_at_ - 1e-9 && !motors.moving()) {
+    if (boot_motion_ && !motors.moving())
+        boot_motion_ = false;
+    while (booting_ && now >= boot_resume_at_ - 1e-9 && (boot_motion_ || !motors.moving())) {
         if (boot_index_ == boot_steps_.size()) {
             finish_boot();
             return;
@@ -603,7 +606,7 @@ void Engine::run_boot() {
                 print(step.text);
                 break;
             case BootStep::Kind::move:
-                motors.enqueue(step.axis, step.target);
+                start_boot_moves();
                 break;
             case BootStep::Kind::home:
                 homed[step.axis] = true;
@@ -615,6 +618,33 @@ void Engine::run_boot() {
                 boot_input_kept_ = true;
                 break;
         }
+    }
+}
+
+// The move step just taken, with a hold before the next one if the calibration pauses. With
+// Options::boot_moves_overlap, and no homing in the boot, every move of the run it starts is
+// queued at once and the boot goes on after the overlap, without waiting for them.
+void Engine::start_boot_moves() {
+    const auto is_move = [this](std::size_t index) {
+        return index < boot_steps_.size() && boot_steps_[index].kind == BootStep::Kind::move;
+    };
+    const bool homes = std::any_of(boot_steps_.begin(), boot_steps_.end(),
+                                   [](const BootStep& step) { return step.kind == BootStep::Kind::home; });
+    const bool overlap = options.boot_moves_overlap.has_value() && !homes;
+    for (;;) {
+        const BootStep& step = boot_steps_[boot_index_ - 1];
+        motors.enqueue(step.axis, step.target);
+        if (!is_move(boot_index_))
+            break;
+        if (options.boot_move_pause > 0.0)
+            motors.enqueue_hold(boot_steps_[boot_index_].axis, options.boot_move_pause);
+        if (!overlap)
+            break;
+        ++boot_index_;
+    }
+    if (overlap) {
+        boot_motion_ = true;
+        boot_resume_at_ = now + *options.boot_moves_overlap;
     }
 }
 
@@ -642,7 +672,10 @@ void Engine::start_search() {
 
 void Engine::stop_search() {
     search = false;
-    motors.stop_all();
+    // The search waits for the boot's moves (run_search), so while they run it has moved nothing:
+    // stopping it leaves them running.
+    if (!boot_motion_)
+        motors.stop_all();
 }
 
 void Engine::run_search() {

@@ -208,6 +208,7 @@ private:
     void help();
     void tick();  // one small simulated step's events
     void run_boot();
+    void start_boot_moves();
     void run_search();
     void run_busy();
     void record_sample();
@@ -244,6 +245,9 @@ private:
     std::vector<BootStep> boot_steps_;
     std::size_t boot_index_ = 0;
     double boot_resume_at_ = 0.0;
+    // Options::boot_moves_overlap: the boot's moves run as a task of their own, until the motors
+    // rest (what a console command queued behind them runs too).
+    bool boot_motion_ = false;
     bool truth_moving_ = false;
     double next_truth_at_ = 0.0;  // the next row on the 0.1 s grid
     double el_min_active_ = 0.0;

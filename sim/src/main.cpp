@@ -334,6 +334,11 @@ const std::vector<Flag>& flags() {
                  throw UsageError{std::string(f) + ": expected park|home-return|none, got '" + std::string(v) + "'"};
              o.travler_boot_moves = *moves;
          }},
+        {"--boot-moves-overlap", "S",
+         "the boot goes on S s after its first move starts while the moves run on (default: it waits for them)",
+         [](Options& o, auto f, auto v) { o.boot_moves_overlap = number_at_least(f, v, 0.0); }},
+        {"--boot-move-pause", "S", "standstill between two of the boot's moves (default 0)",
+         [](Options& o, auto f, auto v) { o.boot_move_pause = number_at_least(f, v, 0.0); }},
         {"--hal205-mot", "yes|no", "HAL 2.05 accepts `mot` as well as `motor` (default no)",
          [](Options& o, auto f, auto v) { o.hal205_accepts_mot = yes_no(f, v); }},
         {"--pro-q-returns-to-idu", "yes|no", "Pro `q` at the ODU root returns to the IDU (default no)",

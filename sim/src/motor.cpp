@@ -88,6 +88,13 @@ void Axis::stop() {
     target_ = std::clamp(position_ + stopping_distance, params_.min, params_.max);
 }
 
+void Axis::hold(double seconds) {
+    target_ = position_;
+    velocity_ = 0.0;
+    delay_left_ = seconds;
+    moving_ = true;
+}
+
 void Axis::set_position(double position) {
     position_ = position;
     target_ = position;
@@ -182,6 +189,10 @@ void MotorModel::enqueue(std::size_t axis, double target) {
     queue_.push_back({axis, target});
 }
 
+void MotorModel::enqueue_hold(std::size_t axis, double seconds) {
+    queue_.push_back({axis, 0.0, seconds});
+}
+
 void MotorModel::stop_all() {
     queue_.clear();
     for (auto& axis : axes_)
@@ -199,7 +210,10 @@ bool MotorModel::moving() const {
 void MotorModel::start_next_move() {
     const Move next = queue_.front();
     queue_.pop_front();
-    axes_[next.axis].move_to(next.target);
+    if (next.hold_seconds > 0.0)
+        axes_[next.axis].hold(next.hold_seconds);
+    else
+        axes_[next.axis].move_to(next.target);
 }
 
 void MotorModel::advance(double dt) {

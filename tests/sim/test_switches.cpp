@@ -221,6 +221,76 @@ TEST_CASE("boot: the Trav'ler's power-up calibration moves, one reading per swit
     CHECK_FALSE(parse_travler_boot_moves("calibrate"));
 }
 
+TEST_CASE("boot: moves that outlast the boot run on while the console answers, pausing between legs",
+          "[console][switch][boot]") {
+    Options options = options_for(Variant::travler_hal000);
+    options.already_booted = false;
+    options.start_az = 420.0;  // on the wrap's second branch: displayed 60
+    options.start_el = 30.0;
+    options.travler_boot_moves = TravlerBootMoves::home_return;
+    options.boot_moves_overlap = 1.0;
+    options.boot_move_pause = 3.0;
+    Console console(options);
+    std::string boot;
+    while (boot.find("NoGPS") == std::string::npos && console.time() < 60.0) {
+        console.advance(0.01);
+        boot += console.take_output();
+    }
+    // The ready line 1 s after the first move started (2 s in), the dish under way to its stop.
+    CHECK(console.time() == Approx(3.0).margin(0.02));
+    CHECK(console.moving());
+    CHECK(console.mechanical_az() < 420.0);
+    // The search stop leaves the calibration running; a move commanded now queues behind it.
+    send(console, "os\r");
+    send(console, "kill Search\r");
+    send(console, "q\r");
+    send(console, "mot\r");
+    send(console, "a 0 150\r");
+    double lowest = console.mechanical_az(), still_at_stop = 0.0;
+    while (console.mechanical_az() > 0.0 + 1e-9 && console.time() < 200.0)
+        console.advance(0.01);
+    lowest = std::min(lowest, console.mechanical_az());
+    // At its stop the dish stands still for the pause, then goes back up, then to the target.
+    const double at_stop = console.time();
+    while (console.mechanical_az() < 1e-6 && console.time() < 200.0) {
+        console.advance(0.01);
+        still_at_stop = console.time() - at_stop;
+    }
+    CHECK(lowest == Approx(0.0).margin(0.01));
+    CHECK(still_at_stop == Approx(3.0).margin(0.02));
+    double highest = console.mechanical_az();
+    while (console.moving() && console.time() < 400.0) {
+        console.advance(0.01);
+        highest = std::max(highest, console.mechanical_az());
+    }
+    CHECK(highest == Approx(420.0).margin(0.01));
+    CHECK(console.mechanical_az() == Approx(150.0).margin(0.01));
+    CHECK(console.hazards() == 0);
+}
+
+TEST_CASE("boot: the Pro's silent boot and the 2003 Carryout's answer while their moves outlast the boot",
+          "[console][switch][boot]") {
+    for (const Variant variant : {Variant::travler_pro, Variant::carryout2003}) {
+        Options options = options_for(variant);
+        options.already_booted = false;
+        options.start_az = 200.0;
+        options.start_el = 50.0;
+        options.boot_moves_overlap = 0.5;
+        if (variant == Variant::carryout2003)
+            options.carryout_search_seconds = 0.0;
+        Console console(options);
+        while (console.booting() && console.time() < 60.0)
+            console.advance(0.01);
+        INFO(variant_name(variant));
+        CHECK(console.time() == Approx(2.5).margin(0.02));
+        CHECK(console.moving());
+        CHECK_FALSE(send(console, "\r").empty());  // the shell answers while the dish still moves
+        while (console.moving() && console.time() < 200.0)
+            console.advance(0.01);
+        CHECK(console.mechanical_az() == Approx(0.0).margin(0.01));
+    }
+}
+
 TEST_CASE("boot: the captured G2 keeps a CR typed after Boot Complete and answers it after TRK>",
           "[console][switch][boot][g2]") {
     Options options = options_for(Variant::carryout_g2);

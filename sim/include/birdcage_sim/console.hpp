@@ -29,6 +29,10 @@ public:
 
     Pose position() const;
     double mechanical_az() const;
+    // How long the emulated motor of `axis` (0 = AZ, 1 = EL) takes for a move of `degrees`, from the
+    // command to rest, its start-up delay included (Axis::move_time with the variant's parameters
+    // and Options::motor's overrides).
+    double move_time(int axis, double degrees) const;
     bool moving() const;
     bool search_running() const;
     bool shell_alive() const;

@@ -235,7 +235,18 @@ struct Options {
     bool prompt_space = false;
     BootMarker hal205_boot_marker = BootMarker::no_gps;            // §4.2
     TravlerBootMoves travler_boot_moves = TravlerBootMoves::park;  // §3.2, §14 HAL0.9
-    bool hal205_accepts_mot = false;                               // §14 HAL2.05.4: does `mot` work besides `motor`?
+    // The boot's moves (a Trav'ler's calibration, the 2003 Carryout's) as a firmware task of their
+    // own: when they end against the ready line or the first prompt is not given (§3.2, §5.2, §8.2,
+    // §14 HAL0.9). Unset: the boot waits for each move, and its ready line and shell come once the
+    // dish rests. S: the boot goes on S seconds after its first move starts, without waiting for the
+    // moves, which run to their end while the console answers: the search stop does not stop them,
+    // and a move commanded meanwhile queues behind them. A boot that homes (the G2's) waits for its
+    // homing either way: its axes are uncalibrated until it ends.
+    std::optional<double> boot_moves_overlap;
+    // Seconds the dish stands still between two of the boot's moves (a calibration that pauses
+    // between its legs). INVENTED, as the moves themselves.
+    double boot_move_pause = 0.0;
+    bool hal205_accepts_mot = false;  // §14 HAL2.05.4: does `mot` work besides `motor`?
     // §14 Pro.2: does `q` at the ODU root return to the IDU console? The Pro client sends
     // `odu`, `q`, CR, `mot` (§5.6), which only works if it does not.
     bool pro_q_at_odu_root_returns_to_idu = false;
@@ -369,8 +380,9 @@ public:
 
     // link_path if given, else /dev/pts/N (a new N after reconnect(), hence by value).
     std::string device_path() const;
-    Pose true_position() const;         // displayed az in [0,360), el
-    double true_mechanical_az() const;  // az including cable-wrap turns
+    Pose true_position() const;                        // displayed az in [0,360), el
+    double true_mechanical_az() const;                 // az including cable-wrap turns
+    double move_time(int axis, double degrees) const;  // Console::move_time()
     bool moving() const;
     bool search_running() const;
     std::vector<Sample> history() const;  // true position over simulated time

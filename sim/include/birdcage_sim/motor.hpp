@@ -51,6 +51,9 @@ public:
     void move_to(double target);         // clamps into travel and quantises; may be called while moving
     void stop();                         // decelerate at max_accel and stay where the ramp ends
     void set_position(double position);  // re-zero without motion (homing calibration)
+    // Busy without motion for `seconds` (a firmware task pausing between two of its moves): the
+    // axis counts as moving, so moves queued behind wait.
+    void hold(double seconds);
     // Returns the part of dt left over after the axis came to rest on its target.
     double advance(double dt);
 
@@ -82,7 +85,8 @@ public:
     MotorModel(AxisParams az, AxisParams el, AxisParams skew, double az_pos, double el_pos, double skew_pos = 0.0);
 
     void enqueue(std::size_t axis, double target);
-    void stop_all();  // abort: drop queued moves and ramp every axis down
+    void enqueue_hold(std::size_t axis, double seconds);  // Axis::hold() in the queue's order
+    void stop_all();                                      // abort: drop queued moves and ramp every axis down
     void advance(double dt);
 
     const Axis& axis(std::size_t index) const { return axes_[index]; }
@@ -94,6 +98,7 @@ private:
     struct Move {
         std::size_t axis;
         double target;
+        double hold_seconds = 0.0;  // > 0: a hold (enqueue_hold), not a move
     };
     bool serial_axis_busy() const;
     void start_next_move();

@@ -35,6 +35,10 @@ constexpr double ack_match_degrees = 0.01;
 // A mechanical acknowledgement further than this from both the number sent and the intended
 // branch names a branch the backend did not plan.
 constexpr double ack_branch_degrees = 1.0;
+// Motion of the dish before a leg is under way that is not the leg's (away from its end, or of the
+// other axis) beyond this: the firmware still runs something else. Above a reply's noise and a
+// motor's settling, far below any move.
+constexpr double own_motion_degrees = 0.5;
 // Consecutive readings further apart than this were not one continuous path (the estimate's branch
 // was wrong, or the readings too sparse to follow the axis): the leg teaches nothing about the mapping.
 constexpr double path_jump_degrees = 90.0;
@@ -45,8 +49,11 @@ std::string degrees_text(double value) {
 double axis_value(AzEl position, Axis axis) {
     return axis == Axis::azimuth ? position.az : position.el;
 }
+double signed_difference(Axis axis, double from, double to) {
+    return axis == Axis::azimuth ? azimuth_difference(from, to) : to - from;
+}
 double axis_error(Axis axis, double from, double to) {
-    return axis == Axis::azimuth ? std::fabs(azimuth_difference(from, to)) : std::fabs(to - from);
+    return std::fabs(signed_difference(axis, from, to));
 }
 std::string axis_text(Axis axis) {
     return std::to_string(static_cast<int>(axis));
@@ -182,6 +189,16 @@ double AxisLegDriver::distance(const Leg& leg) const {
     return std::fabs(leg.target.el - c_.state.last_position->el);
 }
 
+std::chrono::milliseconds AxisLegDriver::startup_allowance() const {
+    std::chrono::milliseconds longest{0};
+    for (const Axis axis : {Axis::azimuth, Axis::elevation}) {
+        Leg leg;
+        leg.axis = axis;
+        longest = std::max(longest, start_allowance(leg));
+    }
+    return longest;
+}
+
 // Also for a leg sent while the axis may still have been settling: it may have come to rest since.
 std::chrono::milliseconds AxisLegDriver::start_allowance(const Leg& leg) const {
     if (!startup_.learnt(leg.axis)) {
@@ -287,6 +304,11 @@ Status AxisLegDriver::send(Leg& leg) {
             leg.under_way_degrees = std::max(under_way_degrees, c_.profile.arrival_tolerance);
         }
     }
+    leg.nearest.reset();
+    leg.other_still.reset();
+    if (const Axis other = leg.axis == Axis::azimuth ? Axis::elevation : Axis::azimuth; last && !settling(other)) {
+        leg.other_still = axis_value(*last, other);
+    }
     leg.motion = LegMotion{};
     leg.motion.axis = leg.axis;
     leg.motion.start = axis_value(last ? *last : leg.target, leg.axis);
@@ -364,6 +386,16 @@ Status AxisLegDriver::follow() {
         }
         return position.status;
     }
+    if (watch_motion_ && leg.from_rest && moves_on_its_own(leg, position.value)) {
+        // The firmware runs this leg only after whatever moves the dish now: what the leg would
+        // judge from here (stopped short, its start-up delay, the mapping) is wrong. The controller
+        // plans the target again once the dish rests.
+        finish("dropped: the dish moves on its own");
+        pending_.clear();
+        forget_commands();
+        moved_on_its_own_ = true;
+        return Status::ok();
+    }
     record_reading(position.value);
     // Azimuth in mechanical degrees: arriving on the display azimuth of the wrong branch is not arriving.
     const auto mech_az = c_.wrap.mechanical();
@@ -410,17 +442,23 @@ Status AxisLegDriver::follow() {
             step >= small_step_min_deg && step <= small_step_max_deg) {
             step_times_.learn(leg.axis, std::chrono::duration<double>(c_.now() - leg.sent_at).count());
         }
+        // At the end of a leg of its own the dish ran nothing else: motion from here is no longer
+        // a calibration or a braking search the first legs must wait out.
+        watch_motion_ = false;
         end_leg("arrived");
         return Status::ok();
     }
     // Readings taken before the axis could have started are not a stall: an axis not yet under way
     // is stopped only once the learnt start-up delay (with margin) is over; one under way, once it
     // has been still for the still window.
+    // Not yet under way, the allowance counts from its last motion: a motion that was not this leg's
+    // leaves the motor its start-up delay after it.
     const auto unmoved_for = leg.under_way ? still_window : start_allowance(leg);
     if (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees) {
         leg.last_seen = seen;
         leg.last_change = t;
-    } else if (t - leg.last_change >= still_window && t - leg.sent_at >= unmoved_for) {
+    } else if (t - leg.last_change >= still_window && t - leg.sent_at >= unmoved_for &&
+               (leg.under_way || t - leg.last_change >= unmoved_for)) {
         emit(c_.log, LogLevel::warning,
              "axis " + axis_text(leg.axis) + " stopped at " + degrees_text(seen) + ", short of " + degrees_text(goal));
         if (!leg.under_way) {
@@ -435,6 +473,32 @@ Status AxisLegDriver::follow() {
                                          std::to_string(leg.budget.count()) + " ms"};
     }
     return Status::ok();
+}
+
+// The axis moved away from the leg's end (before the leg was under way, from where it stood; after,
+// from the nearest it came), or the other axis moved.
+bool AxisLegDriver::moves_on_its_own(Leg& leg, AzEl position) const {
+    const bool azimuth = leg.axis == Axis::azimuth;
+    const auto mech_az = c_.wrap.mechanical();
+    if (azimuth && !mech_az) {
+        return false;
+    }
+    const double seen = azimuth ? *mech_az : position.el;
+    const double goal = azimuth ? leg.mech_az : leg.target.el;
+    if (!leg.under_way && (goal - leg.unmoved_ref) * (seen - leg.unmoved_ref) < 0.0 &&
+        std::fabs(seen - leg.unmoved_ref) > own_motion_degrees) {
+        return true;
+    }
+    const double off = std::fabs(goal - seen);
+    leg.nearest = std::min(leg.nearest.value_or(off), off);
+    if (leg.under_way && off > *leg.nearest + own_motion_degrees) {
+        return true;
+    }
+    if (!leg.other_still) {
+        return false;
+    }
+    const Axis other = azimuth ? Axis::elevation : Axis::azimuth;
+    return axis_error(other, *leg.other_still, axis_value(position, other)) > own_motion_degrees;
 }
 
 // Feeds the mapping learner with an azimuth leg (whole or so far). When the evidence changes, the
@@ -494,8 +558,13 @@ void AxisLegDriver::record_reading(AzEl position) {
     const auto at = c_.state.last_position_at.value_or(c_.now());
     if (in_flight_) {
         LegMotion& motion = in_flight_->motion;
-        add_reading(motion, AxisReading{axis_value(position, motion.axis), at});
-        if (in_flight_->from_rest) {
+        const double value = axis_value(position, motion.axis);
+        add_reading(motion, AxisReading{value, at});
+        // A motion away from the leg's end is not its start (the dish moving on its own).
+        const bool towards = signed_difference(motion.axis, motion.start, value) *
+                                 signed_difference(motion.axis, motion.start, motion.to) >
+                             0.0;
+        if (in_flight_->from_rest && towards) {
             motion.pace = paces_.pace(motion.axis, axis_error(motion.axis, motion.start, motion.to));
             if (const auto delay = StartupDelays::observed(c_.profile, motion)) {
                 startup_.learn(motion.axis, *delay);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "console/synchroniser.hpp"
 #include "firmware/protocol.hpp"
@@ -17,12 +18,18 @@ using namespace std::chrono_literals;
 
 constexpr auto skip_init_sync_budget = 5000ms;     // skip_init: the dish is said to be up already
 constexpr double unexpected_motion_degrees = 0.5;  // idle drift that means the firmware moves the dish
-// Two readings closer than this are of a dish at rest (replies print two decimals).
+// Two readings closer than this are of a dish at rest (replies print two decimals)...
 constexpr double at_rest_degrees = 0.02;
-// How often a dish seen moving after initialisation is read until it rests (as a leg is followed).
+// ...if this much dish time lies between them: two readings a moment apart agree on a dish at speed
+// (a console answering fast, a loaded machine reading twice before the emulator's clock moved on);
+// over this span they differ for any motion faster than 0.08 deg/s.
+constexpr auto at_rest_span = 250ms;
+// How often a dish not yet known at rest after initialisation is read (as a leg is followed).
 constexpr auto start_motion_poll = 100ms;
-// Beyond what crossing its whole travel on both axes takes, how long a dish that moves on its own
-// after initialisation is waited for before the backend moves it from wherever it is.
+// A dish that moves on its own is waited for while it may still cross its whole travel on both
+// axes this many times (a calibration that goes to a stop and back, then the leg the backend had
+// sent before it saw the motion), and a margin, before the backend moves it from wherever it is.
+constexpr int start_motion_crossings = 3;
 constexpr auto start_motion_margin = 3000ms;
 
 std::string degrees_text(double value) {
@@ -220,10 +227,13 @@ Status Controller::initialize_within(std::chrono::milliseconds boot_budget) {
     }
     session_.clear_reboot_seen();
     start_rest_.reset();
+    replan_at_rest_ = false;
+    moves_regardless_ = false;
+    driver_->watch_motion_of_its_own(true);
     if (!profile_.position_query.empty()) {
         const auto position = reader_.ask(query_timeout);
         if (position) {
-            start_rest_ = StartRest{position.value};
+            start_rest_.emplace(position.value, now());
         }
         if (!position && position.status.code != Errc::not_homed) {
             if (position.status.code == Errc::disconnected || position.status.code == Errc::io) {
@@ -258,7 +268,8 @@ Result<AzEl> Controller::query_position() {
     }
     const auto before = state_.last_position;
     const auto mech_before = wrap_.mechanical();
-    const bool at_rest = idle() && initialised_;
+    // Not yet known at rest after initialisation counts: a jump there is as likely noise.
+    const bool at_rest = initialised_ && !homing_ && driver_->idle() && !(start_rest_ && start_rest_->moving);
     auto position = reader_.ask(query_timeout);
     // At rest a reading far from the last one is either the dish moving on its own or a reply that
     // lost bytes on the line (`123.45` -> `13.45` still parses). Ask again: a real position repeats,
@@ -328,45 +339,79 @@ Status Controller::poll_at_rest() {
 // before brakes for seconds, a boot move may still run. A leg sent then is misjudged (the firmware
 // runs it only once the axis has stopped, so it looks stopped short, and the azimuth mapping
 // learnt from it is wrong), and a branch assumed from a reading in motion is not where the dish
-// rests. So the first two readings in a row that agree end the question; a difference makes the
-// dish "moving since the start": idle() is false, legs wait, service() reads it until it rests.
+// rests. So until readings agree over at_rest_span legs wait and service() reads the dish (idle()
+// only once it is seen moving). A dish seen moving must stay still for longer: between two moves its firmware has
+// queued (a calibration's legs) a motor that starts late leaves it still for seconds.
 void Controller::note_start_reading(const AzEl& reading) {
     if (!start_rest_) {
         return;
     }
     StartRest& rest = *start_rest_;
-    const bool same = std::fabs(azimuth_difference(rest.last.az, reading.az)) < at_rest_degrees &&
-                      std::fabs(rest.last.el - reading.el) < at_rest_degrees;
-    if (same) {
-        if (rest.moving) {
+    const auto t = now();
+    const bool same = std::fabs(azimuth_difference(rest.still.az, reading.az)) < at_rest_degrees &&
+                      std::fabs(rest.still.el - reading.el) < at_rest_degrees;
+    if (!same) {
+        if (!rest.moving) {
+            rest.start_moving(t);
             emit(options_.log, LogLevel::verbose,
-                 "the dish is at rest at az " + degrees_text(reading.az) + " el " + degrees_text(reading.el));
-            wrap_.judge_branch_at_rest();
+                 "the dish still moves after initialisation (az " + degrees_text(rest.still.az) + " el " +
+                     degrees_text(rest.still.el) + ", then az " + degrees_text(reading.az) + " el " +
+                     degrees_text(reading.el) + "): moves wait until it is at rest");
         }
-        start_rest_.reset();
+        rest.still = rest.last = reading;
+        rest.still_at = t;
         return;
     }
-    if (!rest.moving) {
-        rest.start_moving(now());
-        emit(options_.log, LogLevel::verbose,
-             "the dish still moves after initialisation (az " + degrees_text(rest.last.az) + " el " +
-                 degrees_text(rest.last.el) + ", then az " + degrees_text(reading.az) + " el " +
-                 degrees_text(reading.el) + "): moves wait until it is at rest");
-    }
     rest.last = reading;
+    const auto span =
+        rest.moving ? std::max<std::chrono::milliseconds>(at_rest_span, driver_->startup_allowance()) : at_rest_span;
+    if (t - rest.still_at < span) {
+        return;
+    }
+    if (rest.moving) {
+        emit(options_.log, LogLevel::verbose,
+             "the dish is at rest at az " + degrees_text(reading.az) + " el " + degrees_text(reading.el));
+        wrap_.judge_branch_at_rest();
+    }
+    end_start_rest();
+}
+
+// The dish moved on its own while a leg waited to start (its firmware still ran something else, and
+// runs the leg after it): the legs were dropped, and the target is planned again where it rests.
+void Controller::enter_start_motion(const AzEl& reading) {
+    emit(options_.log, LogLevel::verbose,
+         "the dish moves on its own (az " + degrees_text(reading.az) + " el " + degrees_text(reading.el) +
+             "): moves wait until it is at rest");
+    start_rest_.emplace(reading, now());
+    start_rest_->start_moving(now());
+    replan_at_rest_ = true;
+}
+
+void Controller::end_start_rest() {
+    start_rest_.reset();
+    if (!std::exchange(replan_at_rest_, false) || !state_.target) {
+        return;
+    }
+    const AzEl target = *state_.target;
+    forget_target();
+    if (Status planned = set_target(target); !planned) {
+        emit(options_.log, LogLevel::warning, "the target could not be planned again: " + planned.message);
+    }
 }
 
 // A dish seen moving since initialisation, read until it rests; bounded: one that moves on its
 // own for longer (a TV search the firmware keeps running) is moved from wherever it is.
 Status Controller::service_start_motion() {
     const auto t = now();
-    const auto budget = estimated_move_time(profile_, Axis::azimuth, profile_.az_max - profile_.az_min) +
-                        estimated_move_time(profile_, Axis::elevation, el_max_ - el_min_) + start_motion_margin;
-    if (t - start_rest_->since > budget) {
+    const auto crossing = estimated_move_time(profile_, Axis::azimuth, profile_.az_max - profile_.az_min) +
+                          estimated_move_time(profile_, Axis::elevation, el_max_ - el_min_) +
+                          driver_->startup_allowance();
+    const auto budget = start_motion_crossings * crossing + start_motion_margin;
+    if (start_rest_->moving && t - start_rest_->since > budget) {
         emit(options_.log, LogLevel::warning,
              "the dish keeps moving on its own at az " + degrees_text(start_rest_->last.az) + " el " +
                  degrees_text(start_rest_->last.el) + ": moving it from wherever it is");
-        start_rest_.reset();
+        move_regardless();
         return Status::ok();
     }
     if (t - start_rest_->polled < start_motion_poll) {
@@ -378,17 +423,26 @@ Status Controller::service_start_motion() {
         return position.status;
     }
     note_start_reading(position.value);
-    // Still moving: a G2 whose TV search is enabled never rests on its own (docs/firmware.md 6.2).
-    if (start_rest_ && profile_.tracker_disable_nvs_index >= 0 && !tracker_checked_) {
+    // Moving at this reading: a G2 whose TV search is enabled never rests on its own (docs/firmware.md 6.2).
+    if (start_rest_ && start_rest_->moving && start_rest_->still_at >= t && profile_.tracker_disable_nvs_index >= 0 &&
+        !tracker_checked_) {
         if (Status checked = check_tracker_disabled(); !checked) {
             return checked;
         }
         if (tracker_enabled_) {
             emit(options_.log, LogLevel::warning, "the TV search keeps the dish moving: moving it from wherever it is");
-            start_rest_.reset();
+            move_regardless();
         }
     }
     return Status::ok();
+}
+
+// A dish that does not rest on its own is moved from wherever it is, and its motion no longer
+// stops the legs (they would wait for it forever).
+void Controller::move_regardless() {
+    moves_regardless_ = true;
+    driver_->watch_motion_of_its_own(false);
+    end_start_rest();
 }
 
 Status Controller::set_target(AzEl target, double az_rate_dps, const std::optional<wrap::PassAhead>& ahead) {
@@ -449,13 +503,14 @@ Status Controller::service() {
     if (homing_) {
         return service_homing();
     }
-    if (start_rest_ && start_rest_->moving) {
+    if (start_rest_) {
         return service_start_motion();
     }
-    if (start_rest_ && !driver_->idle()) {
-        start_rest_.reset();  // the backend's own moves from here: their readings follow them
+    const Status status = driver_->service();
+    if (driver_->took_motion_of_its_own() && state_.last_position) {
+        enter_start_motion(*state_.last_position);
     }
-    return driver_->service();
+    return status;
 }
 
 void Controller::cancel_pending() {
@@ -470,6 +525,7 @@ bool Controller::needs_reinit() const {
     return !motor_menu_.empty() && !session_.menu().empty() && session_.menu() != motor_menu_;
 }
 
+// Not yet known at rest is not moving: legs wait (service()), but nothing is under way.
 bool Controller::idle() const {
     return !homing_ && !(start_rest_ && start_rest_->moving) && driver_->idle();
 }

@@ -121,7 +121,8 @@ public:
     // After an initialisation that failed: the console was heard booting meanwhile, so it may yet
     // come up (a silent line may be nothing at all).
     bool boot_heard() const { return session_.reboot_seen(); }
-    // False also while the dish, seen moving since initialisation, has not come to rest.
+    // False also while the dish, seen moving since initialisation (or moving on its own while a leg
+    // waited), has not come to rest. Not yet known at rest, it is idle but its legs wait.
     bool idle() const;
     // How long a small step takes this dish, as its own legs timed it (MoveDriver).
     std::optional<double> learnt_step_seconds(Axis axis) const;
@@ -184,7 +185,7 @@ private:
     bool moved_on_its_own(const AzEl& before, const AzEl& now) const;
     Status service_homing();  // controller_homing.cpp, with start_home() and home()
     Status finish_homing();
-    // The dish at rest since initialisation: every reading until two in a row agree.
+    // The dish at rest since initialisation: every reading until they agree over a span.
     void note_start_reading(const AzEl& reading);
     Status service_start_motion();
 
@@ -210,20 +211,33 @@ private:
     bool tracker_enabled_ = false;  // G2 NVS 20 "Disable Tracker Proc?" read FALSE (describe())
     bool tracker_checked_ = false;
     std::chrono::milliseconds boot_budget_{0};  // wait_for_boot()'s bound for this initialisation
-    // Whether the dish is at rest after initialisation is unknown until two readings in a row agree
-    // (a stopped TV search brakes, a boot move may still run). Seen moving, it is polled until it
-    // rests: moves wait, and its cable-wrap branch is judged where it rests.
+    // Whether the dish is at rest after initialisation is unknown until its readings agree over a
+    // span of dish time (a stopped TV search brakes, a boot move may still run, and two readings
+    // taken a moment apart agree on a dish at speed). Until then it is polled and moves wait; seen
+    // moving, it must stay still for longer than a motor that starts late leaves it still between
+    // two moves its firmware has queued. Its cable-wrap branch is judged where it rests.
     struct StartRest {
-        AzEl last;                   // the latest reading since initialisation
+        AzEl still;  // the earliest reading of the run that agrees with the latest
+        Clock::time_point still_at{};
+        AzEl last;                   // the latest reading
         bool moving = false;         // two readings differed
         Clock::time_point since{};   // when it was first seen moving
-        Clock::time_point polled{};  // the latest poll while it moves
+        Clock::time_point polled{};  // the latest poll
+        StartRest(AzEl reading, Clock::time_point t) : still(reading), still_at(t), last(reading), polled(t) {}
         void start_moving(Clock::time_point t) {
             moving = true;
             since = polled = t;
         }
     };
     std::optional<StartRest> start_rest_;
+    // The target to plan again once the dish rests: its legs were dropped when it moved on its own.
+    bool replan_at_rest_ = false;
+    // The dish was moved from wherever it was, still moving on its own (a search the firmware keeps
+    // running): its motion no longer stops the legs.
+    bool moves_regardless_ = false;
+    void enter_start_motion(const AzEl& reading);
+    void end_start_rest();
+    void move_regardless();
     std::string motor_menu_;  // the session's menu at the end of initialize()
 };
 

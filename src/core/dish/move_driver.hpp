@@ -7,6 +7,7 @@
 // tracker, the position reader and the console setup.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -76,6 +77,17 @@ public:
     // The dish was re-initialised after a reboot or an unplug: wherever its firmware left it, the
     // next move should bring it back onto the target as fast as the motors allow.
     virtual void recovered() {}
+    // How long an axis may stand still after a command before it moves (its start-up delay as
+    // learnt, with a margin, or the allowance while none is): between two moves its firmware has
+    // queued, a dish stands still this long.
+    virtual std::chrono::milliseconds startup_allowance() const { return std::chrono::milliseconds{0}; }
+    // While watched (from initialisation until a leg arrives), a leg that sees the dish move on its
+    // own (away from the leg's end, or on the other axis) drops its legs and says so once through
+    // took_motion_of_its_own(): the firmware still runs something else (a calibration, a braking
+    // search) and runs the leg after it, so what the leg would judge from that motion (a stop
+    // short, a start-up delay, the mapping) is wrong.
+    virtual void watch_motion_of_its_own(bool watch) { (void)watch; }
+    virtual bool took_motion_of_its_own() { return false; }
 };
 
 std::unique_ptr<MoveDriver> make_move_driver(const MoveContext& context);

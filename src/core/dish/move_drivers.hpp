@@ -8,6 +8,7 @@
 #include <deque>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "dish/move_driver.hpp"
 #include "tracking/position_model.hpp"
@@ -33,6 +34,9 @@ public:
     MotorTiming learnt_motor() const override;
     void take_learning_from(const MoveDriver& before) override;
     void recovered() override { farther_axis_first_ = true; }
+    std::chrono::milliseconds startup_allowance() const override;
+    void watch_motion_of_its_own(bool watch) override { watch_motion_ = watch; }
+    bool took_motion_of_its_own() override { return std::exchange(moved_on_its_own_, false); }
 
 private:
     static constexpr int max_waypoint_legs = 4;  // bounds the waypoint legs per target (3 span any window)
@@ -60,6 +64,11 @@ private:
         // that lies on the way; under_way once a poll shows it past that.
         double unmoved_ref = 0.0, under_way_degrees = 0.0;
         bool under_way = false;
+        // The other axis' position when this leg was sent, if no leg of the backend's moved it
+        // then: the firmware runs one axis at a time, so its motion before this leg is under way is
+        // not this leg's.
+        std::optional<double> other_still;
+        std::optional<double> nearest;  // the nearest the axis has come to this leg's end
         // How long the firmware was still expected to run an earlier leg when this one was sent,
         // and how long it may take at most: `a` queues a motor command behind the motor that is
         // moving (docs/firmware.md §2, §3.4), so this axis cannot start before that is over.
@@ -69,6 +78,7 @@ private:
 
     Status send(Leg& leg);
     Status follow();
+    bool moves_on_its_own(Leg& leg, AzEl position) const;
     Result<AzEl> poll();
     void plan_azimuth_leg(Leg& leg);
     void observe_azimuth_leg(Leg& leg, bool at_rest);
@@ -109,6 +119,8 @@ private:
     Clock::time_point last_poll_{};
     unsigned move_count_ = 0;
     bool farther_axis_first_ = false;  // set by recovered(), for the next plan only
+    bool watch_motion_ = true;         // watch_motion_of_its_own()
+    bool moved_on_its_own_ = false;    // took_motion_of_its_own()
 };
 
 // The 2003 Carryout's combined `g <az> <el>` in its `target` menu: no position query, only live

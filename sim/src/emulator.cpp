@@ -64,7 +64,9 @@ struct Emulator::Impl {
             truth_flushed_at = Clock::now();
         }
         if (options.replay != ReplayMode::off)
-            replayer.emplace(load_transcript(options.transcript_path), options.replay, options.transcript_path);
+            // `a` alone reads the position on every variant (docs/firmware.md §2, §6.3).
+            replayer.emplace(load_transcript(options.transcript_path), options.replay, options.transcript_path,
+                             std::vector<std::string>{"a"});
         device_path = pty->slave_path();
         if (!options.link_path.empty()) {
             link_to(pty->slave_path(), options.link_path);

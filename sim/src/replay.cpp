@@ -13,8 +13,11 @@ constexpr std::size_t context_chunks = 3;
 
 }  // namespace
 
-Replayer::Replayer(Transcript transcript, ReplayMode mode, std::string source)
-    : transcript_(std::move(transcript)), mode_(mode), source_(std::move(source)) {
+Replayer::Replayer(Transcript transcript, ReplayMode mode, std::string source, std::vector<std::string> position_reads)
+    : transcript_(std::move(transcript)),
+      mode_(mode),
+      source_(std::move(source)),
+      position_reads_(std::move(position_reads)) {
     // Until the recording shows a prompt, a poke after the dish's boot output is answered with the
     // first prompt it shows at all: the root it comes up in.
     for (const TranscriptEntry& entry : transcript_.entries) {
@@ -55,6 +58,8 @@ void Replayer::pump() {
                 return;
             output_ += entry.bytes;
             note_prompt(entry.bytes);
+            if (!last_read_.empty())
+                last_read_reply_ += entry.bytes;
             last_event_ = due;
             ++next_;
             continue;
@@ -66,10 +71,13 @@ void Replayer::pump() {
             ++matched_;
         }
         if (matched_ < entry.bytes.size() && used < input_.size()) {
-            if (matched_ == 0 && answer_poke())
+            // Every byte received since this chunk began, the matched ones once (not twice): a
+            // repeated `a` shares its first byte with the `a 0 99.00` expected.
+            input_ = entry.bytes.substr(0, matched_) + input_.substr(used);
+            matched_ = 0;
+            if (answer_poke() || answer_repeated_read())
                 continue;
-            // Every byte received since this chunk began, the matched ones once (not twice).
-            diverge(entry.bytes.substr(0, matched_) + input_.substr(used), "");
+            diverge(std::exchange(input_, {}), "");
             return;
         }
         input_.erase(0, used);
@@ -77,10 +85,11 @@ void Replayer::pump() {
             return;  // wait for the rest of the command
         matched_ = 0;
         last_event_ = now_;
+        note_read(entry.bytes);
         ++next_;
     }
     while (replaying() && next_ == transcript_.entries.size() && !input_.empty())
-        if (!answer_poke())
+        if (!answer_poke() && !answer_repeated_read())
             diverge(std::exchange(input_, {}), "the transcript has ended");
 }
 
@@ -106,6 +115,40 @@ bool Replayer::answer_poke() {
         return true;
     }
     return false;
+}
+
+// How many position reads a recording holds depends on timing too: a client that wants two readings
+// a span of time apart before it trusts the dish at rest reads again where the recorded client, on
+// a faster or slower clock, went on. A position read repeated right after the recorded one (no
+// other command between) is answered with the reply recorded for it, the dish still where that
+// reply says; only reads, which change nothing on the dish, are answered this way.
+bool Replayer::answer_repeated_read() {
+    if (last_read_.empty() || last_read_reply_.empty() || input_.compare(0, last_read_.size(), last_read_) != 0)
+        return false;
+    const bool busy =
+        next_ < transcript_.entries.size() && transcript_.entries[next_].direction == Direction::dish_to_host;
+    if (busy)
+        return false;
+    input_.erase(0, last_read_.size());
+    output_ += last_read_reply_;
+    ++reads_repeated_;
+    return true;
+}
+
+// After a host chunk has been matched: whether it is a position read (a word of position_reads_
+// and a line ending), whose reply answer_repeated_read() may send again.
+void Replayer::note_read(std::string_view chunk) {
+    last_read_.clear();
+    last_read_reply_.clear();
+    const std::size_t end = chunk.find_first_of("\r\n");
+    if (end == std::string_view::npos || chunk.find_first_not_of("\r\n", end) != std::string_view::npos)
+        return;
+    for (const std::string& read : position_reads_) {
+        if (chunk.substr(0, end) == read) {
+            last_read_ = chunk;
+            return;
+        }
+    }
 }
 
 // The prompt a recorded dish chunk ends with (`WORD>`, after its last line ending), if any.

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "birdcage_sim/emulator.hpp"
 #include "birdcage_sim/transcript.hpp"
@@ -18,8 +19,9 @@ namespace birdcage::sim {
 
 class Replayer {
 public:
-    // `source` names the transcript in failure reports.
-    Replayer(Transcript transcript, ReplayMode mode, std::string source);
+    // `source` names the transcript in failure reports. `position_reads`: the commands (without
+    // line ending) that only read the dish's position, which may be repeated (see replay.cpp).
+    Replayer(Transcript transcript, ReplayMode mode, std::string source, std::vector<std::string> position_reads = {});
 
     // Bytes from the client. While replaying they are matched against the transcript; returns the
     // bytes the model console must handle instead (non-empty only once lenient mode fell back).
@@ -35,10 +37,14 @@ public:
     bool complete() const { return next_ == transcript_.entries.size(); }
     // Unrecorded pokes (bare line endings, `?`) answered from the firmware facts (see replay.cpp).
     std::size_t pokes_answered() const { return pokes_answered_; }
+    // Unrecorded repetitions of a position read answered with its last recorded reply.
+    std::size_t reads_repeated() const { return reads_repeated_; }
 
 private:
     void pump();
     bool answer_poke();
+    bool answer_repeated_read();
+    void note_read(std::string_view chunk);
     void note_prompt(std::string_view bytes);
     void diverge(std::string received, const std::string& why);
 
@@ -55,6 +61,10 @@ private:
     bool fell_back_ = false;
     std::string last_prompt_;  // the prompt the recorded dish output last ended with
     std::size_t pokes_answered_ = 0;
+    std::vector<std::string> position_reads_;
+    std::string last_read_;        // the position read last matched, with its line ending...
+    std::string last_read_reply_;  // ...and the dish chunks recorded after it
+    std::size_t reads_repeated_ = 0;
     std::string fallback_bytes_;
 };
 

@@ -206,6 +206,39 @@ TEST_CASE("emulator: strict mode answers unrecorded pokes as the firmware does a
     CHECK(dish.replay_complete());
 }
 
+TEST_CASE("emulator: strict mode answers a position read repeated at rest with its recorded reply") {
+    // A client that wants two readings a span apart reads again where the recorded one moved on.
+    const std::string text = std::string(g2_two_queries) + "> a 0 90.00\\r\n< a 0 90.00\\r\\nMOT>\n";
+    const TempTranscript transcript(text);
+    sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
+    Client client(dish.device_path());
+    client.send("\r");
+    client.read_until("TRK>");
+    client.send("mot\r");
+    client.read_until("MOT>");
+    client.send("a\r");
+    CHECK(client.read_until("MOT>").find("Angle[0] = 180.00") != std::string::npos);
+    client.send("a\r");  // not recorded: the same reading again (its `a` shares a byte with `a 0 90.00`)
+    CHECK(client.read_until("MOT>").find("Angle[0] = 180.00") != std::string::npos);
+    client.send("a 0 90.00\r");
+    CHECK(client.read_until("MOT>").find("a 0 90.00") != std::string::npos);
+    CHECK(eventually([&] { return dish.replay_complete(); }));
+    CHECK_FALSE(dish.replay_failure());
+}
+
+TEST_CASE("emulator: strict mode does not repeat a command that is not a position read") {
+    const TempTranscript transcript(g2_two_queries);
+    sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
+    Client client(dish.device_path());
+    client.send("\r");
+    client.read_until("TRK>");
+    client.send("mot\r");
+    client.read_until("MOT>");
+    client.send("mot\r");  // a menu word changes the console's state: never answered from nothing
+    REQUIRE(eventually([&] { return dish.replay_failure().has_value(); }));
+    CHECK_THAT(*dish.replay_failure(), Catch::Contains("received:  > mot\\r"));
+}
+
 TEST_CASE("emulator: lenient mode hands a wrong command to the model console") {
     const TempTranscript transcript(g2_two_queries);
     sim::Emulator dish(replay_options(transcript, sim::ReplayMode::lenient));

@@ -475,8 +475,10 @@ Status AxisLegDriver::follow() {
     return Status::ok();
 }
 
-// The axis moved away from the leg's end (before the leg was under way, from where it stood; after,
-// from the nearest it came), or the other axis moved.
+// The axis moved away from the leg's end (before the leg was under way, from where it stood: the
+// elevation only; after, from the nearest it came), or the other axis moved. An azimuth leg's first
+// motion away from its end is the firmware's own path as often: a wrap that turns the dish back and
+// reaches the target from the other side (docs/firmware.md §2), a mapping not yet learnt.
 bool AxisLegDriver::moves_on_its_own(Leg& leg, AzEl position) const {
     const bool azimuth = leg.axis == Axis::azimuth;
     const auto mech_az = c_.wrap.mechanical();
@@ -485,7 +487,7 @@ bool AxisLegDriver::moves_on_its_own(Leg& leg, AzEl position) const {
     }
     const double seen = azimuth ? *mech_az : position.el;
     const double goal = azimuth ? leg.mech_az : leg.target.el;
-    if (!leg.under_way && (goal - leg.unmoved_ref) * (seen - leg.unmoved_ref) < 0.0 &&
+    if (!azimuth && !leg.under_way && (goal - leg.unmoved_ref) * (seen - leg.unmoved_ref) < 0.0 &&
         std::fabs(seen - leg.unmoved_ref) > own_motion_degrees) {
         return true;
     }

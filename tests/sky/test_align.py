@@ -111,3 +111,33 @@ def test_synthetic_scan_recovers_the_mount(tmp_path, lag_share):
         assert have == pytest.approx(want, abs=0.1)
     assert result["lag"] == pytest.approx(lag_share, abs=0.1)
     assert result["residual_rms_deg"] <= 0.15
+
+
+def sun_raster(offset_x: float, offset_y: float, amplitude: float, seed: int):
+    """The Sun raster birdcage-align takes (±10 deg in sky-scaled azimuth, ±4 in elevation, 2 deg
+    steps) of a 2.9 deg beam on a floor of 401 counts with 8 counts of noise per reading."""
+    rng = np.random.default_rng(seed)
+    x, y = np.meshgrid(np.arange(-10.0, 10.01, 2.0), np.arange(-4.0, 4.01, 2.0))
+    x, y = x.ravel(), y.ravel()
+    beam = np.exp(-((x - offset_x) ** 2 + (y - offset_y) ** 2) / (2 * 2.9 ** 2))
+    return x, y, 401.0 + amplitude * beam + rng.normal(0.0, 8.0, x.size)
+
+
+@pytest.mark.parametrize("offset_x", [0.0, 3.0, 4.86, 7.0, 9.0])
+def test_sun_raster_finds_a_beam_wide_source_anywhere_inside(offset_x):
+    """The fourth e2e mount draw put the Sun 4.86 deg of sky from the raster's centre: a beam that
+    wide lights most of the raster, and the old median-and-MAD test took the Sun for the spread."""
+    from birdcage_sky.scanner import raster_source
+
+    for seed in range(5):
+        found = raster_source(*sun_raster(offset_x, -0.3, 200.0, seed))
+        assert found is not None, f"seed {seed}"
+        assert math.hypot(found[0] - offset_x, found[1] + 0.3) < 0.5, f"seed {seed}: {found}"
+
+
+def test_sun_raster_without_a_source_or_with_it_beyond_the_edge_finds_none():
+    from birdcage_sky.scanner import raster_source
+
+    for seed in range(20):
+        assert raster_source(*sun_raster(0.0, 0.0, 0.0, seed)) is None, f"seed {seed}: noise alone"
+        assert raster_source(*sun_raster(16.0, 0.0, 200.0, seed)) is None, f"seed {seed}: beyond the edge"

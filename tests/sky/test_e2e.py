@@ -116,14 +116,15 @@ def test_track_the_sun(tmp_path):
 # Mount errors the emulated G2 is set up with, each at a time of day when the Sun is inside the
 # dish's window, so its cross-scan joins the arc (the arc alone leaves el_index and tilt_north
 # trading against each other, docs/sky.md section 3): the docs' example with the Sun in the east,
-# then two draws, one with a 15 deg azimuth error, with the Sun in the east and the
-# west-south-west. Without a Sun fix the arc alone trades el_index against tilt_north, and a
-# fourth draw (-8, -0.5, -1.4, -1.0, 14:30) misses the Sun in its raster every run now, though it
-# lies inside it (docs/benchmarks.md, "The sky tools"): not run until the detection is fixed.
+# then three draws, one with a 15 deg azimuth error, with the Sun in the east and the
+# west-south-west. Without a Sun fix the arc alone trades el_index against tilt_north. The fourth
+# draw puts the Sun 4.9 deg of sky from the Sun raster's centre, where a beam as wide as the raster
+# once hid it from the detection (docs/benchmarks.md, "The sky tools").
 ALIGN_DRAWS = [
     pytest.param(MOUNT, "2026-06-21T14:00:00Z", id="example-sun"),
     pytest.param((-15.0, -1.5, -0.6, 0.9), "2026-06-21T15:30:00Z", id="az15"),
     pytest.param((3.5, 2.0, 0.4, 1.5), "2026-06-21T21:00:00Z", id="tilted-east"),
+    pytest.param((-8.0, -0.5, -1.4, -1.0), "2026-06-21T14:30:00Z", id="sun-off-centre"),
 ]
 
 

@@ -153,6 +153,42 @@ def gaussian_peak(x: np.ndarray, y: np.ndarray) -> float:
     return float(popt[1]) if x.min() <= popt[1] <= x.max() else float(x[i])
 
 
+# A source in a raster must stand this many times the readings' own noise above the floor.
+DETECTION_SIGMAS = 6.0
+
+
+def raster_source(x: np.ndarray, y: np.ndarray, value: np.ndarray, beam_sigma: float = 2.9) -> tuple[float, float] | None:
+    """Where one beam-wide source sits in a raster of readings at sky offsets (x, y), or None if
+    the raster shows none: a floor plus a Gaussian of the beam's width (its centre, amplitude and
+    width fitted) against the floor alone. The noise is the fit's residual scatter, not the
+    readings' spread: a beam as wide as the raster lights most of it, and the spread of the
+    readings is then the source itself (a median-and-MAD test missed the Sun 3-5 deg from the
+    raster's centre for that reason)."""
+    from scipy.optimize import least_squares
+
+    i = int(np.argmax(value))
+    floor0 = float(np.percentile(value, 10))
+
+    def model(p):
+        a, mx, my, s, c = p
+        return c + a * np.exp(-((x - mx) ** 2 + (y - my) ** 2) / (2.0 * s * s))
+
+    p0 = [float(value[i]) - floor0, float(x[i]), float(y[i]), beam_sigma, floor0]
+    span = max(float(np.ptp(x)), float(np.ptp(y)), 1.0)
+    lower = [0.0, float(x.min()) - span, float(y.min()) - span, 0.5 * beam_sigma, -np.inf]
+    upper = [np.inf, float(x.max()) + span, float(y.max()) + span, 2.0 * beam_sigma, np.inf]
+    fit = least_squares(lambda p: model(p) - value, p0, bounds=(lower, upper))
+    amplitude, mx, my = fit.x[0], fit.x[1], fit.x[2]
+    residual = fit.fun
+    dof = max(len(value) - len(p0), 1)
+    noise = max(float(np.sqrt(residual @ residual / dof)), 1.0)
+    # The centre inside the raster: a source beyond its edge is a slope whose centre no raster point tells.
+    inside = x.min() <= mx <= x.max() and y.min() <= my <= y.max()
+    if amplitude < DETECTION_SIGMAS * noise or not inside:
+        return None
+    return float(mx), float(my)
+
+
 def sun_fix(scanner: Scanner, station: Station, limits: Limits, az_error: float, el_error: float,
             step: float = 2.0, cross_half: float = 8.0, cross_step: float = 1.0) -> SunFix:
     """One measurement of where the dish's axes put the Sun: a raster in offsets from the Sun's
@@ -187,10 +223,10 @@ def sun_fix(scanner: Scanner, station: Station, limits: Limits, az_error: float,
         if scanner.progress:
             scanner.progress(k + 1, len(raster), "sun raster")
     r = np.array(rows)
-    best = int(np.argmax(r[:, 2]))
-    if r[best, 2] - np.median(r[:, 2]) < 6 * 1.4826 * np.median(np.abs(r[:, 2] - np.median(r[:, 2]))) + 1:
+    found = raster_source(r[:, 0], r[:, 1], r[:, 2])
+    if found is None:
         raise ScanError("no Sun in the raster: is the Sun above the dish's floor, and does this receiver see it?")
-    pa, pe = r[best, 0], r[best, 1]
+    pa, pe = found
     offsets = np.arange(-cross_half, cross_half + 1e-9, cross_step)
     az_line = [read(pa + o, pe) for o in offsets]
     el_line = [read(pa, pe + o) for o in offsets]

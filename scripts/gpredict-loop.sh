@@ -20,7 +20,7 @@
 # user would. The pass runs in real time (Gpredict's clock cannot follow the emulator's time
 # scale): about 5½ minutes. Writes to --out (default <build>/gpredict-loop): per lane (threshold-<thr> for the
 # dish's limits, threshold-<thr>-wide for wide ones) the proxy log, the dish positions, the error
-# series, a screenshot, and summary.json; prints a summary table.
+# series, the emulator's truth file (motor starts: its `moving` column going 0 -> 1), a screenshot, and summary.json; prints a summary table.
 # --check fails (exit 1) unless Gpredict engaged and the dish tracked (bounds below).
 # Exits 77 (ctest's SKIP_RETURN_CODE) when a needed Debian package is missing.
 set -euo pipefail
@@ -217,7 +217,7 @@ for lane in "${lanes[@]}"; do
     take_port; rot_port=$port
     take_port; proxy_port=$port
     write_gpredict_config "$work/$i" "$proxy_port" "$thr" "${min_el[$setting]}" "${max_el[$setting]}"
-    "$sim" --variant g2 --link "$work/$i.dish" --az 300 --el 20 >"$dir/sim.log" 2>&1 &
+    "$sim" --variant g2 --link "$work/$i.dish" --az 300 --el 20 --truth "$dir/truth.csv" >"$dir/sim.log" 2>&1 &
     pids+=($!)
     wait_for 10 test -e "$work/$i.dish"
     env LD_PRELOAD="$preload" ASAN_OPTIONS=detect_leaks=0 \
@@ -256,8 +256,8 @@ pids=()
 trap - EXIT
 
 status=0
-printf '\n%9s %-12s %8s %8s %8s %8s %10s %12s %18s\n' threshold "limits (el)" "P sent" RMS max p95 "mean lead" \
-    "sat el" "AZ travel dish/sat"
+printf '\n%9s %-12s %8s %8s %8s %8s %10s %12s %18s %6s\n' threshold "limits (el)" "P sent" RMS max p95 "mean lead" \
+    "sat el" "AZ travel dish/sat" starts
 for lane in "${lanes[@]}"; do
     dir=${lane_dir[$lane]}
     thr=${lane_threshold[$lane]}
@@ -271,7 +271,7 @@ for lane in "${lanes[@]}"; do
     "$python" "$helper" analyse --tle "$tle" --offset "$offset" --log "$dir/proxy.log" \
         --poll-log "$dir/positions.log" --from $measure_from_s --to $measure_to_s --threshold "$thr" \
         --limits "$setting" --min-el "${min_el[$setting]}" --max-el "${max_el[$setting]}" \
-        --out "$dir/summary.json" --series "$dir/error.csv" "${bounds[@]}" || status=1
+        --out "$dir/summary.json" --series "$dir/error.csv" --truth "$dir/truth.csv" "${bounds[@]}" || status=1
 done
 echo "window: $measure_from_s–$measure_to_s s after the TLE epoch; files in $out"
 exit $status

@@ -186,6 +186,21 @@ def read_poll_log(path):
     return samples
 
 
+def motor_starts(path, keep):
+    """How often the emulated dish started moving (the truth file's `moving` column going 0 -> 1),
+    over the rows whose wall time `keep` accepts."""
+    import csv
+    from datetime import datetime
+
+    moving = []
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            wall = datetime.fromisoformat(row["utc"].replace("Z", "+00:00")).timestamp()
+            if keep(wall):
+                moving.append(row["moving"] == "1")
+    return sum(1 for before, now in zip(moving, moving[1:]) if now and not before)
+
+
 def cmd_analyse(args):
     from sgp4.api import WGS72, Satrec
     import generate_passes as gp
@@ -232,6 +247,9 @@ def cmd_analyse(args):
         "sat_az_travel_deg": round(az_travel([float(a) for a in sat_az]), 1),
         "mean_lead_deg": round(sum(leads) / len(leads), 3) if leads else None,
     }
+    if args.truth:
+        result["motor_starts"] = motor_starts(args.truth, in_window)
+        result["motor_starts_total"] = motor_starts(args.truth, lambda wall: True)
     if args.out:
         with open(args.out, "w") as out:
             json.dump(result, out, indent=1)
@@ -239,7 +257,8 @@ def cmd_analyse(args):
     print(f"{args.threshold:>8g}° {limits:<12} {result['p_commands']:>8d} {result['rms_deg']:>7.2f}° "
           f"{result['max_deg']:>7.2f}° {result['p95_deg']:>7.2f}° {result['mean_lead_deg'] or 0:>9.2f}° "
           f"{result['window_sat_el_deg'][0]:>5.1f}–{result['window_sat_el_deg'][1]:.1f}° "
-          f"{result['dish_az_travel_deg']:>7.1f}° / {result['sat_az_travel_deg']:.1f}°")
+          f"{result['dish_az_travel_deg']:>7.1f}° / {result['sat_az_travel_deg']:.1f}°"
+          + (f" {result['motor_starts']:>6d}" if "motor_starts" in result else ""))
     problems = []
     # Counted over the whole run: Gpredict engaged and kept sending. In the window itself a dish
     # that stays on the satellite gives Gpredict little to send (2-3 P at 5 deg with the orbit
@@ -282,6 +301,7 @@ def main():
     a.add_argument("--max-el", type=float, default=65.0, help="Gpredict's MaxEl (deg)")
     a.add_argument("--out")
     a.add_argument("--series")
+    a.add_argument("--truth", help="the emulator's truth file: count the dish's motor starts")
     a.add_argument("--min-p", type=int, help="fail with fewer P commands in the whole run")
     a.add_argument("--max-error", type=float, help="fail when the dish is ever further off (deg)")
     args = parser.parse_args()

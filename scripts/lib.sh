@@ -75,14 +75,15 @@ system_mirror() {
 # host toolchain's libc6-dev again). DIR/root also holds what a build needs to know of the
 # packages without dpkg: DIR/root/var/lib/dpkg/status (their control, for dpkg-query --admindir)
 # and DIR/root/DEBIAN/symbols and shlibs (theirs, merged, for dpkg-shlibdeps -S DIR/root).
-# DIR is a cache: a call with the same arguments (DIR/key) reuses it, other arguments refetch.
+# DIR is a cache: a call with the same arguments to the same debian_root (DIR/key holds both)
+# reuses it; other arguments or a changed debian_root fetch again.
 # The mirror is $debian_mirror, or this machine's (system_mirror).
 debian_root() {
     local arch=$1 suite=$2 dir=$3 mirror=${debian_mirror:-} key deb
     shift 3
     [[ -n $mirror ]] || mirror=$(system_mirror)
     [[ -n $mirror ]] || { echo "debian_root: no Debian mirror in /etc/apt/sources* (set debian_mirror)" >&2; return 2; }
-    key="$arch $suite $mirror $*"
+    key="$arch $suite $mirror $* $(declare -f debian_root | md5sum | cut -c1-12)"
     if [[ -f $dir/key && $(<"$dir/key") == "$key" ]]; then return 0; fi
     rm -rf "$dir/key" "$dir/sources.list" "$dir/empty" "$dir/lists" "$dir/cache" "$dir/debs" "$dir/root" "$dir/control"
     mkdir -p "$dir/empty" "$dir/lists/partial" "$dir/cache/archives/partial" "$dir/debs" "$dir/root/DEBIAN" "$dir/root/var/lib/dpkg/info"

@@ -2,17 +2,21 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Copyright (C) 2026 the birdcage authors
 # The Raspberry Pi builds, tested on this amd64 machine under Debian's qemu-user-static (invoked
-# directly, no binfmt registration needed). Per architecture:
+# directly, no binfmt registration needed). Per architecture, against a sysroot of Debian 12's own
+# packages for it, fetched with apt-get download and unpacked, never installed (lib.sh's
+# pi_sysroot, kept in build-sysroot-<arch>/ between runs):
 #  1. the core and emulator unit tests (ctest -R '^(core|sim):'), cross-built with
-#     cmake/debian-cross.cmake and run by ctest under qemu (CMAKE_CROSSCOMPILING_EMULATOR);
-#  2. Debian 12's own rotctld for that architecture (libhamlib-utils + libhamlib4 fetched with
-#     apt-get download and unpacked, not installed) run under qemu with the ARM backend preloaded,
-#     against this machine's birdcage-sim on a pty: an emulated Carryout G2 and a Trav'ler HAL
-#     2.05, each opened as model 90100 (auto-detect): `_` names the dish, `P`/`p`, then a short
-#     pass tracked the way Gpredict does it (one connection, a `P` every few pass seconds).
+#     cmake/debian-cross.cmake against the sysroot and run by ctest under qemu with the sysroot as
+#     its root (CMAKE_CROSSCOMPILING_EMULATOR);
+#  2. Debian 12's own rotctld for that architecture (the sysroot's libhamlib-utils) run under qemu
+#     with the ARM backend preloaded, against this machine's birdcage-sim on a pty: an emulated
+#     Carryout G2 and a Trav'ler HAL 2.05, each opened as model 90100 (auto-detect): `_` names the
+#     dish, `P`/`p`, then a short pass tracked the way Gpredict does it (one connection, a `P`
+#     every few pass seconds).
 #
 #   scripts/arm-test.sh [--arch arm64|armhf]...      (default: arm64)
-# Needs root or sudo the first time (scripts/setup.sh --arch installs the cross toolchain).
+# Needs root or sudo the first time (scripts/setup.sh --arch installs the cross toolchain and
+# qemu-user-static, both this machine's own packages), and network for the sysroot.
 # BIRDCAGE_BUILD_DIR: the native build whose birdcage-sim emulates the dish (default build/; its
 # birdcage-sim is built if missing). The ARM builds go to build-<arch>/.
 set -euo pipefail
@@ -24,7 +28,7 @@ while (($#)); do
     --arch) [[ $# -ge 2 ]] || { echo "arm-test: --arch needs arm64 or armhf" >&2; exit 2; }
         arches+=("$2"); shift 2 ;;
     --arch=*) arches+=("${1#--arch=}"); shift ;;
-    -h | --help) sed -n '4,17s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h | --help) sed -n '4,21s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "arm-test: unknown argument '$1' (try --help)" >&2; exit 2 ;;
     esac
 done
@@ -58,8 +62,11 @@ for arch in "${arches[@]}"; do
     *) echo "arm-test: --arch $arch: only arm64 and armhf" >&2; exit 2 ;;
     esac
     build=$root/build-$arch
+    pi_sysroot "$arch"
+    sysroot=$root/build-sysroot-$arch/root
     say "== $arch: cross build (cmake/debian-cross.cmake) in $build"
     cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/cmake/debian-cross.cmake" -DBIRDCAGE_DEB_ARCH="$arch" \
+        -DBIRDCAGE_SYSROOT="$sysroot" \
         -DBIRDCAGE_WERROR=ON -DBIRDCAGE_BUILD_TESTS=ON -DBIRDCAGE_BUILD_BENCH=OFF -DBIRDCAGE_MANPAGES=OFF >/dev/null
     nice cmake --build "$build" -j2 --target test_core test_core_emulated test_sim birdcage-sim hamlib-winegard >"$work/build.log" 2>&1 ||
         { tail -40 "$work/build.log" >&2; echo "arm-test: FAIL: $arch build" >&2; exit 1; }
@@ -71,14 +78,10 @@ for arch in "${arches[@]}"; do
     (cd "$build" && ctest --output-on-failure --timeout 120 -j "$(nproc)" -R '^(core|sim):' -LE figures)
 
     say "== $arch: Debian 12's $arch rotctld under $qemu, the $arch backend preloaded"
-    store=$work/$arch-root
-    mkdir -p "$store/debs"
-    (cd "$store/debs" && apt-get -qq -o APT::Sandbox::User=root download "libhamlib-utils:$arch" "libhamlib4:$arch")
-    for deb in "$store"/debs/*.deb; do dpkg-deb -x "$deb" "$store"; done
-    # The rest of what rotctld loads is the multiarch root's (setup.sh --arch installed it).
-    loader=("$qemu" -L / "$ld")
-    libpath=$store/usr/lib/$triplet
-    rotctld=$store/usr/bin/rotctld
+    # The sysroot's loader, with the sysroot as qemu's root: it loads rotctld's libraries from there.
+    loader=("$qemu" -L "$sysroot" "$sysroot$ld")
+    libpath=$sysroot/usr/lib/$triplet:$sysroot/lib/$triplet
+    rotctld=$sysroot/usr/bin/rotctld
     backend=$build/src/hamlib/libhamlib-winegard.so
     say "$arch: $("${loader[@]}" --library-path "$libpath" "$rotctld" --version | head -1)"
     models=$(winegard_models "${loader[@]}" --library-path "$libpath" --preload "$backend" "$rotctld")

@@ -50,6 +50,100 @@ doc_block() {
         inside { print }' "$1"
 }
 
+# ---- Debian's packages for another system, unpacked, not installed (arm-test.sh, package.sh,
+# trixie-smoke.sh).
+
+# system_mirror: the mirror this machine's apt sources use for Debian's main archive (one-line or
+# deb822 sources), for its own release.
+system_mirror() {
+    local codename
+    codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-}")
+    {
+        cat /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null |
+            awk -v c="$codename" '$1 == "deb" { for (i = 2; i <= NF; i++) if ($i ~ /^(https?|file):/ && $(i + 1) == c) { print $i; exit } }'
+        cat /etc/apt/sources.list.d/*.sources 2>/dev/null |
+            awk -v c="$codename" '/^URIs:/ { u = $2 } /^Suites:/ { for (i = 2; i <= NF; i++) if ($i == c && u != "") { print u; exit } } /^$/ { u = "" }'
+    } | head -1
+}
+
+# debian_root ARCH SUITE DIR [--deps] PACKAGE... [--no-deps PACKAGE...]: Debian's PACKAGEs for
+# ARCH from SUITE (main), fetched with apt-get download through a private apt configuration (its
+# own sources, lists and cache in DIR; this machine's dpkg and apt state is neither read nor
+# changed, and ARCH need not be one dpkg knows) and unpacked with dpkg-deb -x into DIR/root, never
+# installed. The packages after --deps (the default) come with everything they depend on,
+# recursively; those after --no-deps alone (the -dev packages: their headers and links, not the
+# host toolchain's libc6-dev again). DIR/root also holds what a build needs to know of the
+# packages without dpkg: DIR/root/var/lib/dpkg/status (their control, for dpkg-query --admindir)
+# and DIR/root/DEBIAN/symbols and shlibs (theirs, merged, for dpkg-shlibdeps -S DIR/root).
+# DIR is a cache: a call with the same arguments to the same debian_root (DIR/key holds both)
+# reuses it; other arguments or a changed debian_root fetch again.
+# The mirror is $debian_mirror, or this machine's (system_mirror).
+debian_root() {
+    local arch=$1 suite=$2 dir=$3 mirror=${debian_mirror:-} key deb
+    shift 3
+    [[ -n $mirror ]] || mirror=$(system_mirror)
+    [[ -n $mirror ]] || { echo "debian_root: no Debian mirror in /etc/apt/sources* (set debian_mirror)" >&2; return 2; }
+    key="$arch $suite $mirror $* $(declare -f debian_root | md5sum | cut -c1-12)"
+    if [[ -f $dir/key && $(<"$dir/key") == "$key" ]]; then return 0; fi
+    rm -rf "$dir/key" "$dir/sources.list" "$dir/empty" "$dir/lists" "$dir/cache" "$dir/debs" "$dir/root" "$dir/control"
+    mkdir -p "$dir/empty" "$dir/lists/partial" "$dir/cache/archives/partial" "$dir/debs" "$dir/root/DEBIAN" "$dir/root/var/lib/dpkg/info"
+    echo "deb [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $mirror $suite main" >"$dir/sources.list"
+    local -a apt_options=(
+        -o "APT::Architecture=$arch" -o "APT::Architectures::=$arch"
+        -o "Dir::Etc::sourcelist=$dir/sources.list" -o "Dir::Etc::sourceparts=$dir/empty"
+        -o "Dir::Etc::parts=$dir/empty" -o "Dir::Etc::preferencesparts=$dir/empty"
+        -o "Dir::State::lists=$dir/lists" -o "Dir::Cache=$dir/cache"
+        -o Dir::State::status=/dev/null -o Debug::NoLocking=1 -o APT::Sandbox::User=root
+        -o Acquire::Languages=none
+    )
+    say "apt-get update ($suite main for $arch, private lists in $dir)"
+    apt-get "${apt_options[@]}" -qq update || return 1
+    local -a deps=() plain=() packages=()
+    local mode=deps p
+    for p in "$@"; do
+        case $p in
+        --deps) mode=deps ;;
+        --no-deps) mode=plain ;;
+        *) if [[ $mode == deps ]]; then deps+=("$p"); else plain+=("$p"); fi ;;
+        esac
+    done
+    if ((${#deps[@]})); then
+        mapfile -t packages < <(apt-cache "${apt_options[@]}" depends --recurse --no-recommends --no-suggests \
+            --no-conflicts --no-breaks --no-replaces --no-enhances "${deps[@]}" | grep -v '^[ <]' | sort -u)
+    fi
+    packages+=("${plain[@]}")
+    say "apt-get download ${packages[*]}"
+    (cd "$dir/debs" && apt-get "${apt_options[@]}" -qq download "${packages[@]}") || return 1
+    local control=$dir/control
+    for deb in "$dir"/debs/*.deb; do
+        dpkg-deb -x "$deb" "$dir/root"
+        rm -rf "$control" && dpkg-deb -e "$deb" "$control"
+        if [[ -f $control/symbols ]]; then cat "$control/symbols" >>"$dir/root/DEBIAN/symbols"; fi
+        if [[ -f $control/shlibs ]]; then cat "$control/shlibs" >>"$dir/root/DEBIAN/shlibs"; fi
+        { sed '/^Package:/a Status: install ok installed' "$control/control"; echo; } >>"$dir/root/var/lib/dpkg/status"
+    done
+    rm -rf "$control"
+    # A link to an absolute path (libtinfo.so -> /lib/<triplet>/libtinfo.so.6) points into this
+    # machine, not the root: make it relative, within the root.
+    local link target
+    while IFS= read -r -d '' link; do
+        target=$(readlink "$link")
+        ln -sfn "$(realpath -m -s --relative-to="$(dirname "$link")" "$dir/root$target")" "$link"
+    done < <(find "$dir/root" -type l -lname '/*' -print0)
+    echo "$key" >"$dir/key"
+}
+
+# pi_sysroot ARCH: the sysroot of the Raspberry Pi builds (arm-test.sh, package.sh) for Debian
+# ARCH (arm64, armhf), as debian_root makes it in $root/build-sysroot-ARCH, whose root/ is the
+# sysroot: Debian 12's libraries the build links and their -dev packages, the C++ runtime and the
+# ARM loader and libc that qemu-user runs the programs with (-L), Catch2 for the unit tests, and
+# Debian 12's own rotctld (libhamlib-utils) that arm-test.sh drives.
+pi_sysroot() {
+    debian_root "$1" bookworm "$root/build-sysroot-$1" \
+        --deps libhamlib-utils libhamlib4 libserialport0 libncurses6 libtinfo6 libstdc++6 \
+        --no-deps libhamlib-dev libusb-1.0-0-dev libserialport-dev libncurses-dev catch2
+}
+
 # ---- a stock rotctld with the backend preloaded, against the emulator (trixie-smoke.sh,
 # arm-test.sh). Both run another system's rotctld through its own loader:
 #   LOADER --library-path LIBS --preload BACKEND ROTCTLD ...

@@ -8,7 +8,9 @@
 #
 #   scripts/package.sh [--arch arm64|armhf] [--no-lintian]
 # --arch cross-builds for a Raspberry Pi (arm64: Raspberry Pi OS 64-bit, Pi 3/4/5; armhf: the
-# 32-bit OS) with Debian's cross toolchain; scripts/setup.sh --arch installs it on first use.
+# 32-bit OS) with Debian's cross toolchain (scripts/setup.sh --arch installs it on first use)
+# against Debian 12's own packages for that architecture, unpacked into build-sysroot-<arch>/ and
+# never installed (scripts/lib.sh's pi_sysroot; needs network the first time).
 # Environment: BIRDCAGE_PACKAGE_BUILD_DIR (default build-deb, build-deb-<arch> for --arch), where
 # the source is copied and built.
 set -euo pipefail
@@ -22,7 +24,7 @@ while (($#)); do
     --arch) [[ $# -ge 2 ]] || { echo "package.sh: --arch needs arm64 or armhf" >&2; exit 2; }
         arch=$2; shift 2 ;;
     --arch=*) arch=${1#--arch=}; shift ;;
-    -h | --help) sed -n '4,13s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h | --help) sed -n '4,15s/^# \{0,1\}//p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "package.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
     esac
 done
@@ -37,7 +39,8 @@ else
     esac
     work=${BIRDCAGE_PACKAGE_BUILD_DIR:-$root/build-deb-$arch}
     # The cross profile brings qemu-user-static into the build-dependencies (debian/control).
-    build_args=(-a "$arch" -Pcross)
+    # The ARCH build-dependencies are the sysroot's, which dpkg does not know of: -d.
+    build_args=(-a "$arch" -Pcross -d)
     setup_args=(--arch "$arch")
 fi
 
@@ -51,6 +54,15 @@ if [[ "$cmake_version" != "$deb_version" ]]; then
     exit 1
 fi
 
+sysroot_env=()
+if [[ $arch != "$native" ]]; then
+    # shellcheck source=scripts/lib.sh
+    . "$root/scripts/lib.sh"
+    pi_sysroot "$arch"
+    # debian/rules builds against it (cmake/debian-cross.cmake) and reads its packages' symbols.
+    sysroot_env=(BIRDCAGE_SYSROOT="$root/build-sysroot-$arch/root")
+fi
+
 # dpkg-buildpackage builds in the source tree and writes next to it: build a copy of the tree
 # (without build directories) so the checkout stays clean.
 rm -rf "$work"
@@ -58,7 +70,7 @@ mkdir -p "$work/src"
 tar -C "$root" --exclude=./.git --exclude='./build*' --exclude=./.cache --exclude='./birdcage_*' -cf - . |
     tar -C "$work/src" -xf -
 jobs=$(nproc); ((jobs <= 2)) || jobs=2
-(cd "$work/src" && DEB_BUILD_OPTIONS="nocheck parallel=$jobs" dpkg-buildpackage -b -us -uc "${build_args[@]}" >"$work/build.log" 2>&1) || {
+(cd "$work/src" && env "${sysroot_env[@]}" DEB_BUILD_OPTIONS="nocheck parallel=$jobs" dpkg-buildpackage -b -us -uc "${build_args[@]}" >"$work/build.log" 2>&1) || {
     tail -40 "$work/build.log" >&2
     echo "package.sh: dpkg-buildpackage failed (whole log: $work/build.log)" >&2
     exit 1

@@ -5,10 +5,13 @@
 # missing. As root it runs apt-get; otherwise it prints the exact command to run and fails.
 #
 #   scripts/setup.sh [--arch arm64|armhf]...
-# --arch ARCH also installs what a cross build for that Debian architecture needs (Raspberry Pi
-# OS: arm64, armhf): Debian's cross toolchain, the libraries' multiarch -dev packages for ARCH
-# (after dpkg --add-architecture ARCH) and qemu-user-static, which runs the ARM programs at build
-# time (help2man, the test list) and in scripts/arm-test.sh. Nothing ARM is installed without it.
+# --arch ARCH also installs what a cross build for that Debian architecture needs on this machine
+# (Raspberry Pi OS: arm64, armhf): Debian's cross toolchain (crossbuild-essential-ARCH, this
+# machine's own packages with their own libc for ARCH) and qemu-user-static, which runs the ARM
+# programs at build time (help2man, the test list) and in scripts/arm-test.sh. No ARCH package is
+# installed and dpkg gets no foreign architecture: the libraries a cross build links are Debian's
+# ARCH packages unpacked into a sysroot (scripts/lib.sh's pi_sysroot, which arm-test.sh and
+# package.sh call).
 # BIRDCAGE_SETUP_EXTRA="pkg ..." adds packages of the build machine's own architecture.
 set -euo pipefail
 
@@ -38,27 +41,15 @@ if [[ "${BIRDCAGE_SETUP_EXTRA:-}" != "" ]]; then
     packages+=("${extra[@]}")
 fi
 
-add_arch=()
 for arch in "${cross[@]}"; do
     case $arch in
     arm64 | armhf) ;;
     *) echo "setup: --arch $arch: only arm64 and armhf are supported" >&2; exit 2 ;;
     esac
     if [[ $arch != "$(dpkg --print-architecture)" ]]; then
-        dpkg --print-foreign-architectures | grep -qx "$arch" || add_arch+=("$arch")
         packages+=("crossbuild-essential-$arch" qemu-user-static)
     fi
-    # The libraries the build links (libncurses: birdcage-tui), for ARCH.
-    # pkg-config:ARCH is the ARCH-linux-gnu-pkg-config that finds them.
-    packages+=("libhamlib-dev:$arch" "libserialport-dev:$arch" "libncurses-dev:$arch" "pkg-config:$arch")
 done
-
-# apt-get update reads the lists of the architectures asked for here only: a foreign
-# architecture another run added, whose index a mirror serves half-synced, cannot break this one.
-update_arch=()
-if ((${#cross[@]})); then
-    for arch in "$(dpkg --print-architecture)" "${cross[@]}"; do update_arch+=(-o "APT::Architectures::=$arch"); done
-fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -71,25 +62,18 @@ if ((${#missing[@]} == 0)); then
 fi
 
 if [[ $(id -u) -eq 0 ]]; then
-    for arch in "${add_arch[@]}"; do
-        echo "setup: dpkg --add-architecture $arch" >&2
-        dpkg --add-architecture "$arch"
-    done
     echo "setup: installing ${missing[*]}" >&2
     export DEBIAN_FRONTEND=noninteractive
     # One index that fails to download (a mirror mid-sync) need not stop the install: apt-get
     # install below fails by itself if what it needs is not in the lists it has.
-    apt-get update -qq "${update_arch[@]}" || echo "setup: apt-get update reported errors; trying the install with the lists it has" >&2
+    apt-get update -qq || echo "setup: apt-get update reported errors; trying the install with the lists it has" >&2
     apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
-    for arch in "${add_arch[@]}"; do sudo dpkg --add-architecture "$arch"; done
     echo "setup: installing ${missing[*]} with sudo" >&2
-    sudo DEBIAN_FRONTEND=noninteractive apt-get update -qq "${update_arch[@]}" || echo "setup: apt-get update reported errors; trying the install with the lists it has" >&2
+    sudo DEBIAN_FRONTEND=noninteractive apt-get update -qq || echo "setup: apt-get update reported errors; trying the install with the lists it has" >&2
     sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 else
     echo "setup: missing Debian packages. Run:" >&2
-    for arch in "${add_arch[@]}"; do echo "  sudo dpkg --add-architecture $arch" >&2; done
-    ((${#add_arch[@]} == 0)) || echo "  sudo apt-get update" >&2
     echo "  sudo apt-get install ${missing[*]}" >&2
     exit 1
 fi

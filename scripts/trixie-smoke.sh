@@ -5,8 +5,8 @@
 # emulated G2 and Trav'ler: lib.sh's dish_e2e (auto-detect, `_`, `P`/`p`, a tracked pass, `S`, no
 # hazardous command), the check every rotctld route passes. Nothing is installed: trixie's
 # libhamlib4t64, libhamlib-utils and the libraries they need are fetched with apt-get download
-# through a private apt configuration (its own sources and lists in a temporary directory), unpacked
-# with dpkg-deb -x and run with trixie's own loader:
+# through a private apt configuration (lib.sh's debian_root: its own sources and lists in a
+# temporary directory), unpacked with dpkg-deb -x and run with trixie's own loader:
 #   ld-linux-x86-64.so.2 --library-path <trixie libs> --preload <backend> rotctld ...
 #
 #   scripts/trixie-smoke.sh [BUILD_DIR]      (default: $BIRDCAGE_BUILD_DIR or build/; needs the
@@ -20,17 +20,6 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${1:-${BIRDCAGE_BUILD_DIR:-$root/build}}
 backend=${BIRDCAGE_BACKEND:-$build/src/hamlib/libhamlib-winegard.so}
 sim=$build/sim/birdcage-sim
-# The mirror this machine already uses for Debian's main archive (one-line or deb822 sources).
-system_mirror() {
-    local codename
-    codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-}")
-    cat /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null |
-        awk -v c="$codename" '$1 == "deb" { for (i = 2; i <= NF; i++) if ($i ~ /^(https?|file):/ && $(i + 1) == c) { print $i; exit } }'
-    cat /etc/apt/sources.list.d/*.sources 2>/dev/null |
-        awk -v c="$codename" '/^URIs:/ { u = $2 } /^Suites:/ { for (i = 2; i <= NF; i++) if ($i == c && u != "") { print u; exit } } /^$/ { u = "" }'
-}
-mirror=${BIRDCAGE_TRIXIE_MIRROR:-$(system_mirror | head -1)}
-[[ -n $mirror ]] || { echo "trixie-smoke: no Debian mirror in /etc/apt/sources* (set BIRDCAGE_TRIXIE_MIRROR)" >&2; exit 2; }
 for f in "$backend" "$sim"; do
     [[ -x $f || -f $f ]] || { echo "trixie-smoke: $f is missing (build first)" >&2; exit 2; }
 done
@@ -58,27 +47,11 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# ---- trixie's packages, through a private apt configuration -----------------------------------
-mkdir -p "$store/lists/partial" "$store/cache/archives/partial" "$store/debs" "$store/root"
-echo "deb [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $mirror trixie main" >"$store/sources.list"
-apt_options=(
-    -o "Dir::Etc::sourcelist=$store/sources.list" -o Dir::Etc::sourceparts=/nonexistent
-    -o Dir::Etc::parts=/nonexistent -o "Dir::State::lists=$store/lists" -o "Dir::Cache=$store/cache"
-    -o Dir::State::status=/dev/null -o Debug::NoLocking=1 -o APT::Sandbox::User=root
-    -o Acquire::Languages=none
-)
-if [[ ! -e $store/root/usr/bin/rotctld ]]; then
-    say "apt-get update (trixie main, private lists in $store)"
-    apt-get "${apt_options[@]}" -qq update
-    # rotctld, libhamlib and everything they load, plus the C++ runtime and libserialport the
-    # backend loads, so that only the backend itself comes from this machine.
-    mapfile -t packages < <(apt-cache "${apt_options[@]}" depends --recurse --no-recommends --no-suggests \
-        --no-conflicts --no-breaks --no-replaces --no-enhances \
-        libhamlib-utils libhamlib4t64 libstdc++6 libserialport0 | grep -v '^[ <]' | sort -u)
-    say "apt-get download ${packages[*]}"
-    (cd "$store/debs" && apt-get "${apt_options[@]}" -qq download "${packages[@]}")
-    for deb in "$store"/debs/*.deb; do dpkg-deb -x "$deb" "$store/root"; done
-fi
+# ---- trixie's packages, through a private apt configuration (lib.sh's debian_root) -------------
+# rotctld, libhamlib and everything they load, plus the C++ runtime and libserialport the backend
+# loads, so that only the backend itself comes from this machine.
+debian_mirror=${BIRDCAGE_TRIXIE_MIRROR:-} debian_root amd64 trixie "$store" \
+    libhamlib-utils libhamlib4t64 libstdc++6 libserialport0
 libs=$store/root/usr/lib/x86_64-linux-gnu
 loader=$libs/ld-linux-x86-64.so.2
 libpath=$libs:$store/root/lib/x86_64-linux-gnu

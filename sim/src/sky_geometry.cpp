@@ -215,7 +215,9 @@ std::optional<double> parse_utc(std::string_view iso) {
     if (pos != iso.size())
         return std::nullopt;
     const long days = days_from_civil(*year, static_cast<unsigned>(*month), static_cast<unsigned>(*day));
-    return static_cast<double>(days * 86400 + (hour * 60 + minute - offset_minutes) * 60) + second;
+    // In long long: a 32-bit long (armhf) holds the seconds only until 2038-01-19.
+    return static_cast<double>(static_cast<long long>(days) * 86400 + (hour * 60 + minute - offset_minutes) * 60) +
+           second;
 }
 
 std::string format_utc(double utc) {

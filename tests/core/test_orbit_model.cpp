@@ -576,7 +576,8 @@ void feed_hinted(const TruePass& pass, double threshold, bool look_ahead, double
 
 }  // namespace
 
-TEST_CASE("orbit model: the gaps' lead is put against none from the third target, a client's own lead kept") {
+TEST_CASE("orbit model: the gaps' lead is put against none from the third target, a client's own lead kept",
+          "[figures]") {
     SECTION("a client without look-ahead, learnt from the gaps as leading by half its threshold") {
         // Its steps of 5 deg leave the dish 5 deg behind each new target, as a client leading by
         // 2.5 deg would: the targets tell the two apart from the third one above the floor on.
@@ -755,7 +756,7 @@ FollowedRun run_followed(const TruePass& pass, double latitude, double threshold
 
 }  // namespace
 
-TEST_CASE("orbit model: a lead the targets fit is refuted by Gpredict's send rule, at 0.5 deg") {
+TEST_CASE("orbit model: a lead the targets fit is refuted by Gpredict's send rule, at 0.5 deg", "[figures]") {
     // A client without look-ahead whose gaps teach nothing (the held-out pass in the benchmark:
     // re-sends under 2 s apart are skipped) has its lead fitted with the orbit, and a few targets
     // fit a wrong lead with a wrong altitude: here 0.8-1.7 deg, and the dish trailed the satellite

@@ -426,7 +426,12 @@ Status AxisLegDriver::follow() {
         std::fabs(seen - leg.unmoved_ref) >= leg.under_way_degrees) {
         leg.under_way = true;
     }
-    if (error(seen, goal) <= c_.profile.arrival_tolerance) {
+    // While the first legs watch for motion of the dish's own, a reading at the leg's end is an
+    // arrival only once the next one agrees: a calibration that sweeps the axis through the end
+    // (the leg still queued behind it) passes it in one reading.
+    const bool passing = watch_motion_ && leg.from_rest && leg.under_way &&
+                         (!leg.last_seen || error(*leg.last_seen, seen) > stillness_degrees);
+    if (error(seen, goal) <= c_.profile.arrival_tolerance && !passing) {
         if (!leg.under_way) {
             // Arrived before it was seen to move (it was sent within the tolerance): the firmware
             // still runs it, and the next leg waits behind it.

@@ -69,6 +69,14 @@ struct Client {
         return text;
     }
 
+    // The recorded G2 sessions' opening: a poke at the root, then `mot`.
+    void enter_motor_menu() {
+        send("\r");
+        read_until("TRK>");
+        send("mot\r");
+        read_until("MOT>");
+    }
+
     std::unique_ptr<birdcage::FdTransport> transport;
 };
 
@@ -212,10 +220,7 @@ TEST_CASE("emulator: strict mode answers a position read repeated at rest with i
     const TempTranscript transcript(text);
     sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
     Client client(dish.device_path());
-    client.send("\r");
-    client.read_until("TRK>");
-    client.send("mot\r");
-    client.read_until("MOT>");
+    client.enter_motor_menu();
     client.send("a\r");
     CHECK(client.read_until("MOT>").find("Angle[0] = 180.00") != std::string::npos);
     client.send("a\r");  // not recorded: the same reading again (its `a` shares a byte with `a 0 90.00`)
@@ -230,10 +235,7 @@ TEST_CASE("emulator: strict mode does not repeat a command that is not a positio
     const TempTranscript transcript(g2_two_queries);
     sim::Emulator dish(replay_options(transcript, sim::ReplayMode::strict));
     Client client(dish.device_path());
-    client.send("\r");
-    client.read_until("TRK>");
-    client.send("mot\r");
-    client.read_until("MOT>");
+    client.enter_motor_menu();
     client.send("mot\r");  // a menu word changes the console's state: never answered from nothing
     REQUIRE(eventually([&] { return dish.replay_failure().has_value(); }));
     CHECK_THAT(*dish.replay_failure(), Catch::Contains("received:  > mot\\r"));
